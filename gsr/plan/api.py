@@ -1,0 +1,150 @@
+"""Public planning API: ``plan(domain, problem)`` and ``plan_graph(domain, graph, goal)``."""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain, Formula, Problem
+from gsr.plan.ground import ground_task
+from gsr.plan.heuristics import INF, Relaxation
+from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs
+from gsr.plan.task import Task
+from gsr.scene_graph import SceneGraph
+from gsr.step import Goal, Plan
+
+PLANNERS = ("lazy-ff", "gbfs-ff", "astar-lmcut", "astar-hmax", "astar-blind", "bfs", "fd")
+OPTIMAL = frozenset({"astar-lmcut", "astar-hmax", "astar-blind"})
+
+
+@dataclass(frozen=True, slots=True)
+class PlanResult:
+    """Outcome of a planner call; ``time`` is ``ground_time + search_time`` in seconds."""
+
+    status: str  # "solved" | "unsolvable" | "timeout" | "error"
+    plan: Plan | None
+    cost: float | None
+    expanded: int
+    generated: int
+    evaluated: int
+    time: float
+    ground_time: float
+    search_time: float
+    planner: str
+    message: str = ""
+
+    @property
+    def solved(self) -> bool:
+        """True when a plan was found."""
+        return self.status == "solved"
+
+
+def _search(task: Task, planner: str, deadline: float) -> tuple[SearchResult, str]:
+    relax = Relaxation(task)
+    if planner == "lazy-ff":
+        return lazy_gbfs(task, relax, deadline), "lazy GBFS, h_FF, preferred operators"
+    if planner == "gbfs-ff":
+        return eager_search(task, lambda s: relax.ff(s)[0], deadline, 0.0), "eager GBFS, h_FF"
+    if planner == "astar-lmcut":
+        if task.has_cond:
+            # LM-cut over per-effect unary operators is not admissible with conditional effects.
+            return eager_search(
+                task, relax.hmax_value, deadline, 1.0
+            ), "A*, h_max (conditional effects: LM-cut n/a)"
+        return eager_search(task, relax.lmcut, deadline, 1.0), "A*, LM-cut"
+    if planner == "astar-hmax":
+        return eager_search(task, relax.hmax_value, deadline, 1.0), "A*, h_max"
+    if planner == "astar-blind":
+        return eager_search(task, lambda s: 0.0, deadline, 1.0), "A*, blind"
+    if planner == "bfs":
+        if not task.unit_cost:
+            return eager_search(task, lambda s: 0.0, deadline, 1.0), "uniform-cost search (non-unit costs)"
+        return breadth_first(task, deadline), "breadth-first search"
+    raise GSRError(f"unknown planner {planner!r}; choose one of {', '.join(PLANNERS)}")
+
+
+def _plan_fd(domain: Domain, problem: Problem, timeout: float) -> PlanResult:
+    from gsr.pddl.writer import write_domain, write_problem
+    from gsr.plan.fast_downward import run_fast_downward
+
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="gsr-plan-") as tmp:
+        dom, prob = Path(tmp) / "domain.pddl", Path(tmp) / "problem.pddl"
+        dom.write_text(write_domain(domain))
+        prob.write_text(write_problem(problem))
+        status, found, message = run_fast_downward(dom, prob, timeout)
+    elapsed = time.perf_counter() - start
+    cost = float(len(found)) if found is not None and problem.metric is None else None
+    return PlanResult(status, found, cost, 0, 0, 0, elapsed, 0.0, elapsed, "fd", message)
+
+
+def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: float = 60.0) -> PlanResult:
+    """Find a plan for ``problem``; ``status`` is "unsolvable" only when that is proven."""
+    if planner == "fd":
+        return _plan_fd(domain, problem, timeout)
+    if planner not in PLANNERS:
+        raise GSRError(f"unknown planner {planner!r}; choose one of {', '.join(PLANNERS)}")
+    start = time.perf_counter()
+    deadline = start + timeout
+    try:
+        task = ground_task(domain, problem)
+    except GSRError as err:
+        t = time.perf_counter() - start
+        return PlanResult("error", None, None, 0, 0, 0, t, t, 0.0, planner, str(err))
+    ground_time = time.perf_counter() - start
+    if not task.goals or Relaxation(task).hmax_value(task.init) == INF:
+        t = time.perf_counter() - start
+        return PlanResult(
+            "unsolvable",
+            None,
+            None,
+            0,
+            0,
+            0,
+            t,
+            ground_time,
+            t - ground_time,
+            planner,
+            "goal is unreachable even ignoring delete effects",
+        )
+    result, how = _search(task, planner, deadline)
+    total = time.perf_counter() - start
+    found = task.to_plan(result.ops) if result.status == "solved" else None
+    cost = task.cost_of(result.ops) if found is not None else None
+    message = f"{how}; {len(task.ops)} operators, {len(task.atoms)} atoms"
+    if result.status == "timeout":
+        message = f"no plan within {timeout:g} s ({how})"
+    elif result.status == "unsolvable":
+        message = f"search space exhausted: no plan exists ({how})"
+    return PlanResult(
+        result.status,
+        found,
+        cost,
+        result.expanded,
+        result.generated,
+        result.evaluated,
+        total,
+        ground_time,
+        total - ground_time,
+        planner,
+        message,
+    )
+
+
+def plan_graph(
+    domain: Domain | None,
+    graph: SceneGraph,
+    goal: Goal | Formula,
+    planner: str = "lazy-ff",
+    timeout: float = 60.0,
+) -> PlanResult:
+    """Plan from a scene graph to a goal (the problem is built by gsr.facts.problem_from_graph)."""
+    from gsr.facts import _default_domain, problem_from_graph
+
+    domain = domain or _default_domain()
+    formula = goal.formula if isinstance(goal, Goal) else goal
+    problem = problem_from_graph(graph, formula, domain=domain)
+    return plan(domain, problem, planner=planner, timeout=timeout)

@@ -1,0 +1,93 @@
+"""``gsr plan DOMAIN PROBLEM [--planner NAME] [--timeout S] [--out PLAN]`` (wired into typer by gsr.cli)."""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain, Problem
+
+EXIT_SOLVED, EXIT_ERROR, EXIT_UNSOLVABLE, EXIT_TIMEOUT = 0, 1, 2, 3
+
+
+def load_libero(problem: Path, domain: Path | None) -> tuple[Domain, Problem]:
+    """Domain and problem of a LIBERO ``.bddl`` task, via gsr.libero.libero_task (tabletop domain)."""
+    try:
+        from gsr.libero import libero_task
+    except ImportError as err:
+        raise GSRError(f"{problem}: planning .bddl tasks needs gsr.libero, which is not available") from err
+    task = libero_task(problem) if domain is None else libero_task(problem, domain=domain)
+    if isinstance(task, tuple):
+        return task[0], task[1]
+    return task.domain, task.problem
+
+
+def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
+    """Parse the domain and problem files (a ``.bddl`` problem plans against the tabletop domain)."""
+    from gsr.pddl.parser import load_domain, load_problem
+
+    if not problem.is_file():
+        raise GSRError(f"{problem}: no such file")
+    if problem.suffix.lower() == ".bddl":
+        return load_libero(problem, domain)
+    if domain is None:
+        raise GSRError("a PDDL problem needs its DOMAIN file")
+    if not domain.is_file():
+        raise GSRError(f"{domain}: no such file")
+    dom = load_domain(domain)
+    return dom, load_problem(problem, dom)
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` via a temporary file in the same folder and os.replace."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent if str(path.parent) else ".")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def plan_command(domain: Path | None, problem: Path, planner: str, timeout: float, out: Path | None) -> int:
+    """Plan and print the IPC plan (or write it to ``out``); stats on stderr; returns the exit code."""
+    from gsr.plan.api import plan
+    from gsr.plan_format import write_plan
+
+    try:
+        dom, prob = load_task(Path(domain) if domain is not None else None, Path(problem))
+        result = plan(dom, prob, planner=planner, timeout=timeout)
+    except GSRError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_ERROR
+    except OSError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return EXIT_ERROR
+    stats = (
+        f"{result.planner}: {result.status} in {result.time:.3f} s (ground {result.ground_time:.3f} s, "
+        f"search {result.search_time:.3f} s); expanded {result.expanded}, generated {result.generated}, "
+        f"evaluated {result.evaluated}"
+    )
+    if result.status == "solved" and result.plan is not None:
+        text = write_plan(result.plan, result.cost)
+        try:
+            if out is not None:
+                write_atomically(Path(out), text)
+            else:
+                sys.stdout.write(text)
+        except OSError as err:
+            print(f"error: cannot write {out}: {err}", file=sys.stderr)
+            return EXIT_ERROR
+        print(f"{stats}; plan length {len(result.plan)}, cost {result.cost:g}", file=sys.stderr)
+        return EXIT_SOLVED
+    print(f"{stats}; {result.message}", file=sys.stderr)
+    if result.status == "unsolvable":
+        return EXIT_UNSOLVABLE
+    if result.status == "timeout":
+        return EXIT_TIMEOUT
+    return EXIT_ERROR

@@ -1,0 +1,245 @@
+"""Grounding: relaxed-reachability fixpoint, static-predicate pruning and interning into a Task."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from gsr.errors import GSRError
+from gsr.pddl.model import And, Atom, Domain, Formula, Increase, Problem, is_variable
+from gsr.plan.normalize import (
+    Conjunction,
+    Schema,
+    ground_simplify,
+    nnf,
+    normalize_action,
+    to_dnf,
+)
+from gsr.plan.task import GroundOp, Task
+
+GroundEffect = tuple[Conjunction, Atom, bool]  # (condition, atom, is_delete)
+
+
+@dataclass(slots=True)
+class _Variant:
+    """One DNF disjunct of a ground action's precondition, sharing the action's ground effects."""
+
+    name: str
+    args: tuple[str, ...]
+    pre: Conjunction
+    effects: list[GroundEffect]
+    cost: float
+    fired: bool = False
+
+
+class _TypedObjects:
+    """Objects of a type (either-tuples allowed), cached and sorted for determinism."""
+
+    def __init__(self, domain: Domain, objects: dict[str, str]) -> None:
+        self.domain, self.objects = domain, objects
+        self.cache: dict[tuple[str, ...], list[str]] = {}
+        self.sets: dict[tuple[str, ...], frozenset[str]] = {}
+
+    def __call__(self, types: tuple[str, ...]) -> list[str]:
+        found = self.cache.get(types)
+        if found is None:
+            found = sorted(o for o, t in self.objects.items() if self.domain.is_subtype(t, types))
+            self.cache[types] = found
+            self.sets[types] = frozenset(found)
+        return found
+
+    def has(self, obj: str, types: tuple[str, ...]) -> bool:
+        """True when ``obj`` is of one of ``types``."""
+        if types not in self.sets:
+            self(types)
+        return obj in self.sets[types]
+
+
+def _bindings(schema: Schema, index: dict[str, set[tuple[str, ...]]], objects: _TypedObjects) -> list[dict]:
+    """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed."""
+    params = schema.all_params
+    ptypes = {p.name: p.types for p in params}
+    atoms = schema.join
+    out: list[dict] = []
+
+    def rec(k: int, binding: dict[str, str]) -> None:
+        if k == len(atoms):
+            free = [p for p in params if p.name not in binding]
+            for combo in itertools.product(*(objects(p.types) for p in free)):
+                full = dict(binding)
+                full.update(zip((p.name for p in free), combo, strict=True))
+                out.append(full)
+            return
+        atom = atoms[k]
+        for tup in index.get(atom.predicate, ()):
+            if len(tup) != len(atom.args):
+                continue
+            nb = binding
+            for a, v in zip(atom.args, tup, strict=True):
+                if is_variable(a):
+                    bound = nb.get(a)
+                    if bound is None:
+                        types = ptypes.get(a)
+                        if types is None or not objects.has(v, types):
+                            break
+                        if nb is binding:
+                            nb = dict(binding)
+                        nb[a] = v
+                    elif bound != v:
+                        break
+                elif a != v:
+                    break
+            else:
+                rec(k + 1, nb)
+
+    rec(0, {})
+    return out
+
+
+def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem) -> float:
+    """Action cost from ``(increase (total-cost) ...)`` when the problem has a metric, else 1."""
+    if problem.metric is None:
+        return 1.0
+    total = 0.0
+    for inc in costs:
+        amount = inc.amount
+        if isinstance(amount, (int, float)):
+            total += float(amount)
+            continue
+        text = str(amount).strip().strip("()").split()
+        try:
+            total += float(text[0])
+            continue
+        except (ValueError, IndexError):
+            pass
+        key = Atom(text[0].lower(), tuple(binding.get(a, a) for a in text[1:]))
+        if key not in problem.init_numeric:
+            raise GSRError(f"action cost {amount} has no value in the problem's :init")
+        total += problem.init_numeric[key]
+    return total
+
+
+def _variants(
+    schema: Schema, binding: dict[str, str], objects: _TypedObjects, static: Callable, problem: Problem
+) -> list[_Variant]:
+    """Ground one action: DNF of its simplified precondition and its expanded effects."""
+    pre = ground_simplify(And((*schema.join, schema.residual)), binding, objects, static)
+    disjuncts = to_dnf(pre)
+    if not disjuncts:
+        return []
+    effects: list[GroundEffect] = []
+    for eff in schema.effects:
+        domains = [objects(v.types) for v in eff.params]
+        for combo in itertools.product(*domains):
+            b = dict(binding)
+            b.update(zip((v.name for v in eff.params), combo, strict=True))
+            cond = ground_simplify(eff.condition, b, objects, static)
+            atom = eff.literal.atom
+            ground = Atom(atom.predicate, tuple(b.get(a, a) for a in atom.args))
+            for conj in to_dnf(cond):
+                effects.append((conj, ground, eff.literal.negated))
+    args = tuple(binding[p.name] for p in schema.params)
+    cost = _cost(schema.costs, binding, problem)
+    return [_Variant(schema.name, args, d, effects, cost) for d in disjuncts]
+
+
+def ground_task(domain: Domain, problem: Problem) -> Task:
+    """Ground a problem: only relaxed-reachable operators, static atoms compiled away."""
+    objects = _TypedObjects(domain, problem.all_objects(domain))
+    schemas = [normalize_action(a) for a in domain.actions.values()]
+    fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
+    init = set(problem.init)
+
+    def static(atom: Atom) -> bool | None:
+        if atom.predicate in fluent:
+            return None
+        return atom in init
+
+    reached: set[Atom] = set(init)
+    index: dict[str, set[tuple[str, ...]]] = {}
+    for a in init:
+        index.setdefault(a.predicate, set()).add(a.args)
+    cache: dict[tuple, list[_Variant]] = {}
+    fired: list[_Variant] = []
+    changed = True
+    while changed:
+        changed = False
+        for si, schema in enumerate(schemas):
+            names = [p.name for p in schema.all_params]
+            for binding in _bindings(schema, index, objects):
+                key = (si, *(binding[n] for n in names))
+                variants = cache.get(key)
+                if variants is None:
+                    variants = cache[key] = _variants(schema, binding, objects, static, problem)
+                for v in variants:
+                    if not v.fired and all(a in reached for a, pos in v.pre if pos):
+                        v.fired = True
+                        fired.append(v)
+        # Fire the add effects of reached operators whose (positive) conditions are reached.
+        for v in fired:
+            for cond, atom, is_del in v.effects:
+                if not is_del and atom not in reached and all(a in reached for a, pos in cond if pos):
+                    reached.add(atom)
+                    index.setdefault(atom.predicate, set()).add(atom.args)
+                    changed = True
+    return _intern(domain, problem, fired, reached, fluent)
+
+
+def _intern(
+    domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
+) -> Task:
+    atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
+    ids = {a: i for i, a in enumerate(atoms)}
+    ops: set[GroundOp] = set()
+    for v in fired:
+        pre = tuple(sorted(ids[a] for a, pos in v.pre if pos and a in ids))
+        neg = tuple(sorted(ids[a] for a, pos in v.pre if not pos and a in ids))
+        pre_set, neg_set = set(pre), set(neg)
+        add: set[int] = set()
+        dele: set[int] = set()
+        cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
+        for c, atom, is_del in v.effects:
+            if atom not in ids or any(pos and a not in ids for a, pos in c):
+                continue  # never true / never fires
+            cp = tuple(sorted(ids[a] for a, pos in c if pos and ids[a] not in pre_set))
+            cn = tuple(sorted(ids[a] for a, pos in c if not pos and a in ids and ids[a] not in neg_set))
+            if set(cp) & neg_set or set(cn) & pre_set:
+                continue  # contradicts the precondition: never fires
+            target = (add, dele) if not cp and not cn else cond.setdefault((cp, cn), (set(), set()))
+            target[1 if is_del else 0].add(ids[atom])
+        conds = tuple(
+            (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
+        )
+        ops.add(
+            GroundOp(v.name, v.args, v.cost, pre, neg, tuple(sorted(add)), tuple(sorted(dele - add)), conds)
+        )
+    ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
+    init = 0
+    for a in problem.init:
+        if a in ids:
+            init |= 1 << ids[a]
+    goals = ground_goal(domain, problem, problem.goal, ids, fluent)
+    return Task(atoms, ordered, init, goals)
+
+
+def ground_goal(
+    domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
+) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
+    """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
+    objects = _TypedObjects(domain, problem.all_objects(domain))
+    init = problem.init
+
+    def static(atom: Atom) -> bool | None:
+        if atom.predicate in fluent:
+            return None
+        return atom in init
+
+    out = []
+    for conj in to_dnf(ground_simplify(nnf(goal), {}, objects, static)):
+        if any(pos and a not in ids for a, pos in conj):
+            continue
+        pos_ids = tuple(sorted(ids[a] for a, pos in conj if pos))
+        neg_ids = tuple(sorted(ids[a] for a, pos in conj if not pos and a in ids))
+        out.append((pos_ids, neg_ids))
+    return out

@@ -1,0 +1,237 @@
+"""Delete-relaxation heuristics over integer-indexed unary operators: h_add/FF, h_max and LM-cut.
+
+Every ground operator becomes one unary operator per effect group (its unconditional adds, and
+one per conditional effect with the condition added to the precondition); a goal disjunct is a
+zero-cost unary operator reaching the auxiliary fact ``G``; an always-true fact ``T`` is the
+precondition of operators without one, so that the counter-based Dijkstra (as in FF / Fast
+Downward's relaxation heuristics) needs no special cases. Negative preconditions and goals are
+ignored by the relaxation, which keeps h_max and LM-cut admissible.
+"""
+
+from __future__ import annotations
+
+from heapq import heappop, heappush
+
+from gsr.plan.task import Task
+
+INF = float("inf")
+
+
+class Relaxation:
+    """The unary-operator relaxation of a Task, shared by all heuristics."""
+
+    def __init__(self, task: Task) -> None:
+        n = len(task.atoms)
+        self.task = task
+        self.goal_fact = n
+        self.true_fact = n + 1
+        self.n_facts = n + 2
+        pre: list[tuple[int, ...]] = []
+        add: list[tuple[int, ...]] = []
+        cost: list[float] = []
+        owner: list[int] = []
+        for i, o in enumerate(task.ops):
+            groups = [(o.pre, o.add)] if o.add else []
+            groups += [(tuple(sorted(set(o.pre) | set(cp))), ca) for cp, _cn, ca, _cd in o.cond if ca]
+            for p, a in groups:
+                pre.append(p or (self.true_fact,))
+                add.append(a)
+                cost.append(o.cost)
+                owner.append(i)
+        for p, _n in task.goals:
+            pre.append(p or (self.true_fact,))
+            add.append((self.goal_fact,))
+            cost.append(0)
+            owner.append(-1)
+        self.pre, self.add, self.cost, self.owner = pre, add, cost, owner
+        self.npre = [len(p) for p in pre]
+        self.pre_of: list[list[int]] = [[] for _ in range(self.n_facts)]
+        for u, p in enumerate(pre):
+            for f in p:
+                self.pre_of[f].append(u)
+        self.achievers: list[list[int]] = [[] for _ in range(self.n_facts)]
+        for u, a in enumerate(add):
+            for f in a:
+                self.achievers[f].append(u)
+        self._inf = [INF] * self.n_facts
+        self._none = [-1] * self.n_facts
+        # Integer costs allow a bucket queue instead of a binary heap (measured ~20% faster h_add).
+        self.integral = all(float(c).is_integer() and c >= 0 for c in cost)
+        if self.integral:
+            self.cost = [int(c) for c in cost]
+
+    def _start(self, state: int) -> list[tuple[float, int]]:
+        heap = []
+        s = state
+        while s:
+            low = s & -s
+            s ^= low
+            heap.append((0, low.bit_length() - 1))
+        heap.append((0, self.true_fact))
+        return heap
+
+    def hadd(self, state: int) -> tuple[list[float], list[int]]:
+        """h_add costs of all facts (stopping once G is settled) and each fact's best supporter."""
+        if self.integral:
+            return self._hadd_buckets(state)
+        cost = self._inf[:]
+        sup = self._none[:]
+        unsat = self.npre[:]
+        acc = self.cost[:]
+        pre_of, add, goal = self.pre_of, self.add, self.goal_fact
+        heap = self._start(state)
+        for _, f in heap:
+            cost[f] = 0
+        while heap:
+            c, f = heappop(heap)
+            if c > cost[f]:
+                continue
+            if f == goal:
+                break
+            for u in pre_of[f]:
+                acc[u] += c
+                unsat[u] -= 1
+                if not unsat[u]:
+                    v = acc[u]
+                    for g in add[u]:
+                        if v < cost[g]:
+                            cost[g] = v
+                            sup[g] = u
+                            heappush(heap, (v, g))
+        return cost, sup
+
+    def _hadd_buckets(self, state: int) -> tuple[list[float], list[int]]:
+        """h_add with a bucket queue indexed by (integer) cost; same result as the heap version."""
+        cost = self._inf[:]
+        sup = self._none[:]
+        unsat = self.npre[:]
+        acc = self.cost[:]
+        pre_of, add, goal = self.pre_of, self.add, self.goal_fact
+        first = [f for _, f in self._start(state)]
+        for f in first:
+            cost[f] = 0
+        buckets = [first]
+        c = 0
+        while c < len(buckets):
+            # Appending to the bucket being iterated is fine: zero-cost operators feed the same level.
+            for f in buckets[c]:
+                if cost[f] != c:
+                    continue
+                if f == goal:
+                    return cost, sup
+                for u in pre_of[f]:
+                    acc[u] += c
+                    unsat[u] -= 1
+                    if not unsat[u]:
+                        v = acc[u]
+                        for g in add[u]:
+                            if v < cost[g]:
+                                cost[g] = v
+                                sup[g] = u
+                                while len(buckets) <= v:
+                                    buckets.append([])
+                                buckets[v].append(g)
+            c += 1
+        return cost, sup
+
+    def ff(self, state: int) -> tuple[float, list[int]]:
+        """FF heuristic (relaxed plan from h_add supporters) and the preferred operators it suggests."""
+        cost, sup = self.hadd(state)
+        if cost[self.goal_fact] == INF:
+            return INF, []
+        ops: set[int] = set()
+        seen = {self.goal_fact}
+        stack = [self.goal_fact]
+        pre, owner = self.pre, self.owner
+        while stack:
+            u = sup[stack.pop()]
+            if u < 0:
+                continue
+            if owner[u] >= 0:
+                ops.add(owner[u])
+            for g in pre[u]:
+                if g not in seen:
+                    seen.add(g)
+                    stack.append(g)
+        task = self.task
+        pre_mask, neg_mask = task.pre_mask, task.neg_mask
+        h = sum(task.ops[o].cost for o in ops)
+        preferred = [o for o in ops if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
+        return h, preferred
+
+    def hmax(self, state: int, cost_of: list[float] | None = None) -> tuple[list[float], list[int]]:
+        """h_max costs of all facts and each enabled unary operator's critical precondition (-1 if none)."""
+        base = self.cost if cost_of is None else cost_of
+        cost = self._inf[:]
+        unsat = self.npre[:]
+        pcf = [-1] * len(self.pre)
+        pre_of, add = self.pre_of, self.add
+        heap = self._start(state)
+        for _, f in heap:
+            cost[f] = 0
+        while heap:
+            c, f = heappop(heap)
+            if c > cost[f]:
+                continue
+            for u in pre_of[f]:
+                unsat[u] -= 1
+                if not unsat[u]:
+                    # Facts are settled in cost order, so the last precondition is the costliest.
+                    pcf[u] = f
+                    v = c + base[u]
+                    for g in add[u]:
+                        if v < cost[g]:
+                            cost[g] = v
+                            heappush(heap, (v, g))
+        return cost, pcf
+
+    def hmax_value(self, state: int) -> float:
+        """The h_max estimate of the goal."""
+        return self.hmax(state)[0][self.goal_fact]
+
+    def lmcut(self, state: int) -> float:
+        """LM-cut (Helmert & Domshlak 2009): admissible for tasks without conditional effects."""
+        costs = list(self.cost)
+        goal, add, achievers = self.goal_fact, self.add, self.achievers
+        h = 0.0
+        while True:
+            fact_cost, pcf = self.hmax(state, costs)
+            if fact_cost[goal] == INF:
+                return INF
+            if fact_cost[goal] == 0:
+                return h
+            zone = {goal}
+            stack = [goal]
+            while stack:
+                f = stack.pop()
+                for u in achievers[f]:
+                    p = pcf[u]
+                    if p >= 0 and costs[u] == 0 and p not in zone:
+                        zone.add(p)
+                        stack.append(p)
+            by_pcf: dict[int, list[int]] = {}
+            for u, p in enumerate(pcf):
+                if p >= 0:
+                    by_pcf.setdefault(p, []).append(u)
+            reached = set()
+            s = state
+            while s:
+                low = s & -s
+                s ^= low
+                reached.add(low.bit_length() - 1)
+            reached.add(self.true_fact)
+            stack = list(reached)
+            cut: set[int] = set()
+            while stack:
+                f = stack.pop()
+                for u in by_pcf.get(f, ()):
+                    for g in add[u]:
+                        if g in zone:
+                            cut.add(u)
+                        elif g not in reached:
+                            reached.add(g)
+                            stack.append(g)
+            m = min(costs[u] for u in cut)
+            h += m
+            for u in cut:
+                costs[u] -= m

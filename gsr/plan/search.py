@@ -1,0 +1,206 @@
+"""Search algorithms over a ground Task: lazy and eager greedy best-first, A*, breadth-first.
+
+All searches are deterministic (FIFO tie-breaking by insertion counter, operators in id order)
+and check the clock every ``CLOCK_EVERY`` expansions.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from heapq import heappop, heappush
+
+from gsr.plan.heuristics import INF, Relaxation
+from gsr.plan.task import Task
+
+CLOCK_EVERY = 64
+BOOST = 1000  # Fast Downward's default preferred-operator boost (lama-first)
+
+
+@dataclass(slots=True)
+class SearchResult:
+    """Outcome of one search: status, operator ids and counters."""
+
+    status: str  # "solved" | "unsolvable" | "timeout"
+    ops: list[int] = field(default_factory=list)
+    expanded: int = 0
+    generated: int = 0
+    evaluated: int = 0
+
+
+class _Space:
+    """State registry with parent pointers for plan extraction."""
+
+    __slots__ = ("ids", "op", "parent", "states")
+
+    def __init__(self) -> None:
+        self.ids: dict[int, int] = {}
+        self.states: list[int] = []
+        self.parent: list[int] = []
+        self.op: list[int] = []
+
+    def add(self, state: int, parent: int, op: int) -> int:
+        sid = len(self.states)
+        self.ids[state] = sid
+        self.states.append(state)
+        self.parent.append(parent)
+        self.op.append(op)
+        return sid
+
+    def path(self, sid: int) -> list[int]:
+        out = []
+        while self.parent[sid] >= 0:
+            out.append(self.op[sid])
+            sid = self.parent[sid]
+        out.reverse()
+        return out
+
+
+def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
+    """Lazy GBFS with h_FF and preferred operators in a boosted dual queue (FD's lazy_greedy)."""
+    res = SearchResult("unsolvable")
+    space = _Space()
+    init = task.init
+    root = space.add(init, -1, -1)
+    if task.is_goal(init):
+        res.status = "solved"
+        return res
+    open_lists: tuple[list, list] = ([], [])  # (all successors, preferred successors)
+    priority = [0, 0]
+    counter = 0
+    best_h = INF
+    apply, applicable, is_goal, ff = task.apply, task.applicable, task.is_goal, relax.ff
+    pending: tuple[int, int] | None = (root, -1)
+    while True:
+        if pending is None:
+            # Alternation open list: the non-empty queue with the lowest priority counter goes next.
+            choices = [i for i in (1, 0) if open_lists[i]]
+            if not choices:
+                return res
+            which = min(choices, key=lambda i: priority[i])
+            priority[which] += 1
+            _, _, pid, op = heappop(open_lists[which])
+            state = apply(space.states[pid], op)
+            if state in space.ids:
+                continue
+            sid = space.add(state, pid, op)
+            res.generated += 1
+            if is_goal(state):
+                res.status, res.ops = "solved", space.path(sid)
+                return res
+        else:
+            sid = pending[0]
+            state = space.states[sid]
+            pending = None
+        h, preferred = ff(state)
+        res.evaluated += 1
+        if h == INF:
+            continue
+        if h < best_h:
+            best_h = h
+            priority[1] -= BOOST
+        res.expanded += 1
+        if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
+            res.status = "timeout"
+            return res
+        pref = set(preferred)
+        all_list, pref_list = open_lists
+        for op in applicable(state):
+            counter += 1
+            heappush(all_list, (h, counter, sid, op))
+            if op in pref:
+                heappush(pref_list, (h, counter, sid, op))
+
+
+def eager_search(
+    task: Task, evaluate: Callable[[int], float], deadline: float, weight_g: float, weight_h: float = 1.0
+) -> SearchResult:
+    """Best-first search on ``weight_g * g + weight_h * h`` with reopening (A* for 1/1, GBFS for 0/1)."""
+    res = SearchResult("unsolvable")
+    space = _Space()
+    init = task.init
+    h0 = evaluate(init)
+    res.evaluated += 1
+    if h0 == INF:
+        return res
+    root = space.add(init, -1, -1)
+    g = [0.0]
+    hval = [h0]
+    closed = [False]
+    heap = [(weight_h * h0, h0, 0, root)]
+    counter = 0
+    ops, apply, applicable, is_goal = task.ops, task.apply, task.applicable, task.is_goal
+    ids, states = space.ids, space.states
+    while heap:
+        _, _, _, sid = heappop(heap)
+        if closed[sid]:
+            continue
+        closed[sid] = True
+        state = states[sid]
+        if is_goal(state):
+            res.status, res.ops = "solved", space.path(sid)
+            return res
+        res.expanded += 1
+        if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
+            res.status = "timeout"
+            return res
+        gs = g[sid]
+        for op in applicable(state):
+            succ = apply(state, op)
+            res.generated += 1
+            ng = gs + ops[op].cost
+            tid = ids.get(succ)
+            if tid is None:
+                h = evaluate(succ)
+                res.evaluated += 1
+                tid = space.add(succ, sid, op)
+                g.append(ng)
+                hval.append(h)
+                closed.append(False)
+                if h == INF:
+                    closed[tid] = True
+                    continue
+            elif ng < g[tid] and weight_g:
+                # Cheaper path: reopen (LM-cut and h_max need not be consistent).
+                g[tid], space.parent[tid], space.op[tid] = ng, sid, op
+                closed[tid] = hval[tid] == INF
+                if closed[tid]:
+                    continue
+            else:
+                continue
+            counter += 1
+            h = hval[tid]
+            heappush(heap, (weight_g * g[tid] + weight_h * h, h, counter, tid))
+    return res
+
+
+def breadth_first(task: Task, deadline: float) -> SearchResult:
+    """Breadth-first search with duplicate detection (optimal for unit costs)."""
+    res = SearchResult("unsolvable")
+    space = _Space()
+    root = space.add(task.init, -1, -1)
+    if task.is_goal(task.init):
+        res.status = "solved"
+        return res
+    queue = deque([root])
+    apply, applicable, is_goal, ids = task.apply, task.applicable, task.is_goal, space.ids
+    while queue:
+        sid = queue.popleft()
+        state = space.states[sid]
+        res.expanded += 1
+        if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
+            res.status = "timeout"
+            return res
+        for op in applicable(state):
+            succ = apply(state, op)
+            res.generated += 1
+            if succ in ids:
+                continue
+            tid = space.add(succ, sid, op)
+            if is_goal(succ):
+                res.status, res.ops = "solved", space.path(tid)
+                return res
+            queue.append(tid)
+    return res

@@ -1,0 +1,1 @@
+"""RGB-D to grounded scene graph (see ARCHITECTURE.md). Depends on `gsr` only."""

@@ -1,0 +1,1 @@
+"""PyBullet world and meta-skill library (see ARCHITECTURE.md). Depends on `gsr` and `perception`."""
