@@ -26,7 +26,7 @@ $(VENV)/.installed-demo: pyproject.toml | $(PY)
 	@touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(PY)
-	$(PIP) install -e '.[dev]'
+	$(PIP) install -e '.[dev,sim,vision,serve,llm]'
 	@touch $@ $(VENV)/.installed-demo
 
 demo: sysdeps $(VENV)/.installed-demo

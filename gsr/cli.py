@@ -43,7 +43,9 @@ def parse_cmd(
 def validate_cmd(
     files: Annotated[
         list[Path],
-        typer.Argument(help="[DOMAIN] PROBLEM PLAN; for a BDDL problem the domain defaults to the tabletop domain."),
+        typer.Argument(
+            help="[DOMAIN] PROBLEM PLAN; for a BDDL problem the domain defaults to the tabletop domain."
+        ),
     ],
     as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
 ) -> None:
@@ -67,9 +69,13 @@ def plan_cmd(
     files: Annotated[
         list[Path], typer.Argument(help="[DOMAIN] PROBLEM; a BDDL problem plans against the tabletop domain.")
     ],
-    planner: Annotated[str, typer.Option(help="lazy-ff, gbfs-ff, astar-lmcut, astar-hmax, bfs or fd.")] = "lazy-ff",
+    planner: Annotated[
+        str, typer.Option(help="lazy-ff, gbfs-ff, astar-lmcut, astar-hmax, bfs or fd.")
+    ] = "lazy-ff",
     timeout: Annotated[float, typer.Option(help="Time limit in seconds.")] = 60.0,
-    out: Annotated[Path | None, typer.Option(help="Write the plan here (IPC format) instead of stdout.")] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Write the plan here (IPC format) instead of stdout.")
+    ] = None,
 ) -> None:
     """Plan a problem: exit 0 solved, 2 proven unsolvable, 3 timeout, 1 error."""
     from gsr.plan.cli import plan_command

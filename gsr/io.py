@@ -69,7 +69,9 @@ def write_any(model: Domain | Problem) -> str:
     return write_domain(model) if isinstance(model, Domain) else write_problem(model)
 
 
-def load_domain_and_problem(domain_file: str | Path | None, problem_file: str | Path) -> tuple[Domain, Problem]:
+def load_domain_and_problem(
+    domain_file: str | Path | None, problem_file: str | Path
+) -> tuple[Domain, Problem]:
     """Load a (domain, problem) pair; a LIBERO BDDL problem without a domain uses the tabletop domain."""
     from gsr.pddl.parser import parse_domain, parse_problem
 

@@ -164,7 +164,9 @@ class SceneGraph(BaseModel):
         for e in self.edges:
             for end in (e.source, e.target):
                 if end not in ids:
-                    raise ValueError(f"edge {e.source} -{e.relation}-> {e.target} refers to unknown node {end!r}")
+                    raise ValueError(
+                        f"edge {e.source} -{e.relation}-> {e.target} refers to unknown node {end!r}"
+                    )
             if e.source == e.target:
                 raise ValueError(f"edge {e.source} -{e.relation}-> {e.target} is a self-loop")
             if e.key() in seen:
