@@ -132,6 +132,28 @@ def demo_cmd(
     raise typer.Exit(run_demo(task))
 
 
+@app.command("serve")
+def serve_cmd(
+    host: Annotated[str, typer.Option(help="Interface to bind.")] = "127.0.0.1",
+    port: Annotated[int, typer.Option(help="TCP port.")] = 8000,
+    workers: Annotated[int, typer.Option(help="uvicorn worker processes.")] = 1,
+    max_plan_seconds: Annotated[float | None, typer.Option(help="Planner budget per request (s).")] = None,
+    max_concurrent: Annotated[int | None, typer.Option(help="Heavy requests running at once.")] = None,
+) -> None:
+    """Serve the HTTP reasoning API (OpenAPI at /openapi.json); limits also from GSR_SERVICE_* variables."""
+    import os
+
+    try:
+        import uvicorn
+    except ImportError:
+        raise _fail("the service needs the 'serve' extra: pip install 'gsr[serve]'") from None
+    if max_plan_seconds is not None:
+        os.environ["GSR_SERVICE_MAX_PLAN_SECONDS"] = str(max_plan_seconds)
+    if max_concurrent is not None:
+        os.environ["GSR_SERVICE_MAX_CONCURRENT"] = str(max_concurrent)
+    uvicorn.run("gsr.service.asgi:app", host=host, port=port, workers=workers, log_level="warning")
+
+
 def main() -> None:
     """Console entry point: turn GSR errors into one-line messages and exit code 1."""
     try:

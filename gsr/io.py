@@ -116,8 +116,13 @@ def load_scene(path: str | Path) -> SceneGraph:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise GSRError(f"{p}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}") from None
+    return scene_from_data(data, str(p))
+
+
+def scene_from_data(data: object, source: str = "<scene>") -> SceneGraph:
+    """A scene graph from parsed JSON: scene-graph JSON or a GSR-Bench message ``{nodes: [str], edges: [str]}``."""
     if isinstance(data, dict) and data.get("nodes") and all(isinstance(n, str) for n in data["nodes"]):
         from gsr.gsr_bench_format import graph_from_gsr_bench
 
         return graph_from_gsr_bench(data)
-    return SceneGraph.from_data(data, str(p))
+    return SceneGraph.from_data(data, source)

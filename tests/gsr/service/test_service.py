@@ -1,0 +1,160 @@
+"""The HTTP reasoning API: every endpoint, its limits, and structured 4xx errors on bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("fastapi")
+from fastapi.testclient import TestClient
+
+from gsr.service import ServiceSettings, create_app
+
+PDDL = Path(__file__).resolve().parents[3].parent / "shared" / "data" / "pddl"
+SCENE = {
+    "nodes": ["table", "blue_box", "red_cube1", "red_cube2"],
+    "edges": ["blue_box(on)table", "red_cube1(on)table", "red_cube2(on)blue_box"],
+}
+
+
+@pytest.fixture(scope="module")
+def client() -> TestClient:
+    return TestClient(create_app(ServiceSettings(max_plan_seconds=5.0, max_body_bytes=64_000)))
+
+
+def test_health_and_openapi(client: TestClient) -> None:
+    assert client.get("/health").json()["status"] == "ok"
+    spec = client.get("/openapi.json").json()
+    for path in (
+        "/v1/check",
+        "/v1/validate",
+        "/v1/plan",
+        "/v1/ground",
+        "/v1/solve",
+        "/v1/scene-graph/validate",
+    ):
+        assert path in spec["paths"], path
+
+
+def test_domains_lists_tabletop_actions(client: TestClient) -> None:
+    domains = {d["name"]: d for d in client.get("/v1/domains").json()}
+    assert "tabletop" in domains
+    assert any(a.startswith("(pick ") for a in domains["tabletop"]["actions"])
+
+
+def test_check_valid_and_invalid_step(client: TestClient) -> None:
+    ok = client.post("/v1/check", json={"scene_graph": SCENE, "step": "(pick red_cube1 table)"})
+    assert ok.status_code == 200 and ok.json()["ok"] is True
+    assert "(holding red_cube1)" in ok.json()["effects"]["add"]
+    # the box has a cube on it: the checker explains why it cannot be picked
+    bad = client.post("/v1/check", json={"scene_graph": SCENE, "step": "(pick blue_box table)"})
+    assert bad.status_code == 200
+    body = bad.json()
+    assert body["ok"] is False and body["reasons"]
+    assert "red_cube2" in json.dumps(body)
+
+
+def test_check_step_object_with_wrong_claim(client: TestClient) -> None:
+    step = {
+        "action": "pick",
+        "args": ["red_cube1", "table"],
+        "add": ["(on red_cube1 blue_box)"],
+        "delete": [],
+    }
+    body = client.post("/v1/check", json={"scene_graph": SCENE, "step": step}).json()
+    assert body["ok"] is False
+    assert any("effect" in r["kind"] for r in body["reasons"])
+
+
+def test_validate_plan_on_graph_and_goal(client: TestClient) -> None:
+    req = {
+        "scene_graph": SCENE,
+        "goal": "(in red_cube1 blue_box)",
+        "plan": ["(pick red_cube1 table)", "(place_in red_cube1 blue_box)"],
+    }
+    body = client.post("/v1/validate", json=req).json()
+    assert body["valid"] is True, body
+    req["plan"] = "(pick red_cube1 table)\n"
+    body = client.post("/v1/validate", json=req).json()
+    assert body["valid"] is False and body["goal_reached"] is False
+
+
+def test_plan_pddl_problem_and_graph(client: TestClient) -> None:
+    dom = (PDDL / "blocks" / "domain.pddl").read_text()
+    prob = (PDDL / "blocks" / "probBLOCKS-4-0.pddl").read_text()
+    body = client.post("/v1/plan", json={"domain_pddl": dom, "problem_pddl": prob}).json()
+    assert body["status"] == "solved" and len(body["plan"]) >= 1
+    body = client.post("/v1/plan", json={"scene_graph": SCENE, "goal": "(in red_cube1 blue_box)"}).json()
+    assert body["status"] == "solved"
+    assert body["plan"][-1].startswith("(place_in red_cube1 blue_box")
+
+
+def test_plan_unknown_planner_and_missing_task(client: TestClient) -> None:
+    r = client.post(
+        "/v1/plan", json={"scene_graph": SCENE, "goal": "(in red_cube1 blue_box)", "planner": "magic"}
+    )
+    assert r.status_code == 422 and r.json()["error"]["type"] == "unknown_planner"
+    r = client.post("/v1/plan", json={"scene_graph": SCENE})
+    assert r.status_code == 422 and "goal" in r.json()["error"]["message"]
+
+
+@pytest.mark.parametrize(
+    ("payload", "status", "kind"),
+    [
+        ("{not json", 400, "invalid_json"),
+        (json.dumps({"scene_graph": SCENE}), 422, "invalid_request"),  # step missing
+        (json.dumps({"scene_graph": SCENE, "step": "(pick red_cube1"}), 422, "ParseError"),
+        (
+            json.dumps({"scene_graph": {"nodes": ["a"], "edges": ["a(on)zz"]}, "step": "(pick a t)"}),
+            422,
+            "GSRError",
+        ),
+        (
+            json.dumps({"scene_graph": SCENE, "step": "(pick red_cube1 table)", "domain": "nope"}),
+            422,
+            "GSRError",
+        ),
+    ],
+)
+def test_bad_input_is_structured_4xx(client: TestClient, payload: str, status: int, kind: str) -> None:
+    r = client.post("/v1/check", content=payload, headers={"content-type": "application/json"})
+    assert r.status_code == status, r.text
+    err = r.json()["error"]
+    assert err["type"] == kind and err["message"]
+
+
+def test_scene_graph_validate(client: TestClient) -> None:
+    body = client.post("/v1/scene-graph/validate", json=SCENE).json()
+    assert body["valid"] and body["nodes"] == 4 and "(on red_cube2 blue_box)" in body["facts"]
+    r = client.post(
+        "/v1/scene-graph/validate",
+        json={
+            "nodes": [{"id": "a", "category": "cube"}],
+            "edges": [{"source": "a", "relation": "on", "target": "ghost"}],
+        },
+    )
+    assert r.status_code == 422 and "ghost" in r.json()["error"]["message"]
+
+
+def test_body_size_limit(client: TestClient) -> None:
+    big = {"scene_graph": SCENE, "step": "(pick red_cube1 table)", "pad": "x" * 70_000}
+    r = client.post("/v1/check", json=big)
+    assert r.status_code == 413 and r.json()["error"]["type"] == "body_too_large"
+
+
+def test_planner_budget_is_capped() -> None:
+    client = TestClient(create_app(ServiceSettings(max_plan_seconds=0.05)))
+    dom = (PDDL / "blocks" / "domain.pddl").read_text()
+    prob = (PDDL / "blocks" / "probBLOCKS-14-0.pddl").read_text()
+    body = client.post(
+        "/v1/plan", json={"domain_pddl": dom, "problem_pddl": prob, "planner": "astar-blind", "timeout": 600}
+    ).json()
+    assert body["status"] == "timeout" and body["time"] < 2.0
+
+
+def test_busy_server_answers_503() -> None:
+    client = TestClient(create_app(ServiceSettings(max_concurrent=0, queue_timeout=0.01)))
+    r = client.post("/v1/check", json={"scene_graph": SCENE, "step": "(pick red_cube1 table)"})
+    assert r.status_code == 503 and r.headers["retry-after"] == "1"
