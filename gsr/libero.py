@@ -100,6 +100,8 @@ class _Converter:
         }
         self.targets: dict[str, _Target] = {}
         self.parts: dict[str, Node] = {}
+        self.surface_regions: dict[str, str] = {}  # collapsed table/floor region ref -> region name
+        self.placed: dict[str, str] = {}  # object -> the surface region it starts on
         for region in bddl.regions:
             self._add_region(region)
 
@@ -118,6 +120,9 @@ class _Converter:
                 self._part(ref, target, name, "region")
             else:
                 self.targets[ref] = _Target(target)
+                # keep where on the surface an object starts ("between_plate_ramekin", "table_center"):
+                # instructions refer to objects by it ("the bowl between the plate and the ramekin")
+                self.surface_regions[ref] = name.removesuffix("_region")
         elif is_a(cat, "cabinet") and _DRAWER_REGION.match(name):
             level = _DRAWER_LEVEL[name.split("_", 1)[0]]
             self._part(ref, target, f"{_DRAWER_WORD[level]}_drawer", "drawer", level=level)
@@ -159,6 +164,8 @@ class _Converter:
         nodes: list[Node] = []
         for name, (kind, cat, attrs, fixture) in self.entities.items():
             full: dict[str, str | int | float | bool] = {**attrs, "asset": kind}
+            if name in self.placed:
+                full["region"] = self.placed[name]
             if fixture:
                 full["fixture"] = True
                 full["movable"] = False  # LIBERO fixtures are bolted to the scene
@@ -190,6 +197,8 @@ class _Converter:
             obj, where = self.resolve(atom.args[0]), self.resolve(atom.args[1])
             if obj != where and obj not in support:
                 support[obj] = Edge(source=obj, relation=_SUPPORT[pred], target=where)
+                if atom.args[1].lower() in self.surface_regions:
+                    self.placed[obj] = self.surface_regions[atom.args[1].lower()]
         elif pred in ("open", "close") and len(atom.args) == 1:
             node = self.resolve(atom.args[0])
             states.setdefault(node, set()).add("open" if pred == "open" else "closed")
