@@ -1,0 +1,71 @@
+"""The built-in few-shot example, with effects computed by the checker so it always matches the domain."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from gsr.pddl.model import Domain
+from gsr.scene_graph import SceneGraph
+from gsr.step import Step
+
+_EXAMPLE_SCENE = {
+    "nodes": ["table", "green_box", "yellow_cube1", "small_cabinet", "small_cabinet/drawer_top(closed)"],
+    "edges": ["green_box(on)table", "yellow_cube1(on)green_box", "small_cabinet(on)table"],
+}
+_EXAMPLE_INSTRUCTION = "put the yellow cube in the top drawer and close it"
+_EXAMPLE_PLAN = (
+    Step("open", ("small_cabinet/drawer_top",)),
+    Step("pick", ("yellow_cube1", "green_box")),
+    Step("place_in", ("yellow_cube1", "small_cabinet/drawer_top")),
+    Step("close", ("small_cabinet/drawer_top",)),
+)
+_EXAMPLE_GOAL = "(and (in yellow_cube1 small_cabinet/drawer_top) (not (open small_cabinet/drawer_top)))"
+
+
+def annotate_steps(domain: Domain, graph: SceneGraph, steps: Sequence[Step]) -> list[Step]:
+    """The steps with their true effects as claims (the checker's transition); StepRejected if one is invalid."""
+    from gsr.check import check_step
+    from gsr.facts import state_from_graph
+    from gsr.transition import StepRejected
+
+    state = state_from_graph(graph, domain)
+    out = []
+    for i, step in enumerate(steps, 1):
+        bare = Step(step.action, step.args)
+        diagnosis = check_step(domain, state, bare)
+        if not diagnosis.ok:
+            raise StepRejected(f"step {i}: {diagnosis}", diagnosis)
+        before = state.atoms
+        add = tuple(
+            sorted((a for a in diagnosis.add if a not in before), key=lambda a: (a.predicate, a.args))
+        )
+        delete = tuple(
+            sorted((a for a in diagnosis.delete if a in before), key=lambda a: (a.predicate, a.args))
+        )
+        out.append(Step(bare.action, bare.args, add, delete))
+        state = diagnosis.next_state
+    return out
+
+
+_CACHE: dict[int, tuple[Domain, object]] = {}
+
+
+def _example(domain: Domain):
+    from gsr.gsr_bench_format import graph_from_gsr_bench
+    from gsr.reason.prompt import Example, scene_text
+    from gsr.reason.step_format import format_step
+
+    graph = graph_from_gsr_bench(_EXAMPLE_SCENE)
+    steps = annotate_steps(domain, graph, _EXAMPLE_PLAN)
+    return Example(
+        scene_text(graph, domain), _EXAMPLE_INSTRUCTION, tuple(format_step(s) for s in steps), _EXAMPLE_GOAL
+    )
+
+
+def builtin_example(domain: Domain):
+    """The built-in tabletop example (scene, instruction, checked steps with effects, goal)."""
+    hit = _CACHE.get(id(domain))
+    if hit is None or hit[0] is not domain:  # keyed by identity: Domain is mutable, not hashable
+        hit = (domain, _example(domain))
+        _CACHE[id(domain)] = hit
+    return hit[1]
