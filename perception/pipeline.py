@@ -1,0 +1,161 @@
+"""The perception pipeline: frames (RGB-D + masks + labels + cameras) -> grounded ``SceneGraph``."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gsr.categories import category_of
+from gsr.errors import GSRError
+from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
+from perception.articulation import ArticulationThresholds, keypoints, part_states
+from perception.frame import Frame, InstanceLabel
+from perception.geometry import (
+    GeometryParams,
+    Instance,
+    back_project,
+    build_instances,
+    color_name,
+    fit_boxes,
+    support_plane,
+)
+from perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
+
+
+@dataclass(frozen=True)
+class PerceptionParams:
+    """Everything tunable in one place; the defaults are the documented ones."""
+
+    geometry: GeometryParams = field(default_factory=GeometryParams)
+    relations: RelationThresholds = field(default_factory=RelationThresholds)
+    articulation: ArticulationThresholds = field(default_factory=ArticulationThresholds)
+    world_to_robot: tuple[tuple[float, ...], ...] | None = None  # 4x4; None: robot base = world origin
+    descriptive: bool = True  # also infer adjacent / left_of / right_of / front_of / behind
+
+
+def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None) -> SceneGraph:
+    """Perceive one or more frames (fused across cameras) into a scene graph."""
+    params = params or PerceptionParams()
+    frame_list = [frames] if isinstance(frames, Frame) else list(frames)
+    if not frame_list:
+        raise GSRError("perceive: no frames given")
+    instances, segments = build_instances(frame_list, params.geometry)
+    plane = _ground_plane(instances, frame_list, params)
+    world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
+    robot_xy = np.zeros(2) if world_to_robot is None else np.linalg.inv(world_to_robot)[:2, 3]
+    support = supports(instances, plane, params.relations)
+    states = part_states(instances, params.articulation, robot_xy)
+    kps = keypoints(instances, segments, params.articulation, robot_xy)
+    edges = [(a, rel, b) for a, (rel, b) in support.items()]
+    if params.descriptive:
+        edges += descriptive_relations(instances, support, params.relations, world_to_robot)
+    nodes = [_node(i, states.get(i.key), kps.get(i.key, [])) for i in instances]
+    nodes += _missing_parents(nodes)
+    ids = {n.id for n in nodes}
+    kept_kps = sorted(k for k in kps if k not in ids)
+    metadata = {
+        "source": "perception",
+        "frames": len(frame_list),
+        "support_plane": None if plane is None else [round(float(v), 5) for v in plane],
+    }
+    if kept_kps:
+        metadata["unattached_keypoints"] = kept_kps
+    return SceneGraph(
+        nodes=tuple(sorted(nodes, key=lambda n: n.id)),
+        edges=tuple(Edge(source=a, relation=r, target=b) for a, r, b in sorted(set(edges))),
+        metadata=metadata,
+    )
+
+
+def _ground_plane(
+    instances: list[Instance], frames: list[Frame], params: PerceptionParams
+) -> np.ndarray | None:
+    """RANSAC support plane: on the labelled ground (table/floor), else on unlabelled background."""
+    grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
+    if grounds:
+        pts = np.concatenate([g.points for g in grounds])
+    else:
+        pts = _background_points(frames, params.geometry)
+    if len(pts) > 20000:  # RANSAC needs a sample of the surface, not all of it
+        pts = pts[np.random.default_rng(0).choice(len(pts), 20000, replace=False)]
+    plane = support_plane(pts, params.geometry)
+    if plane is not None and not grounds:
+        # No ground was labelled: the dominant plane of the unlabelled points becomes the table.
+        inliers = pts[np.abs(pts @ plane[:3] + plane[3]) <= params.geometry.plane_distance]
+        if len(inliers) >= params.geometry.min_points:
+            table = Instance(
+                "table", InstanceLabel(id="table", category="table"), inliers, _grey(len(inliers))
+            )
+            fit_boxes(table)
+            instances.append(table)
+    return plane
+
+
+def _background_points(frames: list[Frame], params: GeometryParams) -> np.ndarray:
+    """World points of pixels that belong to no instance (where a table usually is)."""
+    chunks = []
+    for f in frames:
+        pts = back_project(f.depth, f.camera, params.stride).reshape(-1, 3)
+        bg = (f.masks[:: params.stride, :: params.stride] < 0).reshape(-1)
+        chunks.append(pts[bg & np.all(np.isfinite(pts), axis=1)])
+    return np.concatenate(chunks) if chunks else np.zeros((0, 3))
+
+
+def _grey(n: int) -> np.ndarray:
+    return np.full((n, 3), 128, dtype=np.uint8)
+
+
+def _node(inst: Instance, state: tuple[tuple[str, ...], dict[str, float]] | None, kps: list) -> Node:
+    label = inst.label
+    category = label.category
+    attributes: dict[str, str | float | int | bool] = {}
+    if category == "thing" and label.id is not None:  # a node id without category: parse the name
+        category, parsed = category_of(label.id)
+        attributes.update(parsed)
+    attributes.update({k: v for k, v in label.attributes.items() if isinstance(v, str | float | int | bool)})
+    attributes["color"] = label.color or attributes.get("color") or color_name(inst.rgb)
+    attributes.update(
+        size_x=round(float(inst.size[0]), 4),
+        size_y=round(float(inst.size[1]), 4),
+        size_z=round(float(inst.size[2]), 4),
+        points=len(inst.points),
+    )
+    states: tuple[str, ...] = ()
+    if state is not None:
+        states = state[0]
+        attributes.update(state[1])
+    half = inst.yaw / 2.0
+    pose = Pose(
+        position=Vec3(x=float(inst.center[0]), y=float(inst.center[1]), z=float(inst.center[2])),
+        orientation=(0.0, 0.0, math.sin(half), math.cos(half)),
+    )
+    bbox = BoundingBox(min=Vec3(**_xyz(inst.aabb_min)), max=Vec3(**_xyz(inst.aabb_max)))
+    keypoints_ = tuple(Keypoint(name=n, position=Vec3(**_xyz(p))) for n, p in kps)
+    return Node(
+        id=inst.key,
+        category=category,
+        attributes=attributes,
+        states=states,
+        parent=label.parent,
+        keypoints=keypoints_,
+        pose=pose,
+        bbox=bbox,
+    )
+
+
+def _xyz(v: np.ndarray) -> dict[str, float]:
+    return {"x": round(float(v[0]), 5), "y": round(float(v[1]), 5), "z": round(float(v[2]), 5)}
+
+
+def _missing_parents(nodes: list[Node]) -> list[Node]:
+    """Nodes for parents named by parts but not seen themselves (category parsed from the id)."""
+    ids = {n.id for n in nodes}
+    out: list[Node] = []
+    for n in nodes:
+        if n.parent is not None and n.parent not in ids:
+            category, attrs = category_of(n.parent)
+            out.append(Node(id=n.parent, category=category, attributes={**attrs, "observed": False}))
+            ids.add(n.parent)
+    return out

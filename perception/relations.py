@@ -1,0 +1,170 @@
+"""Spatial relations from instance geometry: ``on``, ``in``, ``adjacent`` and robot-frame directions.
+
+All thresholds live in :class:`RelationThresholds` and are documented in docs/perception.md. Support
+(``on``/``in``) is exclusive: every object gets at most one supporter, the nearest surface under it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gsr.categories import affordances, is_part_category
+from perception.geometry import Instance, plane_height
+
+#: Categories that are the ground every other object ultimately rests on.
+GROUND_CATEGORIES = frozenset({"table", "floor"})
+
+
+@dataclass(frozen=True)
+class RelationThresholds:
+    """Distances in metres, ratios in [0, 1]."""
+
+    on_gap: float = 0.02  # |bottom of A - top of B under A| for A on B
+    on_overlap: float = 0.5  # share of A's footprint points over B's footprint
+    footprint_margin: float = 0.01  # B's footprint grows by this before the overlap test
+    contact_ring: float = 0.03  # B's points this far around A's footprint count as "under A"
+    in_ratio: float = 0.5  # share of A's points inside B's box for A in B (B a container)
+    in_rim: float = 0.01  # B's box grows upward by this (a rim seen slightly low)
+    adjacent_gap: float = 0.05  # footprint separation for A adjacent B (same supporter)
+    direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
+    direction_radius: float = 0.5  # directional relations only between objects this close
+
+
+def is_subject(inst: Instance) -> bool:
+    """Objects that rest on or in something: not parts, not the ground itself."""
+    cat = inst.label.category
+    return inst.label.parent is None and not is_part_category(cat) and cat not in GROUND_CATEGORIES
+
+
+def is_container(inst: Instance) -> bool:
+    """Whether things can be *in* this instance (its category affords ``container``)."""
+    return "container" in affordances(inst.label.category) or inst.label.category == "drawer"
+
+
+def bottom_z(inst: Instance) -> float:
+    """Robust bottom height of an instance (2nd percentile of its points' z)."""
+    return float(np.percentile(inst.points[:, 2], 2.0))
+
+
+def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
+    """Share of A's points inside B's upright box (grown upward by the rim allowance)."""
+    pts = a.points
+    inside_xy = b.footprint_contains(pts[:, :2], margin=0.005)
+    inside_z = (pts[:, 2] >= b.aabb_min[2] - 0.01) & (pts[:, 2] <= b.aabb_max[2] + th.in_rim)
+    return float(np.mean(inside_xy & inside_z))
+
+
+def surface_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresholds) -> float | None:
+    """Height of B's surface under A, or None when B is not under A's footprint."""
+    overlap = float(np.mean(b.footprint_contains(a.points[:, :2], margin=th.footprint_margin)))
+    if overlap < th.on_overlap:
+        return None
+    near = a.footprint_contains(b.points[:, :2], margin=th.contact_ring)
+    z = b.points[near, 2]
+    z = z[z <= a_bottom + th.on_gap]  # B's points under A, not B's walls rising past A
+    if z.size == 0:
+        return None
+    return float(np.percentile(z, 98.0)) if z.size >= 10 else float(z.max())
+
+
+def supports(
+    instances: list[Instance], plane: np.ndarray | None, th: RelationThresholds
+) -> dict[str, tuple[str, str]]:
+    """For each subject, its support edge ``(relation, target)``: containment first, then the top surface."""
+    out: dict[str, tuple[str, str]] = {}
+    grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
+    for a in instances:
+        if not is_subject(a):
+            continue
+        containers = [
+            (in_ratio(a, b, th), b) for b in instances if b is not a and is_container(b) and b.key != a.key
+        ]
+        containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]
+        if containers:
+            out[a.key] = ("in", max(containers, key=lambda rb: rb[0])[1].key)
+            continue
+        a_bottom = bottom_z(a)
+        strict: list[tuple[float, str]] = []  # surfaces touching A's bottom
+        below: list[tuple[float, str]] = []  # any surface under A (fallback: everything rests on something)
+        for b in instances:
+            if b is a or b.label.category in GROUND_CATEGORIES or not _may_support(b, a):
+                continue
+            top = surface_under(a, b, a_bottom, th)
+            if top is None:
+                continue
+            below.append((top, b.key))
+            if abs(a_bottom - top) <= th.on_gap:
+                strict.append((top, b.key))
+        for g in grounds:
+            top = _ground_height(g, a, plane)
+            below.append((top, g.key))
+            if abs(a_bottom - top) <= th.on_gap:
+                strict.append((top, g.key))
+        pick = max(strict) if strict else (max(below) if below else None)
+        if pick is not None:
+            out[a.key] = ("on", pick[1])
+    return out
+
+
+def _within(b: Instance, a: Instance) -> bool:
+    """True when B is (mostly) inside A's box: then B cannot contain A."""
+    return bool(np.all(b.size <= a.size + 0.01))
+
+
+def _may_support(b: Instance, a: Instance) -> bool:
+    """B can hold A up: B is not one of A's own parts and its centre is not above A's."""
+    return b.label.parent != a.key and b.center[2] < a.center[2]
+
+
+def _ground_height(g: Instance, a: Instance, plane: np.ndarray | None) -> float:
+    """The ground's height under A: the RANSAC plane if fitted, else the ground's top points."""
+    if plane is not None:
+        return float(plane_height(plane, a.center[:2]))
+    return float(np.percentile(g.points[:, 2], 98.0))
+
+
+def footprint_gap(a: Instance, b: Instance) -> float:
+    """Horizontal separation of two upright boxes along their best separating axis (0 if they overlap)."""
+    gap = 0.0
+    corners = {id(a): _corners(a), id(b): _corners(b)}
+    for axis in (*a.axes, *b.axes):
+        pa, pb = corners[id(a)] @ axis, corners[id(b)] @ axis
+        gap = max(gap, pb.min() - pa.max(), pa.min() - pb.max())
+    return float(gap)
+
+
+def _corners(inst: Instance) -> np.ndarray:
+    hx, hy = inst.size[:2] / 2.0
+    local = np.array([[hx, hy], [hx, -hy], [-hx, hy], [-hx, -hy]])
+    return local @ inst.axes + inst.center[:2]
+
+
+def descriptive_relations(
+    instances: list[Instance],
+    support: dict[str, tuple[str, str]],
+    th: RelationThresholds,
+    world_to_robot: np.ndarray | None = None,
+) -> list[tuple[str, str, str]]:
+    """``adjacent`` (same supporter, close footprints) and the robot-frame directions between subjects."""
+    subjects = [i for i in instances if is_subject(i)]
+    rot = np.eye(3) if world_to_robot is None else np.asarray(world_to_robot)[:3, :3]
+    shift = np.zeros(3) if world_to_robot is None else np.asarray(world_to_robot)[:3, 3]
+    centers = {i.key: rot @ i.center + shift for i in subjects}
+    edges: list[tuple[str, str, str]] = []
+    for ai, a in enumerate(subjects):
+        for b in subjects[ai + 1 :]:
+            sa, sb = support.get(a.key), support.get(b.key)
+            if sa is not None and sa == sb and footprint_gap(a, b) <= th.adjacent_gap:
+                edges += [(a.key, "adjacent", b.key), (b.key, "adjacent", a.key)]
+            d = centers[a.key] - centers[b.key]  # robot frame: +x forward, +y left
+            if np.hypot(d[0], d[1]) > th.direction_radius:
+                continue
+            if abs(d[1]) >= abs(d[0]) and abs(d[1]) > th.direction_margin:
+                left, right = (a, b) if d[1] > 0 else (b, a)
+                edges += [(left.key, "left_of", right.key), (right.key, "right_of", left.key)]
+            elif abs(d[0]) > abs(d[1]) and abs(d[0]) > th.direction_margin:
+                near, far = (a, b) if d[0] < 0 else (b, a)
+                edges += [(near.key, "front_of", far.key), (far.key, "behind", near.key)]
+    return edges
