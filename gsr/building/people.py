@@ -1,0 +1,205 @@
+"""People: profiles, published routines, and the day they actually live (deterministic per seed).
+
+A person's ``routine`` is what everyone (the robot included) knows: "Imani works in office 104, has lunch
+in the dining room at noon". The ``daily_schedule`` for a world seed is what really happens that day:
+slot boundaries drift by a few minutes, some slots are spent elsewhere, short errands interrupt work.
+Within a slot a person stands at one free cell of the room, re-chosen every ``MOVE_EVERY`` seconds.
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+
+import numpy as np
+
+from gsr.building.catalog import COLORS, ROLES
+from gsr.building.model import Appearance, Building, Person, Place, Slot
+
+MOVE_EVERY = 180  # seconds a person stays on one spot inside a room
+DAY_START, DAY_END = 7 * 3600, 22 * 3600
+
+NAMES: tuple[tuple[str, str], ...] = (
+    ("Imani", "woman"), ("Marco", "man"), ("Aiko", "woman"), ("Lucas", "man"), ("Priya", "woman"),
+    ("Omar", "man"), ("Sofia", "woman"), ("Chen", "man"), ("Fatima", "woman"), ("David", "man"),
+    ("Elena", "woman"), ("Kwame", "man"), ("Yuki", "woman"), ("Mateo", "man"), ("Amara", "woman"),
+    ("Noah", "man"), ("Leila", "woman"), ("Ivan", "man"), ("Grace", "woman"), ("Ravi", "man"),
+)  # fmt: skip
+HAIR: tuple[str, ...] = ("black hair", "brown hair", "blond hair", "gray hair", "red hair", "curly hair")
+_GARMENT_COLORS = {"coat": ("white",), "scrubs": ("blue", "green"), "apron": ("white", "black")}
+_SOCIAL = ("kitchen", "dining_room", "lounge", "leisure_room", "living_room")
+
+
+def make_people(rooms: list[dict], rng: np.random.Generator, count: int) -> list[Person]:
+    """``count`` characters with roles whose workplaces exist, appearances and routines."""
+    by_kind: dict[str, list[str]] = {}
+    for r in rooms:
+        by_kind.setdefault(r["kind"], []).append(r["id"])
+    roles = [r for r in ROLES.values() if r.workplace in by_kind]
+    if not roles:
+        raise ValueError("no room hosts any role's workplace")
+    order = [roles[int(i)] for i in rng.permutation(len(roles))]
+    names = [NAMES[int(i)] for i in rng.permutation(len(NAMES))][:count]
+    if count > len(NAMES):
+        raise ValueError(f"at most {len(NAMES)} people are supported, asked for {count}")
+    used_home: dict[str, int] = {}
+    people = []
+    for i, (name, gender) in enumerate(names):
+        role = order[i % len(order)]
+        homes = by_kind[role.workplace]
+        # spread people of one kind of workplace over its rooms (offices, bedrooms)
+        k = used_home.get(role.workplace, int(rng.integers(len(homes))))
+        used_home[role.workplace] = k + 1
+        home = homes[k % len(homes)]
+        garment = role.garments[int(rng.integers(len(role.garments)))]
+        colors = _GARMENT_COLORS.get(garment, COLORS[:9])
+        look = Appearance(
+            gender=gender,  # type: ignore[arg-type]
+            garment=garment,
+            color=colors[int(rng.integers(len(colors)))],
+            hair=HAIR[int(rng.integers(len(HAIR)))],
+            glasses=bool(rng.random() < 0.3),
+        )
+        routine = _routine(home, by_kind, rng)
+        people.append(
+            Person(
+                id=name.lower(), name=name, role=role.role, appearance=look, home_room=home, routine=routine
+            )
+        )
+    return people
+
+
+def _pick(
+    by_kind: dict[str, list[str]], kinds: tuple[str, ...], rng: np.random.Generator, default: str
+) -> str:
+    options = [rid for k in kinds for rid in by_kind.get(k, [])]
+    return options[int(rng.integers(len(options)))] if options else default
+
+
+def _routine(home: str, by_kind: dict[str, list[str]], rng: np.random.Generator) -> tuple[Slot, ...]:
+    """A working day: coffee, work, break, work, lunch, work (maybe a meeting or a workout), evening."""
+    lunch_room = _pick(by_kind, ("dining_room", "kitchen"), rng, home)
+    plan: list[tuple[int, str, str]] = [
+        (int(rng.integers(20, 46)) * 60, _pick(by_kind, _SOCIAL[:3], rng, home), "morning coffee"),
+        (int(rng.integers(100, 160)) * 60, home, "working"),
+        (int(rng.integers(15, 26)) * 60, _pick(by_kind, _SOCIAL, rng, home), "break"),
+        (int(rng.integers(60, 100)) * 60, home, "working"),
+        (int(rng.integers(40, 61)) * 60, lunch_room, "lunch"),
+        (int(rng.integers(60, 120)) * 60, home, "working"),
+    ]
+    if rng.random() < 0.5 and "meeting_room" in by_kind:
+        plan.append((int(rng.integers(30, 61)) * 60, _pick(by_kind, ("meeting_room",), rng, home), "meeting"))
+    else:
+        plan.append(
+            (
+                int(rng.integers(30, 61)) * 60,
+                _pick(by_kind, ("gym", "library", "medical_room"), rng, home),
+                "errand",
+            )
+        )
+    plan += [
+        (int(rng.integers(60, 120)) * 60, home, "working"),
+        (int(rng.integers(15, 26)) * 60, _pick(by_kind, _SOCIAL, rng, home), "break"),
+        (int(rng.integers(60, 100)) * 60, home, "working"),
+        (
+            int(rng.integers(60, 120)) * 60,
+            _pick(by_kind, ("gym", "leisure_room", "living_room", "lounge"), rng, home),
+            "leisure",
+        ),
+    ]
+    slots = []
+    t = DAY_START
+    for duration, room, activity in plan:
+        if t >= DAY_END:
+            break
+        end = min(t + duration, DAY_END)
+        slots.append(Slot(start=t, end=end, room=room, activity=activity))
+        t = end
+    if t < DAY_END:
+        slots.append(Slot(start=t, end=DAY_END, room=home, activity="evening"))
+    return tuple(slots)
+
+
+def daily_schedule(building: Building, person: Person, seed: int) -> tuple[Slot, ...]:
+    """The day ``person`` actually lives under world ``seed``: the routine with drift, detours and errands."""
+    index = [p.id for p in building.people].index(person.id)
+    rng = np.random.default_rng([seed, index, 1])
+    rooms = [r.id for r in building.rooms if r.kind != "corridor"]
+    routine = list(person.routine)
+    # boundaries drift by up to 8 minutes but never cross each other
+    bounds = [s.start for s in routine] + [routine[-1].end]
+    for i in range(1, len(bounds) - 1):
+        lo, hi = bounds[i - 1] + 120, routine[i].end - 120
+        bounds[i] = int(np.clip(bounds[i] + int(rng.integers(-480, 481)), lo, max(lo, hi)))
+    out: list[Slot] = []
+    for i, s in enumerate(routine):
+        start, end = bounds[i], bounds[i + 1]
+        if end <= start:
+            continue
+        room = s.room
+        if rng.random() < 0.15:  # spends this slot somewhere else entirely
+            room = rooms[int(rng.integers(len(rooms)))]
+            out.append(Slot(start=start, end=end, room=room, activity=f"{s.activity} (elsewhere)"))
+            continue
+        if s.activity == "working" and end - start > 40 * 60 and rng.random() < 0.35:
+            # a short errand in the middle of a work block
+            length = int(rng.integers(8, 21)) * 60
+            at = start + int(rng.integers(10 * 60, end - start - length - 5 * 60 + 1))
+            errand = rooms[int(rng.integers(len(rooms)))]
+            out += [
+                Slot(start=start, end=at, room=room, activity=s.activity),
+                Slot(start=at, end=at + length, room=errand, activity="errand"),
+                Slot(start=at + length, end=end, room=room, activity=s.activity),
+            ]
+            continue
+        out.append(Slot(start=start, end=end, room=room, activity=s.activity))
+    return tuple(out)
+
+
+@dataclass
+class _Day:
+    starts: list[int]
+    slots: tuple[Slot, ...]
+
+
+class PeopleClock:
+    """Where everyone is at any second of one day, for a building and a world seed (deterministic)."""
+
+    def __init__(self, building: Building, seed: int, free_cells) -> None:
+        """``free_cells(room_id)`` lists the cells people may stand on (``BuildingMap.free_cells``)."""
+        self.building = building
+        self.seed = seed
+        self._free = free_cells
+        self._index = {p.id: i for i, p in enumerate(building.people)}
+        self._days = {}
+        for p in building.people:
+            slots = daily_schedule(building, p, seed)
+            self._days[p.id] = _Day([s.start for s in slots], slots)
+
+    def schedule(self, person_id: str) -> tuple[Slot, ...]:
+        """The actual day of one person."""
+        return self._days[person_id].slots
+
+    def slot_at(self, person_id: str, t: float) -> Slot | None:
+        """The slot a person is in at time ``t`` (None outside the day: not in the building)."""
+        day = self._days[person_id]
+        i = bisect.bisect_right(day.starts, int(t)) - 1
+        if i < 0 or t >= day.slots[i].end:
+            return None
+        return day.slots[i]
+
+    def location(self, person_id: str, t: float) -> Place | None:
+        """``(floor, row, col)`` of a person at time ``t``, or None when they are not in the building."""
+        slot = self.slot_at(person_id, t)
+        if slot is None:
+            return None
+        room = self.building.room(slot.room)
+        cells = self._free(slot.room)
+        window = int(t - slot.start) // MOVE_EVERY
+        rng = np.random.default_rng([self.seed, self._index[person_id], slot.start, window, 2])
+        r, c = cells[int(rng.integers(len(cells)))]
+        return (room.floor, r, c)
+
+    def people_in(self, room_id: str, t: float) -> list[str]:
+        """Ids of the people in a room at time ``t``."""
+        return [pid for pid in self._days if (s := self.slot_at(pid, t)) is not None and s.room == room_id]
