@@ -18,6 +18,8 @@ import numpy as np
 from gsr.scene_graph import Edge, Node, SceneGraph
 from perception.camera import Camera, camera_from_gl, depth_from_gl_buffer
 from perception.frame import Frame, InstanceLabel
+from perception.geometry import Instance
+from perception.relations import RelationThresholds, descriptive_relations
 
 COLORS_RGB: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.1, 0.1),
@@ -58,28 +60,53 @@ class Scene:
     placed: list[Placed] = field(default_factory=list)
     joints: dict[str, float] = field(default_factory=dict)  # part node -> joint position
 
-    def truth(self) -> SceneGraph:
-        """The exact ground-truth graph: nodes, support edges and part states."""
-        nodes = [
-            Node(
-                id=p.node,
-                category=p.category,
-                attributes={"color": p.color} if p.color else {},
-                states=p.states,
-                parent=p.parent,
+    def truth(self, descriptive: bool = True) -> SceneGraph:
+        """The exact ground-truth graph: nodes, support edges, part states and openings.
+
+        With ``descriptive``, ``adjacent`` and the robot-frame directions come from the same rules
+        perception applies (perception.relations), evaluated on the exact boxes instead of points.
+        """
+        nodes = []
+        for p in self.placed:
+            attrs: dict[str, str | float] = {"color": p.color} if p.color else {}
+            if p.node in self.joints:
+                key = "open_distance" if p.category == "drawer" else "open_angle"
+                attrs[key] = round(self.joints[p.node], 4)
+            nodes.append(
+                Node(id=p.node, category=p.category, attributes=attrs, states=p.states, parent=p.parent)
             )
-            for p in self.placed
-        ]
-        edges = [
-            Edge(source=p.node, relation=p.support[0], target=p.support[1]) for p in self.placed if p.support
-        ]
-        return SceneGraph(nodes=tuple(nodes), edges=tuple(edges), metadata={"source": "perception_scenes"})
+        support = {p.node: p.support for p in self.placed if p.support}
+        edges = {(a, rel, b) for a, (rel, b) in support.items()}
+        if descriptive:
+            edges |= set(
+                descriptive_relations(
+                    [_exact_instance(p) for p in self.placed], support, RelationThresholds()
+                )
+            )
+        return SceneGraph(
+            nodes=tuple(nodes),
+            edges=tuple(Edge(source=a, relation=r, target=b) for a, r, b in sorted(edges)),
+            metadata={"source": "perception_scenes"},
+        )
 
     def close(self) -> None:
         """Disconnect the PyBullet client."""
         import pybullet as pb
 
         pb.disconnect(self.client)
+
+
+def _exact_instance(p: Placed) -> Instance:
+    """An Instance carrying the exact box of a placed thing (its 8 corners as points)."""
+    label = InstanceLabel(id=p.node, category=p.category, color=p.color, parent=p.parent)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * p.half
+    c, s = math.cos(p.yaw), math.sin(p.yaw)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    pts = corners @ rot.T + p.center
+    inst = Instance(p.node, label, pts, np.zeros((8, 3), np.uint8))
+    inst.center, inst.size, inst.yaw = p.center.copy(), 2.0 * p.half, p.yaw
+    inst.aabb_min, inst.aabb_max = pts.min(axis=0), pts.max(axis=0)
+    return inst
 
 
 def _quat(yaw: float) -> tuple[float, float, float, float]:

@@ -1,0 +1,121 @@
+"""Scoring a perceived scene graph against ground truth: nodes, relations (P/R/F1), part states."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from gsr.scene_graph import SceneGraph
+
+#: Relations scored by default (the ones perception infers).
+SCORED_RELATIONS: tuple[str, ...] = ("on", "in", "adjacent", "left_of", "right_of", "front_of", "behind")
+_PART_STATES = ("open", "closed")
+
+
+@dataclass
+class Counts:
+    """True positives, false positives and false negatives of one relation."""
+
+    tp: int = 0
+    fp: int = 0
+    fn: int = 0
+
+    def scores(self) -> dict[str, float | int]:
+        """Precision, recall, F1 (1.0 when there was nothing to find and nothing was claimed)."""
+        p = self.tp / (self.tp + self.fp) if self.tp + self.fp else 1.0
+        r = self.tp / (self.tp + self.fn) if self.tp + self.fn else 1.0
+        f1 = 2 * p * r / (p + r) if p + r else 0.0
+        return {
+            "precision": round(p, 4),
+            "recall": round(r, 4),
+            "f1": round(f1, 4),
+            "tp": self.tp,
+            "fp": self.fp,
+            "fn": self.fn,
+        }
+
+
+@dataclass
+class Score:
+    """Accumulated comparison over one or more scenes (micro-averaged)."""
+
+    relations: dict[str, Counts] = field(default_factory=dict)
+    truth_nodes: int = 0
+    found_nodes: int = 0
+    predicted_nodes: int = 0
+    states_total: int = 0
+    states_correct: int = 0
+    states_observed: int = 0  # truth parts that were perceived at all
+    opening_errors: list[float] = field(default_factory=list)  # |perceived - true| drawer opening (m)
+    angle_errors: list[float] = field(default_factory=list)  # |perceived - true| door angle (rad)
+    scenes: int = 0
+
+    def add(
+        self, predicted: SceneGraph, truth: SceneGraph, relations: tuple[str, ...] = SCORED_RELATIONS
+    ) -> None:
+        """Compare one perceived graph with its ground truth and accumulate."""
+        self.scenes += 1
+        pred_nodes, true_nodes = predicted.node_map(), truth.node_map()
+        self.truth_nodes += len(true_nodes)
+        self.predicted_nodes += len(pred_nodes)
+        self.found_nodes += len(set(pred_nodes) & set(true_nodes))
+        for rel in relations:
+            t = {e.key() for e in truth.edges if e.relation == rel}
+            p = {e.key() for e in predicted.edges if e.relation == rel}
+            c = self.relations.setdefault(rel, Counts())
+            c.tp += len(t & p)
+            c.fp += len(p - t)
+            c.fn += len(t - p)
+        for node_id, node in true_nodes.items():
+            want = [s for s in node.states if s in _PART_STATES]
+            if not want:
+                continue
+            self.states_total += 1
+            got = pred_nodes.get(node_id)
+            if got is None:
+                continue
+            self.states_observed += 1
+            self.states_correct += int([s for s in got.states if s in _PART_STATES] == want)
+            for key, errors in (("open_distance", self.opening_errors), ("open_angle", self.angle_errors)):
+                if key in node.attributes and key in got.attributes:
+                    errors.append(abs(float(got.attributes[key]) - float(node.attributes[key])))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The report: ``{"nodes", "relations": {rel: {precision, recall, f1}}, "states", ...}``."""
+
+        def mean(xs: list[float]) -> float | None:
+            return round(sum(xs) / len(xs), 4) if xs else None
+
+        return {
+            "scenes": self.scenes,
+            "nodes": {
+                "truth": self.truth_nodes,
+                "found": self.found_nodes,
+                "predicted": self.predicted_nodes,
+                "recall": round(self.found_nodes / self.truth_nodes, 4) if self.truth_nodes else 1.0,
+                "precision": round(self.found_nodes / self.predicted_nodes, 4)
+                if self.predicted_nodes
+                else 1.0,
+            },
+            "relations": {rel: c.scores() for rel, c in self.relations.items()},
+            "states": {
+                "total": self.states_total,
+                "observed": self.states_observed,
+                "correct": self.states_correct,
+                "accuracy": round(self.states_correct / self.states_total, 4) if self.states_total else 1.0,
+                "accuracy_observed": (
+                    round(self.states_correct / self.states_observed, 4) if self.states_observed else 1.0
+                ),
+                "drawer_opening_mae_m": mean(self.opening_errors),
+                "door_angle_mae_rad": mean(self.angle_errors),
+            },
+        }
+
+
+def score(
+    predicted: SceneGraph, truth: SceneGraph, relations: tuple[str, ...] = SCORED_RELATIONS
+) -> dict[str, Any]:
+    """The report for a single scene."""
+    s = Score()
+    s.add(predicted, truth, relations)
+    return s.to_dict()
