@@ -1,0 +1,238 @@
+"""Agents under evaluation: the protocol and the built-ins (planner, grounder, llm/reasoner, random).
+
+An agent is reset on a task, then asked again and again for the next step given the current scene
+graph and the instruction; it answers a :class:`~gsr.step.Step` or ``None`` ("done"). When the checker
+rejects a step, the runner may ask again with the diagnosis as ``feedback``. To benchmark your own
+agent, implement the two methods and pass ``--agent package.module:factory`` (a class or a function
+returning an agent; keyword options come from ``--agent-opt key=value``).
+"""
+
+from __future__ import annotations
+
+import importlib
+import random
+from collections import deque
+from collections.abc import Callable
+from typing import Any, Protocol, runtime_checkable
+
+from benchmarks.scoring import any_goal
+from gsr.diagnosis import Diagnosis
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain, Formula
+from gsr.scene_graph import SceneGraph
+from gsr.step import Step
+from gsr.task_spec import TaskSpec
+
+
+@runtime_checkable
+class Agent(Protocol):
+    """Given the current scene graph and the instruction, return the next step or None (done)."""
+
+    name: str
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Start an episode of ``task`` (the agent may read anything in it; only oracles read the goal)."""
+
+    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
+        """The next step, or None when the agent considers the task done."""
+
+
+class AgentFailure(GSRError):
+    """The agent could not produce a step (no plan, grounding failed, model error)."""
+
+
+class _PlanningAgent:
+    """Shared logic: plan to a goal formula once, then replay the plan step by step (replan on feedback)."""
+
+    name = "planning"
+
+    def __init__(self, planner: str = "lazy-ff", timeout: float = 60.0) -> None:
+        self.planner = planner
+        self.timeout = float(timeout)
+        self.domain: Domain | None = None
+        self.goal: Formula | None = None
+        self.queue: deque[Step] = deque()
+        self.plan_time = 0.0
+
+    def _plan(self, graph: SceneGraph) -> None:
+        from gsr.plan.api import plan_graph
+
+        assert self.domain is not None and self.goal is not None
+        result = plan_graph(self.domain, graph, self.goal, planner=self.planner, timeout=self.timeout)
+        self.plan_time += result.time
+        if not result.solved or result.plan is None:
+            raise AgentFailure(f"planner {result.planner}: {result.status}: {result.message}")
+        self.queue = deque(result.plan.steps)
+
+    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
+        """Next planned step; replans from ``graph`` after a rejected step."""
+        if feedback is not None and not feedback.ok:
+            self._plan(graph)
+        return self.queue.popleft() if self.queue else None
+
+    @property
+    def believed_goal(self) -> Formula | None:
+        """The goal this agent pursues (for the goal-error outcome class)."""
+        return self.goal
+
+
+class PlannerAgent(_PlanningAgent):
+    """Oracle upper bound: the task's goal (any alternative), then the symbolic planner."""
+
+    name = "planner"
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Plan from the initial graph to the task's goal."""
+        self.domain, self.goal, self.plan_time = domain, any_goal(task), 0.0
+        self._plan(task.initial)
+
+
+class GrounderAgent(_PlanningAgent):
+    """Instruction only: ``gsr.language.ground`` turns it into a goal, then the planner."""
+
+    name = "grounder"
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Ground the instruction on the initial graph, then plan."""
+        try:
+            language = importlib.import_module("gsr.language")
+            ground = language.ground
+        except (ImportError, AttributeError):
+            raise AgentFailure("gsr.language.ground is not available in this installation") from None
+        self.domain, self.plan_time = domain, 0.0
+        try:
+            result = ground(task.instruction, task.initial)
+        except GSRError as exc:
+            raise AgentFailure(f"grounding failed: {exc}") from None
+        formula = getattr(result, "formula", result)
+        formula = getattr(formula, "formula", formula)
+        if not isinstance(formula, Formula):
+            raise AgentFailure(f"gsr.language.ground returned {type(result).__name__}, not a goal")
+        self.goal = formula
+        self._plan(task.initial)
+
+
+class LLMAgent:
+    """Step-wise LLM reasoner: prompt (gsr.reason.build_prompt) -> model text -> parsed step, with repair.
+
+    ``generate`` maps a :class:`gsr.reason.Prompt` to the model's reply text; any model fits.
+    """
+
+    name = "llm"
+
+    def __init__(self, generate: Callable[[Any], str], examples: Any = None) -> None:
+        self.generate = generate
+        self.examples = examples
+        self.history: list[Step] = []
+        self.rejected: list[tuple[str, str]] = []
+        self.domain: Domain | None = None
+        self.last_reply = ""
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Forget the previous episode."""
+        self.domain, self.history, self.rejected = domain, [], []
+
+    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
+        """Ask the model for one step (the rejected replies and their diagnoses go into the prompt)."""
+        from gsr.errors import ParseError
+        from gsr.reason import DONE, build_prompt, parse_first_step
+
+        assert self.domain is not None
+        if feedback is not None and not feedback.ok:
+            self.rejected.append((self.last_reply, feedback.message))
+        elif self.history or feedback is not None:
+            self.rejected = []
+        prompt = build_prompt(
+            graph,
+            self.domain,
+            instruction,
+            examples=self.examples,
+            history=self.history,
+            rejected=self.rejected,
+        )
+        reply = self.generate(prompt)
+        self.last_reply = reply.strip()
+        if self.last_reply.splitlines()[:1] == [DONE] or self.last_reply.startswith(DONE):
+            return None
+        try:
+            step = parse_first_step(reply)
+        except ParseError as exc:
+            raise AgentFailure(f"unparsable model reply: {exc}") from None
+        self.history.append(step)
+        return step
+
+
+class RandomAgent:
+    """The floor: a uniformly random applicable step each time; done as soon as the goal holds."""
+
+    name = "random"
+
+    def __init__(self) -> None:
+        self.rng = random.Random(0)
+        self.task: Any = None
+        self.state = 0
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Ground the task (for applicability) and seed the choice."""
+        from gsr.facts import problem_from_graph
+        from gsr.plan.ground import ground_task
+
+        self.rng = random.Random(seed)
+        self.task = ground_task(domain, problem_from_graph(task.initial, any_goal(task), domain=domain))
+        self.state = self.task.init
+
+    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
+        """A random applicable ground action (None once the goal holds or nothing applies)."""
+        if self.task.is_goal(self.state):
+            return None
+        ops = self.task.applicable(self.state)
+        if not ops:
+            return None
+        op = self.rng.choice(ops)
+        self.state = self.task.apply(self.state, op)
+        g = self.task.ops[op]
+        return Step(g.name, g.args)
+
+
+def _reasoner(**options: Any) -> Agent:
+    """The project's LLM reasoner (gsr.reason) wrapped as an agent, if a model backend is installed."""
+    reason = importlib.import_module("gsr.reason")
+    make = getattr(reason, "make_generator", None) or getattr(reason, "load_backend", None)
+    if make is None:
+        raise GSRError(
+            "gsr.reason provides no model backend yet; benchmark your own model with "
+            "--agent benchmarks.agents:LLMAgent-compatible factory (see docs/benchmarks.md)"
+        )
+    return LLMAgent(make(**options))
+
+
+BUILTIN: dict[str, Callable[..., Agent]] = {
+    "planner": PlannerAgent,
+    "grounder": GrounderAgent,
+    "reasoner": _reasoner,
+    "random": RandomAgent,
+}
+
+
+def make_agent(spec: str, options: dict[str, Any] | None = None) -> Agent:
+    """An agent from a built-in name or ``package.module:factory``, with keyword options."""
+    options = dict(options or {})
+    if spec in BUILTIN:
+        factory = BUILTIN[spec]
+    elif ":" in spec:
+        module_name, _, attr = spec.partition(":")
+        try:
+            factory = getattr(importlib.import_module(module_name), attr)
+        except (ImportError, AttributeError) as exc:
+            raise GSRError(f"agent {spec!r}: cannot import: {exc}") from None
+    else:
+        raise GSRError(
+            f"unknown agent {spec!r}; choose one of {', '.join(BUILTIN)} or package.module:factory"
+        )
+    try:
+        agent = factory(**options)
+    except TypeError as exc:
+        raise GSRError(f"agent {spec!r}: bad options {options}: {exc}") from None
+    if not isinstance(agent, Agent):
+        raise GSRError(f"agent {spec!r}: {type(agent).__name__} lacks reset()/act()/name")
+    return agent

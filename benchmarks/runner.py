@@ -1,0 +1,288 @@
+"""The episode runner: agents propose steps, the checker validates each, the goal is scored at the end.
+
+``executor`` is the seam for physical execution: the default :class:`SymbolicExecutor` applies a step
+through :func:`gsr.check.check_step`; a simulator executor (``skills``) implements the same three
+methods and returns the observed state. Episodes run in-process, in local worker processes
+(``backend="local"``, multiprocessing) or as Ray tasks (``backend="ray"``); every episode's random
+choices derive from (seed, task id, trial), so all backends give the same results for the same seed.
+"""
+
+from __future__ import annotations
+
+import time
+import zlib
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import asdict, dataclass, field
+from typing import Any, Protocol
+
+from benchmarks.agents import AgentFailure, make_agent
+from benchmarks.scoring import score_task
+from gsr.diagnosis import Diagnosis
+from gsr.errors import GSRError
+from gsr.facts import graph_with_state, state_from_graph
+from gsr.pddl.model import Domain
+from gsr.scene_graph import SceneGraph
+from gsr.semantics import holds
+from gsr.state import State
+from gsr.step import Step
+from gsr.task_spec import TaskSpec, task_from_dict
+
+OUTCOMES = ("true_success", "false_positive", "goal_error", "planning_error")
+
+
+class Executor(Protocol):
+    """Executes validated-or-not steps and reports what happened (symbolic or physical)."""
+
+    def reset(self, task: TaskSpec, domain: Domain) -> State:
+        """Set up the task's initial scene; the initial symbolic state."""
+
+    def execute(self, step: Step) -> Diagnosis:
+        """Check and execute one step; ``ok`` with ``next_state`` when it ran."""
+
+    def graph(self) -> SceneGraph:
+        """The current scene graph (what the agent observes)."""
+
+
+class SymbolicExecutor:
+    """Steps run on the symbolic state through the PDDL checker (no simulator)."""
+
+    def __init__(self) -> None:
+        self.domain: Domain | None = None
+        self.state: State | None = None
+        self._graph: SceneGraph | None = None
+        self._stale = False
+
+    def reset(self, task: TaskSpec, domain: Domain) -> State:
+        """The task's initial graph as a state."""
+        self.domain, self._graph, self._stale = domain, task.initial, False
+        self.state = state_from_graph(task.initial, domain)
+        return self.state
+
+    def execute(self, step: Step) -> Diagnosis:
+        """check_step; on success the state advances."""
+        from gsr.check import check_step
+
+        assert self.domain is not None and self.state is not None
+        diagnosis = check_step(self.domain, self.state, step)
+        if diagnosis.ok and diagnosis.next_state is not None:
+            self.state, self._stale = diagnosis.next_state, True
+        return diagnosis
+
+    def graph(self) -> SceneGraph:
+        """The graph of the current state (rebuilt lazily: agents that plan once never pay for it)."""
+        assert self._graph is not None and self.state is not None
+        if self._stale:
+            self._graph, self._stale = graph_with_state(self._graph, self.state), False
+        return self._graph
+
+
+@dataclass
+class EpisodeResult:
+    """One episode's record (the rows of results.json)."""
+
+    id: str
+    suite: str
+    category: str
+    level: str | None
+    trial: int
+    seed: int
+    success: bool
+    score: float
+    recall: float
+    steps: int
+    proposed: int
+    valid: int
+    outcome: str
+    reason: str
+    time: float
+    best_alternative: int = 0
+    failure: dict[str, Any] | None = None
+    plan: list[str] = field(default_factory=list)
+
+    @property
+    def executability(self) -> float:
+        """Valid steps / proposed steps (1.0 when nothing was proposed)."""
+        return self.valid / self.proposed if self.proposed else 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-friendly form."""
+        return {**asdict(self), "executability": round(self.executability, 6)}
+
+
+def episode_seed(seed: int, task_id: str, trial: int) -> int:
+    """The deterministic per-episode seed."""
+    return zlib.crc32(f"{seed}:{task_id}:{trial}".encode()) & 0x7FFFFFFF
+
+
+def run_episode(
+    task: TaskSpec,
+    agent: Any,
+    domain: Domain,
+    seed: int = 0,
+    trial: int = 0,
+    max_steps: int = 200,
+    retries: int = 0,
+    executor: Executor | None = None,
+) -> EpisodeResult:
+    """Run one episode: ask the agent for steps until done, a rejected step, or the step limit."""
+    executor = executor or SymbolicExecutor()
+    eseed = episode_seed(seed, task.id, trial)
+    start = time.perf_counter()
+    state = executor.reset(task, domain)
+    proposed = valid = 0
+    plan: list[str] = []
+    failure: dict[str, Any] | None = None
+    said_done = False
+    outcome_hint, reason = "", ""
+    try:
+        agent.reset(task, domain, eseed)
+        feedback: Diagnosis | None = None
+        tries = 0
+        while True:
+            if valid >= max_steps:
+                outcome_hint, reason = "planning_error", f"step limit {max_steps} reached"
+                break
+            step = agent.act(executor.graph(), task.instruction, feedback)
+            if step is None:
+                said_done = True
+                break
+            proposed += 1
+            diagnosis = executor.execute(step)
+            if diagnosis.ok:
+                valid += 1
+                plan.append(str(step))
+                state = diagnosis.next_state or state
+                feedback, tries = diagnosis, 0
+                continue
+            tries += 1
+            if tries > retries:
+                failure = diagnosis.to_dict()
+                outcome_hint, reason = (
+                    "planning_error",
+                    f"step {valid + 1} {step} rejected: {diagnosis.message}",
+                )
+                break
+            feedback = diagnosis
+    except AgentFailure as exc:
+        outcome_hint, reason = "planning_error", f"agent failed: {exc}"
+    except GSRError as exc:
+        outcome_hint, reason = "planning_error", f"error: {exc}"
+    score = score_task(domain, task, state)
+    if score.success:
+        outcome, reason = "true_success", reason or "goal reached"
+    elif outcome_hint:
+        outcome = outcome_hint
+    else:
+        believed = getattr(agent, "believed_goal", None)
+        if said_done and believed is not None and holds(domain, believed, state):
+            outcome, reason = "goal_error", "the agent reached its own goal, which is not the task's"
+        else:
+            outcome = "false_positive"
+            reason = f"agent declared done but only {score.satisfied}/{score.total} goal relations hold"
+    return EpisodeResult(
+        id=task.id,
+        suite=task.suite,
+        category=task.category,
+        level=task.level,
+        trial=trial,
+        seed=eseed,
+        success=score.success,
+        score=score.score,
+        recall=score.recall,
+        steps=valid,
+        proposed=proposed,
+        valid=valid,
+        outcome=outcome,
+        reason=reason,
+        time=round(time.perf_counter() - start, 4),
+        best_alternative=score.best,
+        failure=failure,
+        plan=plan,
+    )
+
+
+@dataclass(frozen=True)
+class RunConfig:
+    """What to run: agent spec and options, limits, seed (picklable: it travels to workers)."""
+
+    agent: str = "planner"
+    agent_options: dict[str, Any] = field(default_factory=dict)
+    seed: int = 0
+    max_steps: int = 200
+    retries: int = 0
+
+
+def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
+    """Worker entry: rebuild the task and agent, run one episode, return its record."""
+    from gsr.resources import load_builtin_domain
+
+    task = task_from_dict(task_data, source=f"task {task_data.get('id')}")
+    agent = make_agent(config.agent, config.agent_options)
+    domain = load_builtin_domain("tabletop")
+    result = run_episode(task, agent, domain, config.seed, trial, config.max_steps, config.retries)
+    return result.to_dict()
+
+
+def _jobs(tasks: list[TaskSpec], trials: int) -> list[tuple[dict[str, Any], int]]:
+    return [(t.model_dump(mode="json"), k) for t in tasks for k in range(trials)]
+
+
+def _from_dict(d: dict[str, Any]) -> EpisodeResult:
+    d = {k: v for k, v in d.items() if k != "executability"}
+    return EpisodeResult(**d)
+
+
+def _iter_local(jobs: list[tuple[dict[str, Any], int]], config: RunConfig, workers: int) -> Iterator[dict]:
+    if workers <= 1:
+        for data, trial in jobs:
+            yield _episode_job(data, trial, config)
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = mp.get_context("spawn")  # no forked copies of a half-initialised parent (threads, locks)
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        yield from pool.map(_episode_job, *zip(*jobs, strict=True), [config] * len(jobs))
+
+
+def _iter_ray(
+    jobs: list[tuple[dict[str, Any], int]], config: RunConfig, address: str | None
+) -> Iterator[dict]:
+    try:
+        import ray
+    except ImportError:
+        raise GSRError("--backend ray needs Ray: pip install 'gsr[dist]'") from None
+    if not ray.is_initialized():
+        ray.init(address=address, ignore_reinit_error=True, log_to_driver=False)
+    remote = ray.remote(_episode_job)
+    refs = [remote.remote(data, trial, config) for data, trial in jobs]
+    for ref in refs:  # in submission order: results line up with the local backend
+        yield ray.get(ref)
+
+
+def run_tasks(
+    tasks: Iterable[TaskSpec],
+    config: RunConfig | None = None,
+    trials: int = 1,
+    workers: int = 1,
+    backend: str = "local",
+    address: str | None = None,
+    progress: Callable[[EpisodeResult], None] | None = None,
+) -> list[EpisodeResult]:
+    """Run every task ``trials`` times; results come back in task order whatever the backend."""
+    config = config or RunConfig()
+    make_agent(config.agent, config.agent_options)  # fail fast on a bad agent, before any worker starts
+    jobs = _jobs(list(tasks), trials)
+    if backend == "local":
+        stream = _iter_local(jobs, config, workers)
+    elif backend == "ray":
+        stream = _iter_ray(jobs, config, address)
+    else:
+        raise GSRError(f"unknown backend {backend!r}; choose local or ray")
+    out = []
+    for d in stream:
+        r = _from_dict(d)
+        out.append(r)
+        if progress is not None:
+            progress(r)
+    return out
