@@ -1,0 +1,546 @@
+"""Parse tree -> intents (what each clause asks for) -> a PDDL goal formula over the graph's nodes.
+
+Each clause becomes an :class:`Intent` (place, pick, open, close, turn_on, turn_off, press). Noun
+phrases are resolved as they are read, in order, so that pronouns ("it", "them", "inside") refer
+to the most recent fitting mention. Two readings of whole-instruction intent are applied before the
+goal is built: opening a container that a later clause puts something into is the means, not a goal
+("open the top drawer and put the bowl inside" asks for the bowl in the drawer), and picking up an
+object that a later clause places is likewise only a step ("pick up the book and place it in ...").
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+from lark import Token, Tree
+
+from gsr.language.errors import GroundingError
+from gsr.language.lexicon import POSITION_SYNONYMS, Entity
+from gsr.language.parse import Tok
+from gsr.language.refs import Description, Place, Ref, Relation, Resolver
+from gsr.pddl.model import And, Atom, Equals, Forall, Formula, Imply, Not, Or, TypedVar
+
+#: Most assignments a "different drawers" / "one colour per drawer" goal may enumerate.
+ASSIGNMENT_LIMIT = 512
+
+
+@dataclass(slots=True)
+class Dest:
+    """Where objects go: a node with a predicate, or a pairing rule."""
+
+    kind: str  # "at" | "corresponding" | "different" | "by_color"
+    predicate: str = "on"
+    target: str | None = None
+    category: str | None = None  # the slot category of a pairing rule ("box", "drawer")
+    owner: tuple[str, ...] | None = None  # slots restricted to parts of these
+
+
+@dataclass(slots=True)
+class Intent:
+    """What one clause asks for."""
+
+    verb: str
+    objects: list[Ref]
+    dest: Dest | None = None
+
+
+@dataclass(slots=True)
+class Interpreter:
+    """Walks one parse tree; keeps the discourse (mentions in order) for pronouns."""
+
+    resolver: Resolver
+    mentions: list[Ref] = field(default_factory=list)
+    intents: list[Intent] = field(default_factory=list)
+
+    @property
+    def entities(self) -> dict[str, Entity]:
+        """The graph's entity descriptions."""
+        return self.resolver.entities
+
+    # ------------------------------------------------------------ commands
+
+    def run(self, tree: Tree) -> list[Intent]:
+        """The intents of an instruction's parse tree."""
+        for cmd in tree.children:
+            if isinstance(cmd, Tree) and cmd.data != "comma":
+                self.command(cmd)
+        return self.intents
+
+    def command(self, t: Tree) -> None:
+        """Interpret one clause."""
+        kind = t.data
+        trees = [c for c in t.children if isinstance(c, Tree)]
+        if kind == "pick_place_cmd":
+            objs_trees = [c for c in trees if c.data in ("objects", "both_list", "np_list")]
+            source = next((c for c in trees if c.data == "source"), None)
+            picked = self.objects(objs_trees[0], "movable", source=source)
+            self.intents.append(Intent("pick", picked))
+            placed = self.objects(objs_trees[1], "movable") if len(objs_trees) > 1 else picked
+            dest = self.dest(next(c for c in trees if c.data.startswith("dest_")), placed)
+            self.intents.append(Intent("place", placed, dest))
+            return
+        verb = {
+            "place_cmd": "place",
+            "push_cmd": "place",
+            "pick_cmd": "pick",
+            "open_cmd": "open",
+            "close_cmd": "close",
+            "turn_on_cmd": "turn_on",
+            "turn_off_cmd": "turn_off",
+            "press_cmd": "press",
+        }[kind]
+        need = {
+            "place": "movable",
+            "pick": "movable",
+            "open": "openable",
+            "close": "openable",
+            "turn_on": "switchable",
+            "turn_off": "switchable",
+            "press": "pressable",
+        }[verb]
+        source = next((c for c in trees if c.data == "source"), None)
+        objs = self.objects(trees[0], need, source=source)
+        dest = None
+        dest_tree = next((c for c in trees if c.data.startswith("dest_")), None)
+        if dest_tree is not None:
+            dest = self.dest(dest_tree, objs)
+        for ref in objs:
+            self._check_affordance(verb, ref)
+        self.intents.append(Intent(verb, objs, dest))
+
+    def _check_affordance(self, verb: str, ref: Ref) -> None:
+        need = {
+            "open": "openable",
+            "close": "openable",
+            "turn_on": "switchable",
+            "turn_off": "switchable",
+            "press": "pressable",
+            "place": "movable",
+            "pick": "movable",
+        }[verb]
+        bad = [i for i in ref.ids if need not in self.entities[i].affordances]
+        if bad and verb == "press":
+            return
+        if bad:
+            words = {"openable": "opened or closed", "switchable": "turned on or off", "movable": "moved"}
+            raise GroundingError(
+                f"{ref.text!r} ({', '.join(bad)}) cannot be {words.get(need, need)}",
+                candidates=tuple(bad),
+                phrase=ref.text,
+            )
+
+    # ------------------------------------------------------------ noun phrases
+
+    def objects(self, t: Tree, need: str, source: Tree | None = None) -> list[Ref]:
+        """The object references of a clause (a list or a single phrase)."""
+        nps = [c for c in t.children if isinstance(c, Tree) and c.data != "comma"]
+        refs = []
+        for np in nps:
+            ref = self.np(np, need=need, source=source)
+            refs.append(ref)
+        return refs
+
+    def np(
+        self,
+        t: Tree,
+        need: str | None = None,
+        lenient: bool = False,
+        source: Tree | None = None,
+        exclude: tuple[str, ...] = (),
+    ) -> Ref:
+        """Resolve a noun phrase (records it as a mention unless lenient)."""
+        if t.data == "pronoun":
+            return self.pronoun(t, need, exclude)
+        if t.data in ("place_of", "place_compound"):
+            place = self.place(t)
+            if isinstance(place, Place):
+                raise GroundingError(
+                    f"there is no {place.text!r} in the scene to refer to", phrase=place.text
+                )
+            return place
+        d = self.describe(t)
+        if source is not None:
+            d.relations.append(Relation("from", (self.target(source.children[-1]),)))
+        if lenient:
+            return self.lenient(d)
+        ref = self.resolver.resolve(d)
+        self.mentions.append(ref)
+        return ref
+
+    def lenient(self, d: Description) -> Ref:
+        """All matches of a description (for owners and relation targets, which only filter)."""
+        ids: list[str] = []
+        for category, _ in d.heads:
+            ids.extend(e.id for e in self.resolver.candidates(d, category) if e.id not in ids)
+        if d.entity:
+            ids = [d.entity]
+        if not ids:
+            raise GroundingError(f"no object in the scene matches {d.text!r}", phrase=d.text)
+        return Ref(tuple(ids), d.text, plural=len(ids) > 1)
+
+    def target(self, t: Tree) -> Ref | Place:
+        """A relation target or owner: a phrase or a place, resolved leniently."""
+        if t.data in ("place_of", "place_compound"):
+            return self.place(t)
+        if t.data == "pronoun":
+            return self.pronoun(t, None, ())
+        return self.np(t, lenient=True)
+
+    def pronoun(self, t: Tree, need: str | None, exclude: tuple[str, ...]) -> Ref:
+        """The most recent mention that fits (an affordance, not one of the clause's own objects)."""
+        word = _tok(t.children[0]).text
+        plural = word == "them"
+        for ref in reversed(self.mentions):
+            if set(ref.ids) & set(exclude):
+                continue
+            if need and any(need not in self.entities[i].affordances for i in ref.ids):
+                continue
+            if not plural and len(ref.ids) != 1:
+                continue
+            return Ref(ref.ids, word, plural=plural, forall=ref.forall)
+        raise GroundingError(f"{word!r} does not refer to anything mentioned before it", phrase=word)
+
+    def describe(self, t: Tree) -> Description:
+        """Read a plain noun phrase into a Description."""
+        d = Description(text=" ".join(tok.text for tok in _tokens(t)))
+        for c in t.children:
+            if isinstance(c, Token):
+                tok = _tok(c)
+                if tok.cls == "ONE":
+                    d.heads.append(("thing", tok.plural))
+                continue
+            if c.data == "quant":
+                d.quant = {"ALL": "all", "EACH": "each", "BOTH": "both"}[c.children[0].type]
+            elif c.data == "premod":
+                self._premod(c.children[0], d)
+            elif c.data == "heads":
+                for h in c.children:
+                    tok = _tok(h)
+                    if tok.cls == "NOUN":
+                        d.heads.append((tok.value, tok.plural))
+                    elif tok.cls == "ENTITY":
+                        d.entity = tok.value
+            elif c.data == "part_of":
+                d.owner = self.target(c.children[-1])
+            elif c.data == "same_color":
+                d.same_color_as = self.np(c.children[-1], lenient=True)
+            elif c.data.startswith("rel_"):
+                self._relation(c, d)
+        if d.heads and any(k == "thing" for k, _ in d.heads) and d.colors and len(d.heads) == 1:
+            pass  # "the red one": any movable thing of that colour
+        return d
+
+    def _premod(self, c: Tree | Token, d: Description) -> None:
+        if isinstance(c, Tree) and c.data == "colors":
+            d.colors.extend(_tok(x).value for x in c.children if _tok(x).cls == "COLOR")
+        elif isinstance(c, Tree) and c.data == "noun_mod":
+            d.noun_mods.append(_tok(c.children[0]).value)
+        else:
+            tok = _tok(c)
+            if tok.cls in ("POS", "SIDE"):
+                d.positions.append(tok.text)
+            else:
+                d.names.append(tok.value)
+
+    def _relation(self, c: Tree, d: Description) -> None:
+        kind = c.data.removeprefix("rel_")
+        nps = [x for x in c.children if isinstance(x, Tree)]
+        if kind == "side":
+            side = nps[0]
+            word, owner = self._side(side)
+            d.relations.append(Relation("side", (owner,), word))
+            return
+        d.relations.append(Relation(kind, tuple(self.target(n) for n in nps)))
+
+    def _side(self, t: Tree) -> tuple[str, Ref | Place]:
+        toks = [x for x in t.children if isinstance(x, Token)]
+        owner = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1])
+        if t.data == "side_behind":
+            return "back", owner
+        word = next(_tok(x).text for x in toks if _tok(x).cls in ("SIDE", "POS"))
+        return POSITION_SYNONYMS.get(word, word), owner
+
+    def place(self, t: Tree) -> Ref | Place:
+        """``the top of the cabinet`` / ``the table center``: a part or region node, else a Place."""
+        toks = [_tok(x) for x in t.children if isinstance(x, Token)]
+        pos = POSITION_SYNONYMS.get(
+            next(x.text for x in toks if x.cls == "POS"), next(x.text for x in toks if x.cls == "POS")
+        )
+        if t.data == "place_of":
+            owner_ref = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1])
+            owner = owner_ref.ids if isinstance(owner_ref, Ref) else owner_ref.owner
+        else:
+            noun = next(x for x in toks if x.cls == "NOUN")
+            owner = tuple(
+                e.id for e in self.resolver.candidates(Description(heads=[(noun.value, False)]), noun.value)
+            )
+        text = " ".join(x.text for x in _tokens(t))
+        found = self.resolver.regions(owner, pos)
+        if not found:
+            parents = tuple({self.entities[o].parent for o in owner} - {None})
+            found = self.resolver.regions(parents, pos) if parents else []
+        if len(found) == 1:
+            return Ref((found[0],), text)
+        if len(found) > 1:
+            raise GroundingError(
+                f"{text!r} is ambiguous: it could be any of {', '.join(found)}",
+                candidates=tuple(found),
+                phrase=text,
+            )
+        if pos == "top" and len(owner) == 1 and "supporter" in self.entities[owner[0]].affordances:
+            return Ref(owner, text)
+        return Place(owner, pos, text)
+
+    # ------------------------------------------------------------ destinations
+
+    def dest(self, t: Tree, objects: list[Ref]) -> Dest:
+        """The destination of a place/push clause."""
+        own = tuple(i for r in objects for i in r.ids)
+        kids = [c for c in t.children if isinstance(c, Tree)]
+        kind = t.data
+        if kind in ("dest_in", "dest_on", "dest_to"):
+            ref = (
+                self.np(kids[-1], exclude=own)
+                if kids[-1].data != "pronoun"
+                else self.pronoun(kids[-1], None, own)
+            )
+            if kids[-1].data == "pronoun":
+                self.mentions.append(ref)
+            return self._at(ref, {"dest_in": "in", "dest_on": "on", "dest_to": "to"}[kind])
+        if kind == "dest_on_top":
+            place = self.place(Tree("place_of", t.children[1:]))
+            if isinstance(place, Place):
+                raise GroundingError(f"there is no {place.text!r} in the scene", phrase=place.text)
+            self.mentions.append(place)
+            return self._at(place, "on")
+        if kind == "dest_inside":
+            for ref in reversed(self.mentions):
+                if (
+                    len(ref.ids) == 1
+                    and ref.ids[0] not in own
+                    and "container" in self.entities[ref.ids[0]].affordances
+                ):
+                    return Dest("at", "in", ref.ids[0])
+            raise GroundingError(
+                "'inside' does not refer to a container mentioned before it", phrase="inside"
+            )
+        if kind == "dest_side":
+            word, owner = self._side(kids[0])
+            ids = owner.ids if isinstance(owner, Ref) else owner.owner
+            found = self.resolver.regions(ids, word)
+            text = " ".join(x.text for x in _tokens(kids[0]))
+            if len(found) != 1:
+                raise GroundingError(
+                    f"the scene graph has {'no' if not found else 'more than one'} region {text!r}; the tabletop "
+                    "domain states spatial goals only as regions (parts) an object is put on",
+                    candidates=tuple(found),
+                    phrase=text,
+                )
+            return Dest("at", "on", found[0])
+        nominal = next(c for c in kids if c.data == "nominal")
+        category = [
+            _tok(x).value for x in nominal.children if isinstance(x, Token) and _tok(x).cls == "NOUN"
+        ][-1]
+        owner_tree = next((c for c in kids if c.data == "part_of"), None)
+        owner = None
+        if owner_tree is not None:
+            o = self.target(owner_tree.children[-1])
+            owner = o.ids if isinstance(o, Ref) else o.owner
+        if kind == "dest_corresponding":
+            return Dest("corresponding", "in", category=category)
+        if kind == "dest_different":
+            return Dest("different", "in", category=category, owner=owner)
+        return Dest("by_color", "in", category=category, owner=owner)
+
+    def _at(self, ref: Ref, prep: str) -> Dest:
+        if len(ref.ids) != 1:
+            raise GroundingError(
+                f"the destination {ref.text!r} must be one object, found {', '.join(ref.ids)}",
+                candidates=ref.ids,
+                phrase=ref.text,
+            )
+        target = ref.ids[0]
+        aff = self.entities[target].affordances
+        order = {
+            "in": ("container", "supporter"),
+            "on": ("supporter", "container"),
+            "to": ("supporter", "container"),
+        }[prep]
+        for a in order:
+            if a in aff:
+                return Dest("at", "in" if a == "container" else "on", target)
+        for a in order:  # a cabinet: its one top surface or its one interior part
+            parts = [e.id for e in self.entities.values() if e.parent == target and a in e.affordances]
+            if len(parts) == 1:
+                return Dest("at", "in" if a == "container" else "on", parts[0])
+            if len(parts) > 1:
+                raise GroundingError(
+                    f"{ref.text!r} has several places to put things: {', '.join(parts)}",
+                    candidates=tuple(parts),
+                    phrase=ref.text,
+                )
+        raise GroundingError(
+            f"nothing can be put {prep} {ref.text!r} ({target})", candidates=(target,), phrase=ref.text
+        )
+
+
+# ------------------------------------------------------------------ goal construction
+
+
+def goal_formula(intents: list[Intent], resolver: Resolver, types: dict[str, str]) -> Formula:
+    """The goal of an instruction's intents (see the module docstring for the two readings applied)."""
+    placed_into = {i.dest.target for i in intents if i.verb == "place" and i.dest and i.dest.kind == "at"}
+    placed_objs = {x for i in intents if i.verb == "place" for r in i.objects for x in r.ids}
+    parts: list[Formula] = []
+    for k, intent in enumerate(intents):
+        later = intents[k + 1 :]
+        later_into = {i.dest.target for i in later if i.verb == "place" and i.dest and i.dest.kind == "at"}
+        ids = [x for r in intent.objects for x in r.ids]
+        if intent.verb == "open":
+            parts.extend(Atom("open", (x,)) for x in ids if x not in later_into)
+        elif intent.verb == "close":
+            parts.extend(Not(Atom("open", (x,))) for x in ids)
+        elif intent.verb == "turn_on":
+            parts.extend(Atom("turned_on", (x,)) for x in ids)
+        elif intent.verb == "turn_off":
+            parts.extend(Not(Atom("turned_on", (x,))) for x in ids)
+        elif intent.verb == "press":
+            parts.extend(_press(x, resolver) for x in ids)
+        elif intent.verb == "pick":
+            later_placed = {x for i in later if i.verb == "place" for r in i.objects for x in r.ids}
+            parts.extend(Atom("holding", (x,)) for x in ids if x not in later_placed)
+        elif intent.verb == "place":
+            assert intent.dest is not None
+            parts.extend(_place(intent, resolver, types))
+    del placed_into, placed_objs
+    flat: list[Formula] = []
+    for p in parts:
+        for q in p.parts if isinstance(p, And) else (p,):
+            if q not in flat:
+                flat.append(q)
+    return And(tuple(flat))
+
+
+def _press(x: str, resolver: Resolver) -> Formula:
+    """Pressing toggles: the goal is the opposite of the owner's (or the button's) current state."""
+    e = resolver.entities[x]
+    owner = e.parent if e.parent and "switchable" in resolver.entities[e.parent].affordances else x
+    node = resolver.graph.node(owner)
+    atom = Atom("turned_on", (owner,))
+    return Not(atom) if "on" in node.states else atom
+
+
+def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Formula]:
+    dest = intent.dest
+    assert dest is not None
+    if dest.kind == "at":
+        out: list[Formula] = []
+        for ref in intent.objects:
+            if ref.forall:
+                out.extend(_forall(ref, dest, types))
+            else:
+                out.extend(Atom(dest.predicate, (x, dest.target)) for x in ref.ids if x != dest.target)
+        if not out:
+            raise GroundingError(
+                f"nothing to put at {dest.target}: the only object named is the destination itself"
+            )
+        return out
+    objects = [x for r in intent.objects for x in r.ids]
+    if dest.kind == "corresponding":
+        return [_corresponding(x, dest, resolver) for x in objects]
+    slots = _slots(dest, resolver)
+    if dest.kind == "different":
+        if len(slots) < len(objects):
+            raise GroundingError(
+                f"{len(objects)} objects need different {dest.category}s but there are only {len(slots)}: {', '.join(slots)}",
+                candidates=tuple(slots),
+            )
+        return [_assignments(objects, slots, lambda x: x)]
+    colors: dict[str, str] = {}
+    for x in objects:
+        cs = resolver.entities[x].colors
+        if not cs:
+            raise GroundingError(f"{x} has no colour to sort it by", candidates=(x,))
+        colors[x] = cs[0]
+    groups = list(dict.fromkeys(colors.values()))
+    if len(slots) < len(groups):
+        raise GroundingError(
+            f"{len(groups)} colours ({', '.join(groups)}) need one {dest.category} each but there are only "
+            f"{len(slots)}: {', '.join(slots)}",
+            candidates=tuple(slots),
+        )
+    return [_assignments(objects, slots, lambda x: colors[x], groups)]
+
+
+def _forall(ref: Ref, dest: Dest, types: dict[str, str]) -> list[Formula]:
+    out: list[Formula] = []
+    assert ref.forall is not None and dest.target is not None
+    for category, colors in ref.forall:
+        var = "?x"
+        conds: list[Formula] = [Atom("has_color", (var, c)) for c in colors]
+        if types.get(dest.target) and _is_subtype(types[dest.target], category):
+            conds.append(Not(Equals(var, dest.target)))
+        body: Formula = Atom(dest.predicate, (var, dest.target))
+        if conds:
+            body = Imply(conds[0] if len(conds) == 1 else And(tuple(conds)), body)
+        out.append(Forall((TypedVar(var, (category,)),), body))
+    return out
+
+
+def _is_subtype(t: str, of: str) -> bool:
+    from gsr.resources import load_builtin_domain
+
+    return load_builtin_domain("tabletop").is_subtype(t, (of,))
+
+
+def _corresponding(x: str, dest: Dest, resolver: Resolver) -> Formula:
+    cs = resolver.entities[x].colors
+    if not cs:
+        raise GroundingError(
+            f"{x} has no colour, so it has no corresponding {dest.category}", candidates=(x,)
+        )
+    targets = [
+        e.id
+        for e in resolver.entities.values()
+        if dest.category in e.kinds and e.colors and e.colors[0] == cs[0] and e.id != x
+    ]
+    if not targets:
+        raise GroundingError(f"there is no {cs[0]} {dest.category} for {x}", candidates=(x,))
+    atoms = [Atom("in", (x, t)) for t in targets]
+    return atoms[0] if len(atoms) == 1 else Or(tuple(atoms))
+
+
+def _slots(dest: Dest, resolver: Resolver) -> list[str]:
+    slots = [
+        e.id for e in resolver.entities.values() if dest.category in e.kinds and "container" in e.affordances
+    ]
+    if dest.owner is not None:
+        slots = [s for s in slots if resolver.entities[s].parent in dest.owner]
+    if not slots:
+        raise GroundingError(f"there is no {dest.category} to put things in")
+    return slots
+
+
+def _assignments(objects: list[str], slots: list[str], key, groups: list[str] | None = None) -> Formula:
+    """Or over injective maps from groups (default: the objects) to slots, each object in its group's slot."""
+    groups = groups if groups is not None else list(objects)
+    count = 1
+    for i in range(len(groups)):
+        count *= len(slots) - i
+    if count > ASSIGNMENT_LIMIT:
+        raise GroundingError(f"too many ways ({count}) to assign {len(groups)} groups to {len(slots)} places")
+    options: list[Formula] = []
+    for perm in itertools.permutations(slots, len(groups)):
+        slot_of = dict(zip(groups, perm, strict=True))
+        options.append(And(tuple(Atom("in", (x, slot_of[key(x)])) for x in objects)))
+    return options[0] if len(options) == 1 else Or(tuple(options))
+
+
+def _tok(x: Token | Tree) -> Tok:
+    assert isinstance(x, Token)
+    return x.value  # type: ignore[return-value]
+
+
+def _tokens(t: Tree) -> list[Tok]:
+    return [tok.value for tok in t.scan_values(lambda v: isinstance(v, Token))]  # type: ignore[misc]

@@ -1,0 +1,74 @@
+"""``ground(instruction, graph) -> Goal``: the embedded, rule-based goal interpreter."""
+
+from __future__ import annotations
+
+from lark import Tree
+from lark.visitors import CollapseAmbiguities
+
+from gsr.facts import graph_objects
+from gsr.language.build import Interpreter, goal_formula
+from gsr.language.errors import GroundingError
+from gsr.language.lexicon import build_lexicon
+from gsr.language.parse import parse_tokens, tokenize
+from gsr.language.refs import Resolver
+from gsr.pddl.model import Domain, Formula
+from gsr.scene_graph import SceneGraph
+from gsr.step import Goal
+
+#: Most parse readings interpreted for one instruction (Earley keeps every reading).
+MAX_READINGS = 64
+
+
+def _readings(tree: Tree) -> list[Tree]:
+    """Every reading of an ambiguous parse (at most MAX_READINGS)."""
+    if not any(t.data == "_ambig" for t in tree.iter_subtrees()):
+        return [tree]
+    return CollapseAmbiguities().transform(tree)[:MAX_READINGS]
+
+
+def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) -> Goal:
+    """The goal an instruction asks for, as a PDDL formula over the graph's node ids.
+
+    Raises GroundingError naming the unknown words, the place the parse failed, or the candidate
+    objects of an ambiguous or unmatched reference. Every reading of the sentence is interpreted; when
+    the readings that can be grounded disagree, that is an ambiguity error too (never a silent guess).
+    """
+    from gsr.resources import load_builtin_domain
+
+    if not isinstance(instruction, str) or not instruction.strip():
+        raise GroundingError("empty instruction")
+    domain = domain or load_builtin_domain("tabletop")
+    lex = build_lexicon(graph)
+    tokens = tokenize(instruction, lex)
+    tree = parse_tokens(tokens, instruction)
+    types = graph_objects(graph, domain)
+    goals: list[Formula] = []
+    errors: list[GroundingError] = []
+    for reading in _readings(tree):
+        interp = Interpreter(Resolver(graph, lex.entities))
+        try:
+            formula = goal_formula(interp.run(reading), interp.resolver, types)
+        except GroundingError as exc:
+            errors.append(exc)
+            continue
+        if formula not in goals:
+            goals.append(formula)
+    if not goals:
+        raise _best_error(errors)
+    if len(goals) > 1:
+        from gsr.pddl.writer import write_formula
+
+        readings = "; ".join(write_formula(g) for g in goals[:4])
+        raise GroundingError(f"{instruction!r} has {len(goals)} readings with different goals: {readings}")
+    return Goal(formula=goals[0], text=instruction)
+
+
+def _best_error(errors: list[GroundingError]) -> GroundingError:
+    """The most informative error among the readings: ambiguity first, then unmatched references."""
+    for exc in errors:
+        if exc.candidates and "ambiguous" in exc.message:
+            return exc
+    for exc in errors:
+        if exc.phrase:
+            return exc
+    return errors[0]

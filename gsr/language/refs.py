@@ -1,0 +1,296 @@
+"""Reference resolution: a noun phrase of the parse tree -> the scene-graph nodes it denotes.
+
+A noun phrase is read into a :class:`Description` (head categories, colours, position and name
+words, relations to other phrases, quantifier). :func:`candidates` filters the graph's entities by it;
+:class:`Ref` is the result: the node ids plus, for quantified phrases over static properties
+(category and colour), the quantifier to emit (``forall ?x - cube``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gsr.categories import is_a
+from gsr.language.errors import GroundingError
+from gsr.language.lexicon import POSITION_SYNONYMS, Entity
+from gsr.scene_graph import SceneGraph
+
+#: Graph relations that count as "next to" (either direction).
+NEAR_RELATIONS = frozenset({"adjacent", "near", "left_of", "right_of", "front_of", "behind"})
+#: Words of region names that are not about the reference object.
+_REGION_FILLER = frozenset({"next", "to", "region", "between", "init", "side", "main", "table", "of"})
+
+
+@dataclass(slots=True)
+class Relation:
+    """A restrictive relation of a noun phrase: ``on``, ``in``, ``from``, ``near``, ``between``, ``at``, ``side``."""
+
+    kind: str
+    targets: tuple[Ref | Place, ...]
+    word: str = ""  # the side word for kind == "side"
+
+
+@dataclass(slots=True)
+class Description:
+    """What a noun phrase says about its referent."""
+
+    heads: list[tuple[str, bool]] = field(default_factory=list)  # (category, plural)
+    entity: str | None = None  # a node id written in the instruction
+    colors: list[str] = field(default_factory=list)
+    positions: list[str] = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
+    noun_mods: list[str] = field(default_factory=list)
+    quant: str | None = None  # "all", "each", "both"
+    owner: Ref | Place | None = None  # "of the cabinet"
+    relations: list[Relation] = field(default_factory=list)
+    same_color_as: Ref | None = None
+    text: str = ""
+
+    @property
+    def plural(self) -> bool:
+        """True for plural heads or a quantifier."""
+        return self.quant is not None or any(p for _, p in self.heads)
+
+
+@dataclass(slots=True)
+class Ref:
+    """A resolved reference: node ids, and the quantifiers that express it when it is quantified."""
+
+    ids: tuple[str, ...]
+    text: str
+    plural: bool = False
+    forall: tuple[tuple[str, tuple[str, ...]], ...] | None = None  # ((category, colours), ...)
+
+
+@dataclass(slots=True)
+class Place:
+    """A place that is not a node ("the table center"): an owner and a position word."""
+
+    owner: tuple[str, ...]
+    position: str
+    text: str
+
+
+class Resolver:
+    """Filters the graph's entities by descriptions."""
+
+    def __init__(self, graph: SceneGraph, entities: dict[str, Entity]) -> None:
+        self.graph = graph
+        self.entities = entities
+        self.support: dict[str, tuple[str, str]] = {}
+        self.near: set[tuple[str, str]] = set()
+        for e in graph.edges:
+            if e.relation in ("on", "in"):
+                self.support[e.source] = (e.relation, e.target)
+            elif e.relation in NEAR_RELATIONS:
+                self.near.add((e.source, e.target))
+                self.near.add((e.target, e.source))
+        self.side_edges = {(e.source, e.relation, e.target) for e in graph.edges}
+
+    # ------------------------------------------------------------ helpers
+
+    def with_parts(self, ids: tuple[str, ...]) -> set[str]:
+        """The ids plus every part below them."""
+        out = set(ids)
+        changed = True
+        while changed:
+            changed = False
+            for e in self.entities.values():
+                if e.parent in out and e.id not in out:
+                    out.add(e.id)
+                    changed = True
+        return out
+
+    def owner_words(self, ids: tuple[str, ...]) -> set[str]:
+        """Name words of the owners (what region names mention: ``plate`` in ``plate_right_region``)."""
+        out: set[str] = set()
+        for i in ids:
+            out |= set(self.entities[i].words)
+        return out
+
+    def regions(self, owner: tuple[str, ...], position: str) -> list[str]:
+        """Region-like parts at ``position`` of the owner: its own parts, or a region named after it."""
+        pos = POSITION_SYNONYMS.get(position, position)
+        owned = [
+            e.id
+            for e in self.entities.values()
+            if e.parent in owner
+            and pos in e.positions
+            and e.category in ("cabinet_top", "region", "compartment")
+        ]
+        if owned:
+            return owned
+        words = self.owner_words(owner) - _REGION_FILLER
+        named = [
+            e.id
+            for e in self.entities.values()
+            if e.category == "region"
+            and pos in (e.words | e.positions)
+            and words & (e.words - _REGION_FILLER - {pos})
+        ]
+        return named
+
+    # ------------------------------------------------------------ matching
+
+    def _head_matches(self, category: str) -> list[Entity]:
+        strong = [e for e in self.entities.values() if category in e.kinds]
+        if category == "thing":  # "items", "objects": what can be moved
+            return [e for e in self.entities.values() if "movable" in e.affordances]
+        if strong:
+            return strong
+        words = set(category.split("_"))
+        return [e for e in self.entities.values() if words <= e.words]
+
+    def _relation_holds(self, e: Entity, rel: Relation) -> bool:
+        if rel.kind in ("on", "in", "from"):
+            target = rel.targets[0]
+            sup = self.support.get(e.id)
+            if sup is None:
+                return False
+            if isinstance(target, Place):
+                return sup[1] in self.with_parts(target.owner) and target.position in e.region_words
+            if rel.kind != "from" and sup[0] != rel.kind and not self._loose_support(rel.kind, sup[1]):
+                return False
+            return sup[1] in self.with_parts(target.ids)
+        if rel.kind == "at":
+            target = rel.targets[0]
+            sup = self.support.get(e.id)
+            if isinstance(target, Place):
+                return (
+                    sup is not None
+                    and sup[1] in self.with_parts(target.owner)
+                    and target.position in e.region_words
+                )
+            return sup is not None and sup[1] in self.with_parts(target.ids)
+        if rel.kind == "near":
+            return self._near(e, rel.targets[0])
+        if rel.kind == "between":
+            return all(self._near(e, t, between=True) for t in rel.targets)
+        if rel.kind == "side":
+            target = rel.targets[0]
+            ids = target.ids if isinstance(target, Ref) else target.owner
+            edge = {"left": "left_of", "right": "right_of", "front": "front_of", "back": "behind"}.get(
+                rel.word
+            )
+            if edge and any((e.id, edge, t) in self.side_edges for t in ids):
+                return True
+            return rel.word in e.region_words and bool(self.owner_words(ids) & e.region_words)
+        return False
+
+    def _loose_support(self, kind: str, target: str) -> bool:
+        """``on the drawer`` for an object in it, ``in the bowl`` for one on it: the word follows the target's kind."""
+        aff = self.entities[target].affordances
+        return (kind == "in" and "container" not in aff) or (kind == "on" and "supporter" not in aff)
+
+    def _near(self, e: Entity, target: Ref | Place, between: bool = False) -> bool:
+        ids = target.ids if isinstance(target, Ref) else target.owner
+        if any((e.id, t) in self.near for t in ids):
+            return True
+        marker = "between" if between else "next"
+        if marker not in e.region_words and not (between and "next" in e.region_words):
+            return False
+        return bool((self.owner_words(ids) - _REGION_FILLER) & (e.region_words - _REGION_FILLER))
+
+    def candidates(self, d: Description, category: str) -> list[Entity]:
+        """Entities matching the description with this head category."""
+        found = self._head_matches(category)
+        if d.noun_mods:
+            mod_words = {w for m in d.noun_mods for w in m.split("_")}
+            with_mods = [e for e in found if mod_words <= e.words or any(m in e.kinds for m in d.noun_mods)]
+            if with_mods:
+                found = with_mods
+            else:  # "the drawer handle"-style compounds read the other way round: the modifier is the head
+                found = [
+                    e
+                    for m in d.noun_mods
+                    for e in self._head_matches(m)
+                    if set(category.split("_")) <= e.words
+                ]
+        if d.colors:
+            found = [e for e in found if set(d.colors) <= set(e.colors)]
+        for p in d.positions:
+            canon = POSITION_SYNONYMS.get(p, p)
+            found = [e for e in found if canon in e.positions]
+        for w in d.names:
+            found = [e for e in found if w in e.words or w in e.region_words]
+        if d.owner is not None:
+            found = self._owned(found, d.owner)
+        if d.same_color_as is not None:
+            ref_colors = {self._primary(i) for i in d.same_color_as.ids} - {None}
+            found = [
+                e for e in found if e.colors and e.colors[0] in ref_colors and e.id not in d.same_color_as.ids
+            ]
+        for rel in d.relations:
+            found = [e for e in found if e.id not in _ids(rel.targets) and self._relation_holds(e, rel)]
+        return found
+
+    def _owned(self, found: list[Entity], owner: Ref | Place) -> list[Entity]:
+        owners = owner.ids if isinstance(owner, Ref) else owner.owner
+        owned = [e for e in found if e.parent in owners]
+        if owned:
+            return owned
+        # "the top layer of the drawer": the owner phrase names a part, meaning the object that has it
+        parents = {self.entities[i].parent for i in owners} - {None}
+        return [e for e in found if e.parent in parents]
+
+    def _primary(self, node_id: str) -> str | None:
+        colors = self.entities[node_id].colors
+        return colors[0] if colors else None
+
+    # ------------------------------------------------------------ resolution
+
+    def resolve(self, d: Description) -> Ref:
+        """The reference a description makes; GroundingError when nothing or (singular) more than one matches."""
+        if d.entity is not None:
+            return Ref((d.entity,), d.text, plural=False)
+        ids: list[str] = []
+        forall: list[tuple[str, tuple[str, ...]]] = []
+        for category, _plural in d.heads:
+            found = self.candidates(d, category)
+            if not found:
+                raise GroundingError(
+                    f"no object in the scene matches {d.text!r}",
+                    phrase=d.text,
+                    candidates=self._near_misses(category),
+                )
+            if not d.plural and len(found) > 1 and d.colors:
+                exact = [e for e in found if set(e.colors) == set(d.colors)]
+                found = exact or found
+            if not d.plural and len(found) > 1:
+                raise GroundingError(
+                    f"{d.text!r} is ambiguous: it could be any of {', '.join(e.id for e in found)}",
+                    candidates=tuple(e.id for e in found),
+                    phrase=d.text,
+                )
+            ids.extend(e.id for e in found if e.id not in ids)
+            if self._quantifiable(d, category):
+                forall.append((category, tuple(d.colors)))
+        if d.quant == "both" and len(ids) != 2:
+            raise GroundingError(
+                f"{d.text!r} should name two objects, found {len(ids)}: {', '.join(ids)}",
+                candidates=tuple(ids),
+                phrase=d.text,
+            )
+        quantified = d.quant in ("all", "each") and len(forall) == len(d.heads)
+        return Ref(tuple(ids), d.text, plural=d.plural, forall=tuple(forall) if quantified else None)
+
+    def _quantifiable(self, d: Description, category: str) -> bool:
+        """A quantifier over static properties only (category, colour) becomes a PDDL forall."""
+        from gsr.resources import load_builtin_domain
+
+        return (
+            not (d.positions or d.names or d.noun_mods or d.owner or d.relations or d.same_color_as)
+            and category != "thing"
+            and category in load_builtin_domain("tabletop").types
+        )
+
+    def _near_misses(self, category: str) -> tuple[str, ...]:
+        return tuple(e.id for e in self.entities.values() if is_a(e.category, category))
+
+
+def _ids(targets: tuple[Ref | Place, ...]) -> set[str]:
+    out: set[str] = set()
+    for t in targets:
+        if isinstance(t, Ref):
+            out |= set(t.ids)
+    return out
