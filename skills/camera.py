@@ -1,0 +1,139 @@
+"""Cameras in the simulated world: RGB, metric depth and instance masks with intrinsics and extrinsics.
+
+:func:`render_frame` returns a ``perception.Frame`` whose mask ids are one per scene-graph node (objects
+and articulated parts, from PyBullet's object-and-link segmentation), with labels naming the node, its
+category, colour and parent: ground truth for the perception pipeline. Rendering uses the CPU tiny
+renderer (headless); camera poses use the world frame (+x forward from the robot, +y left, +z up).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from perception import Camera, Frame
+    from skills.world import World
+
+
+@dataclass(frozen=True, slots=True)
+class CameraSpec:
+    """A pinhole camera looking from ``eye`` at ``target``; ``fov`` is the vertical field of view (deg)."""
+
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float]
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)
+    fov: float = 60.0
+    width: int = 320
+    height: int = 240
+    near: float = 0.05
+    far: float = 4.0
+
+
+def default_views(world: World) -> dict[str, CameraSpec]:
+    """Named views of the table: ``front`` (over the robot's shoulder), ``top``, ``left``, ``right``."""
+    lo, hi = world.body_aabb(world.table_body)
+    cx, cy, cz = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2]
+    target = (cx, cy, cz + 0.05)
+    return {
+        # beside the robot, not behind it: the arm would hide the table
+        "front": CameraSpec((lo[0] - 0.1, cy - 0.75, cz + 0.85), target),
+        "top": CameraSpec((cx - 0.01, cy, cz + 1.4), (cx, cy, cz), up=(1.0, 0.0, 0.0)),
+        "left": CameraSpec((cx, cy + 1.0, cz + 0.6), target),
+        "right": CameraSpec((cx, cy - 1.0, cz + 0.6), target),
+    }
+
+
+@dataclass(frozen=True)
+class RGBD:
+    """One rendering: RGB (HxWx3 uint8), depth (HxW float32 m, 0 = nothing), body and link ids per pixel."""
+
+    rgb: np.ndarray
+    depth: np.ndarray
+    body: np.ndarray
+    link: np.ndarray
+    camera: Camera
+
+
+def render(world: World, spec: CameraSpec) -> RGBD:
+    """Render RGB, depth and segmentation of the world from one camera."""
+    import pybullet as p
+
+    from perception.camera import camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
+
+    view = p.computeViewMatrix(spec.eye, spec.target, spec.up, physicsClientId=world.client)
+    proj = p.computeProjectionMatrixFOV(
+        spec.fov, spec.width / spec.height, spec.near, spec.far, physicsClientId=world.client
+    )
+    _, _, rgba, depth_buf, seg = p.getCameraImage(
+        spec.width,
+        spec.height,
+        view,
+        proj,
+        renderer=p.ER_TINY_RENDERER,
+        flags=p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
+        physicsClientId=world.client,
+    )
+    rgb = np.asarray(rgba, dtype=np.uint8).reshape(spec.height, spec.width, 4)[:, :, :3].copy()
+    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(spec.height, spec.width), proj)
+    body, link = split_gl_segmentation(np.asarray(seg).reshape(spec.height, spec.width))
+    return RGBD(rgb, depth, body, link, camera_from_gl(view, proj, spec.width, spec.height))
+
+
+def node_of_pixels(world: World, body: np.ndarray, link: np.ndarray) -> tuple[np.ndarray, list[str]]:
+    """Per-pixel index into the returned node-id list (-1 = robot, background or unnamed)."""
+    names: list[str] = []
+    index: dict[str, int] = {}
+    out = np.full(body.shape, -1, dtype=np.int32)
+    for b, lk in {(int(b), int(lk)) for b, lk in zip(body.ravel(), link.ravel(), strict=True) if b >= 0}:
+        node = _pixel_node(world, b, lk)
+        if node is None:
+            continue
+        if node not in index:
+            index[node] = len(names)
+            names.append(node)
+        out[(body == b) & (link == lk)] = index[node]
+    return out, names
+
+
+def _pixel_node(world: World, body: int, link: int) -> str | None:
+    if body == world.table_body:
+        return world.table_id if world.graph.has_node(world.table_id) else None
+    for o in world.objects.values():
+        if o.body != body:
+            continue
+        if link >= 0:
+            for nid, (obj, part) in sorted(world.parts.items()):
+                if obj == o.id and part and world.part_link(obj, part) == link:
+                    return nid
+        return o.id if world.graph.has_node(o.id) else None
+    return None
+
+
+def render_frame(world: World, spec: CameraSpec) -> Frame:
+    """A ``perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
+    from perception.frame import Frame, InstanceLabel
+
+    img = render(world, spec)
+    masks, names = node_of_pixels(world, img.body, img.link)
+    labels = {}
+    for i, nid in enumerate(names):
+        n = world.graph.node(nid)
+        labels[i] = InstanceLabel(id=nid, category=n.category, color=n.color, parent=n.parent)
+    return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
+
+
+def save_png(rgb: np.ndarray, path: str) -> None:
+    """Write an RGB image as PNG (atomically)."""
+    import os
+    import tempfile
+
+    from PIL import Image
+
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=d, suffix=".png")
+    os.close(fd)
+    Image.fromarray(rgb).save(tmp, format="PNG")
+    os.replace(tmp, path)

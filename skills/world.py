@@ -1,0 +1,465 @@
+"""The PyBullet world: table, rail-mounted Panda and procedural objects built from a TaskSpec's layout.
+
+``build_world(task_or_layout, seed)`` is deterministic: the same task and seed give the same bodies,
+poses and joint states. Scene-graph node ids map to bodies (objects) and links (parts such as
+``wooden_cabinet_1/top_drawer``); :meth:`World.locate` resolves any node id. Always headless
+(``p.DIRECT``); buttons latch their owner's on/off state as they are pressed, inside :meth:`World.step`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gsr.categories import is_a
+from gsr.errors import GSRError
+from gsr.scene_graph import SceneGraph
+from gsr.task_spec import Layout, PlacedObject, Region, TaskSpec
+from skills.asset_model import Articulation, AssetModel
+from skills.assets import asset_urdf_path, make_asset
+from skills.robot import Robot
+
+SETTLE_STEPS = 120
+#: Joint friction that keeps articulated parts where they are left (N or N m).
+JOINT_FRICTION = {"drawer": 4.0, "lid": 1.5, "door": 0.6, "knob": 0.15}
+
+
+@dataclass
+class SimObject:
+    """One loaded object: its body, model and link indices by link name (base = -1)."""
+
+    id: str
+    body: int
+    model: AssetModel
+    placed: PlacedObject
+    links: dict[str, int]
+
+
+@dataclass(frozen=True, slots=True)
+class Located:
+    """Where a node lives in the simulator: an object, the asset part (or ``""``), the body and link."""
+
+    object_id: str
+    part: str
+    body: int
+    link: int
+
+
+@dataclass
+class World:
+    """A built simulation: the client, the robot, the objects and the scene graph they realise."""
+
+    client: int
+    robot: Robot
+    table_body: int
+    table_id: str
+    graph: SceneGraph
+    layout: Layout
+    seed: int
+    objects: dict[str, SimObject] = field(default_factory=dict)
+    parts: dict[str, tuple[str, str]] = field(default_factory=dict)  # part node id -> (object id, asset part)
+    regions: dict[str, Region] = field(default_factory=dict)
+    powered: dict[str, bool] = field(default_factory=dict)  # switchable object id -> on
+    _pressed: dict[tuple[str, str], bool] = field(default_factory=dict)
+    sim_steps: int = 0
+    debug_teleport: bool = False
+
+    # ------------------------------------------------------------ lookup
+
+    def locate(self, node_id: str) -> Located:
+        """The body/link of a node; GSRError naming the node if it has no physical counterpart."""
+        if node_id in self.objects:
+            o = self.objects[node_id]
+            return Located(node_id, "", o.body, -1)
+        if node_id in self.parts:
+            obj_id, part = self.parts[node_id]
+            o = self.objects[obj_id]
+            link = self.part_link(obj_id, part)
+            return Located(obj_id, part, o.body, link)
+        if node_id == self.table_id or node_id in self.regions:
+            return Located(self.table_id, "", self.table_body, -1)
+        raise GSRError(f"node {node_id!r} has no body in the simulated world")
+
+    def part_link(self, object_id: str, part: str) -> int:
+        """Link index of an asset part (articulation, interior or plain part link); -1 for the base."""
+        o = self.objects[object_id]
+        m = o.model
+        if part in m.articulations:
+            return o.links[m.articulations[part].link]
+        if part in m.interiors:
+            return o.links[m.interiors[part].link]
+        if part in m.part_links:
+            return o.links[m.part_links[part]]
+        return -1
+
+    def articulation(self, node_id: str, role: str) -> tuple[SimObject, str, Articulation] | None:
+        """The articulation a node's ``open`` (role ``open``) or ``turn on`` (role ``switch``) acts on."""
+        loc = self.locate(node_id)
+        if loc.object_id == self.table_id:
+            return None
+        o = self.objects[loc.object_id]
+        part = loc.part or (o.model.open_part if role == "open" else o.model.switch_part) or ""
+        art = o.model.articulations.get(part)
+        return (o, part, art) if art is not None else None
+
+    def joint_position(self, obj: SimObject, part: str) -> float:
+        """Current joint position of an articulated part."""
+        import pybullet as p
+
+        link = obj.links[obj.model.articulations[part].link]
+        return float(p.getJointState(obj.body, link, physicsClientId=self.client)[0])
+
+    def link_pose(self, body: int, link: int) -> tuple[np.ndarray, np.ndarray]:
+        """World position and quaternion of a link frame (the base for -1)."""
+        import pybullet as p
+
+        if link < 0:
+            pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
+        else:
+            s = p.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=self.client)
+            pos, orn = s[4], s[5]
+        return np.array(pos), np.array(orn)
+
+    def to_world(self, body: int, link: int, local: tuple[float, float, float]) -> np.ndarray:
+        """A point given in a link's frame, in world coordinates."""
+        import pybullet as p
+
+        pos, orn = self.link_pose(body, link)
+        return np.array(p.multiplyTransforms(pos, orn, local, (0, 0, 0, 1))[0])
+
+    def yaw_of(self, body: int, link: int = -1) -> float:
+        """Heading (rad) of a link's x axis in the world."""
+        import pybullet as p
+
+        _, orn = self.link_pose(body, link)
+        return float(p.getEulerFromQuaternion(orn)[2])
+
+    def aabb(self, body: int, link: int = -1) -> tuple[np.ndarray, np.ndarray]:
+        """Axis-aligned bounding box of a link (the base for -1)."""
+        import pybullet as p
+
+        lo, hi = p.getAABB(body, link, physicsClientId=self.client)
+        return np.array(lo), np.array(hi)
+
+    def body_aabb(self, body: int) -> tuple[np.ndarray, np.ndarray]:
+        """AABB over all links of a body."""
+        import pybullet as p
+
+        boxes = [
+            self.aabb(body, link) for link in range(-1, p.getNumJoints(body, physicsClientId=self.client))
+        ]
+        return np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)
+
+    # ------------------------------------------------------------ stepping
+
+    def step(self, n: int = 1) -> None:
+        """Advance the simulation ``n`` steps (1/240 s each), latching button presses."""
+        import pybullet as p
+
+        for _ in range(n):
+            p.stepSimulation(physicsClientId=self.client)
+            self.sim_steps += 1
+            self._latch_buttons()
+
+    def _latch_buttons(self) -> None:
+        for o in self.objects.values():
+            for part, art in o.model.articulations.items():
+                if art.kind != "button":
+                    continue
+                frac = (self.joint_position(o, part) - art.closed) / (art.open - art.closed)
+                key = (o.id, part)
+                if frac > 0.7 and not self._pressed.get(key):
+                    self._pressed[key] = True
+                    self.powered[o.id] = not self.powered.get(o.id, False)
+                elif frac < 0.3:
+                    self._pressed[key] = False
+
+    def is_on(self, object_id: str) -> bool:
+        """Whether a switchable object is on: its knob past half-turn, or its button-latched state."""
+        o = self.objects[object_id]
+        part = o.model.switch_part
+        if part is None:
+            return False
+        art = o.model.articulations[part]
+        if art.kind == "button":
+            return self.powered.get(object_id, False)
+        return art.is_open(self.joint_position(o, part))
+
+    def close(self) -> None:
+        """Disconnect the physics client."""
+        import pybullet as p
+
+        if p.isConnected(self.client):
+            p.disconnect(self.client)
+
+    def __enter__(self) -> World:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
+    """The asset part a graph part node denotes (``wooden_cabinet_1/top_drawer`` -> ``drawer_2``); "" if none."""
+    n = graph.node(node_id)
+    name = node_id.split("/")[-1]
+    cat = n.category
+    if is_a(cat, "drawer"):
+        drawers = sorted(p for p in model.articulations if p.startswith("drawer_"))
+        level = n.attributes.get("level")
+        if not isinstance(level, int):
+            words = {
+                "top": 2,
+                "high": 2,
+                "upper": 2,
+                "middle": 1,
+                "mid": 1,
+                "bottom": 0,
+                "low": 0,
+                "lower": 0,
+            }
+            level = next((v for k, v in words.items() if k in name), 0)
+        siblings = [m for m in graph.nodes if m.parent == n.parent and is_a(m.category, "drawer")]
+        if len(siblings) < len(drawers) and isinstance(level, int):  # two-drawer cabinets: the lowest ones
+            level = min(level, len(drawers) - 1)
+        return drawers[min(max(level, 0), len(drawers) - 1)] if drawers else ""
+    if is_a(cat, "cabinet_top"):
+        return "top_side" if "top_side" in model.part_links else ""
+    if is_a(cat, "compartment"):
+        return (
+            "compartment_1"
+            if "back" in name
+            else ("compartment_0" if "compartment_0" in model.interiors else "")
+        )
+    if is_a(cat, "door"):
+        return model.open_part or ""
+    if is_a(cat, "button") or is_a(cat, "switch"):
+        return model.switch_part or ""
+    if is_a(cat, "burner"):
+        return "burner" if "burner" in model.part_links else ""
+    return ""
+
+
+def _table_id(graph: SceneGraph) -> str:
+    for n in graph.nodes:
+        if n.parent is None and is_a(n.category, "table"):
+            return n.id
+    return "table"
+
+
+def _rest_order(layout: Layout) -> list[PlacedObject]:
+    ids = {o.id for o in layout.objects}
+    done: set[str] = set()
+    out: list[PlacedObject] = []
+    pending = list(layout.objects)
+    while pending:
+        progressed = False
+        for o in list(pending):
+            host = (o.on or "").split("/")[0]
+            if host in ids and host not in done:
+                continue
+            out.append(o)
+            done.add(o.id)
+            pending.remove(o)
+            progressed = True
+        if not progressed:
+            raise GSRError(f"layout: support cycle among {', '.join(o.id for o in pending)}")
+    return out
+
+
+def build_world(
+    task_or_layout: TaskSpec | Layout,
+    seed: int = 0,
+    graph: SceneGraph | None = None,
+    debug_teleport: bool = False,
+) -> World:
+    """Build the simulated world for a task (or a bare layout plus its graph), deterministic per seed.
+
+    A task without a layout gets one from :func:`skills.layout.layout_from_graph`. ``debug_teleport``
+    lets skills move objects kinematically (debugging only; off by default and never used by benchmarks).
+    """
+    import pybullet as p
+
+    from skills.layout import layout_from_graph
+    from skills.sim_graph import graph_from_layout
+
+    if isinstance(task_or_layout, TaskSpec):
+        graph = task_or_layout.initial
+        layout = task_or_layout.layout or layout_from_graph(graph, seed)
+    else:
+        layout = task_or_layout
+        graph = graph or graph_from_layout(layout)
+    client = p.connect(p.DIRECT)
+    try:
+        return _populate(client, layout, graph, seed, debug_teleport)
+    except Exception:
+        p.disconnect(client)
+        raise
+
+
+def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_teleport: bool) -> World:
+    import pybullet as p
+
+    p.resetSimulation(physicsClientId=client)
+    p.setGravity(0, 0, -9.81, physicsClientId=client)
+    p.setPhysicsEngineParameter(fixedTimeStep=1 / 240, numSolverIterations=80, physicsClientId=client)
+    th = layout.table_height
+    table_model = make_asset("table", (layout.table_size[0], layout.table_size[1], 0.05))
+    table_body = p.loadURDF(
+        str(asset_urdf_path(table_model)), (0, 0, th), useFixedBase=True, physicsClientId=client
+    )
+    p.changeDynamics(table_body, -1, lateralFriction=0.8, physicsClientId=client)
+    movable_x = [o.position[0] for o in layout.objects] or [0.0]
+    rail_x = min(min(movable_x) - 0.32, -layout.table_size[0] / 2 + 0.05)
+    rail_y = float(np.clip(np.mean([o.position[1] for o in layout.objects] or [0.0]), -0.2, 0.2))
+    robot = Robot.load(client, (rail_x, 0.0, th))
+    robot.reset((rail_y, *robot.q()[1:]))
+    world = World(
+        client, robot, table_body, _table_id(graph), graph, layout, seed, debug_teleport=debug_teleport
+    )
+    world.regions = {r.name: r for r in layout.regions}
+    for r in layout.regions:  # a region node may be named by its id or by the part name after the slash
+        for n in graph.nodes:
+            if n.id.endswith("/" + r.name):
+                world.regions[n.id] = r
+    rng = np.random.default_rng(seed)
+    occupied: dict[str, int] = {}
+    for placed in _rest_order(layout):
+        _load(world, placed, rng, occupied)
+    for n in graph.nodes:
+        if n.parent in world.objects:
+            part = resolve_part(world.objects[n.parent].model, graph, n.id)
+            world.parts[n.id] = (n.parent, part)
+    _initial_joints(world, layout)
+    for _ in range(SETTLE_STEPS):
+        world.robot.hold(world.robot.q())
+        world.step()
+    return world
+
+
+def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied: dict[str, int]) -> None:
+    import pybullet as p
+
+    node = world.graph.node(placed.id) if world.graph.has_node(placed.id) else None
+    color = placed.color or (node.color if node else None)
+    model = make_asset(placed.asset, placed.size, color)
+    fixed = placed.fixed or model.fixed
+    x, y, z = placed.position
+    th = world.layout.table_height
+    yaw = placed.yaw
+    if placed.on:
+        x, y, z = _rest_on(world, placed, model, occupied)
+    else:
+        z = max(z, th) + 0.002
+    quat = p.getQuaternionFromEuler((0, 0, yaw))
+    body = p.loadURDF(
+        str(asset_urdf_path(model)), (x, y, z), quat, useFixedBase=fixed, physicsClientId=world.client
+    )
+    links = {model.links[0].name: -1}
+    for j in range(p.getNumJoints(body, physicsClientId=world.client)):
+        info = p.getJointInfo(body, j, physicsClientId=world.client)
+        links[info[12].decode()] = j
+        if info[2] != p.JOINT_FIXED:  # free the default velocity motors; joint friction set below
+            p.setJointMotorControl2(body, j, p.VELOCITY_CONTROL, force=0, physicsClientId=world.client)
+    world.objects[placed.id] = SimObject(placed.id, body, model, placed, links)
+    del rng  # layout positions are deterministic already; kept for future jitter options
+
+
+def _rest_on(
+    world: World, placed: PlacedObject, model: AssetModel, occupied: dict[str, int]
+) -> tuple[float, float, float]:
+    """A resting position on or in the support named by ``placed.on``."""
+    target = placed.on or ""
+    host_id = target.split("/")[0]
+    if host_id not in world.objects:
+        if target in world.regions or target == world.table_id:
+            return placed.position[0], placed.position[1], world.layout.table_height + 0.002
+        raise GSRError(f"layout object {placed.id!r}: rests on {target!r}, which is not in the layout")
+    host = world.objects[host_id]
+    part = (
+        resolve_part(host.model, world.graph, target)
+        if "/" in target and world.graph.has_node(target)
+        else ""
+    )
+    k = occupied.get(target, 0)
+    occupied[target] = k + 1
+    interior = host.model.interiors.get(part)
+    rel = world.graph.edges_from(placed.id) if world.graph.has_node(placed.id) else iter(())
+    inside = any(e.relation == "in" for e in rel) or (part and interior is not None)
+    if inside and interior is not None:
+        link = host.links[interior.link]
+        cx, cy, cz = interior.center
+        sx, sy, sz = interior.size
+        # a 3x3 grid of slots inside the interior so several objects do not start interpenetrating
+        gx, gy = (k % 3 - 1) * sx / 3.2, (k // 3 % 3 - 1) * sy / 3.2
+        if k == 0:
+            gx = gy = 0.0
+        floor = world.to_world(host.body, link, (cx + gx, cy + gy, cz - sz / 2))
+        return float(floor[0]), float(floor[1]), float(floor[2]) + 0.012 + 0.05 * (k // 9)
+    link = host.links.get(host.model.part_links.get(part, ""), -1) if part else -1
+    lo, hi = world.body_aabb(host.body) if link < 0 else world.aabb(host.body, link)
+    cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2
+    return float(cx), float(cy), float(hi[2]) + 0.003 + 0.06 * k
+
+
+def _initial_joints(world: World, layout: Layout) -> None:
+    import pybullet as p
+
+    fractions: dict[tuple[str, str], float] = {}
+    for placed in layout.objects:
+        o = world.objects[placed.id]
+        for name, value in placed.joint_states.items():
+            part = name if name in o.model.articulations else ""
+            if not part:
+                node = f"{placed.id}/{name}"
+                if world.graph.has_node(node):
+                    part = resolve_part(o.model, world.graph, node)
+            if part in o.model.articulations:
+                fractions[(placed.id, part)] = float(value)
+    for n in world.graph.nodes:
+        target = n.parent if n.parent in world.objects else (n.id if n.id in world.objects else None)
+        if target is None:
+            continue
+        o = world.objects[target]
+        part = world.parts.get(n.id, (target, ""))[1]
+        if "open" in n.states:
+            part = part or o.model.open_part or ""
+            fractions.setdefault((target, part), 1.0)
+        if "on" in n.states:
+            sw = part or o.model.switch_part or ""
+            if sw in o.model.articulations and o.model.articulations[sw].kind == "button":
+                world.powered[target] = True
+            else:
+                fractions.setdefault((target, sw), 1.0)
+    for o in world.objects.values():
+        for part, art in o.model.articulations.items():
+            link = o.links[art.link]
+            frac = fractions.get((o.id, part), 0.0)
+            q = art.closed + frac * (art.open - art.closed)
+            p.resetJointState(o.body, link, q, physicsClientId=world.client)
+            if art.kind == "button":  # a spring: a weak position motor pulls the button back up
+                p.setJointMotorControl2(
+                    o.body,
+                    link,
+                    p.POSITION_CONTROL,
+                    targetPosition=art.closed,
+                    force=4.0,
+                    positionGain=0.2,
+                    physicsClientId=world.client,
+                )
+            else:
+                p.setJointMotorControl2(
+                    o.body,
+                    link,
+                    p.VELOCITY_CONTROL,
+                    targetVelocity=0,
+                    force=JOINT_FRICTION[art.kind],
+                    physicsClientId=world.client,
+                )
+
+
+def angle_diff(a: float, b: float) -> float:
+    """Smallest signed difference a - b of two angles."""
+    return (a - b + math.pi) % (2 * math.pi) - math.pi
