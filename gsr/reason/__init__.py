@@ -3,7 +3,11 @@
 Heavy backends (torch/transformers, httpx) are imported only when a backend is built.
 """
 
+from gsr.reason.applicable import applicable_steps
+from gsr.reason.backend import Backend, BackendError, FunctionBackend, Query, as_backend, make_backend
 from gsr.reason.examples import annotate_steps, builtin_example
+from gsr.reason.goal_text import GoalRejected, parse_goal_answer
+from gsr.reason.loop import MODES, solve
 from gsr.reason.prompt import (
     DONE,
     Example,
@@ -15,6 +19,7 @@ from gsr.reason.prompt import (
     predicate_text,
     scene_text,
 )
+from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.reason.step_format import (
     STEP_GRAMMAR,
     format_step,
@@ -27,21 +32,36 @@ from gsr.reason.step_format import (
 
 __all__ = [
     "DONE",
+    "MODES",
     "STEP_GRAMMAR",
+    "Attempt",
+    "Backend",
+    "BackendError",
+    "CheckedStep",
     "Example",
+    "Exchange",
+    "FunctionBackend",
+    "GoalRejected",
     "Prompt",
+    "Query",
+    "ReasonResult",
     "action_text",
     "annotate_steps",
+    "applicable_steps",
+    "as_backend",
     "build_goal_prompt",
     "build_prompt",
     "builtin_example",
     "default_examples",
     "format_step",
     "format_steps",
+    "make_backend",
     "parse_first_step",
+    "parse_goal_answer",
     "parse_step_line",
     "parse_steps",
     "predicate_text",
     "scene_text",
+    "solve",
     "step_from_json",
 ]

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gsr.pddl.model import Domain
+from gsr.diagnosis import Diagnosis
+from gsr.pddl.model import Atom, Domain
 from gsr.scene_graph import SceneGraph
+from gsr.state import State
 from gsr.step import Step
 
 _EXAMPLE_SCENE = {
@@ -22,6 +24,18 @@ _EXAMPLE_PLAN = (
 _EXAMPLE_GOAL = "(and (in yellow_cube1 small_cabinet/drawer_top) (not (open small_cabinet/drawer_top)))"
 
 
+def _atom_key(atom: Atom) -> tuple[str, tuple[str, ...]]:
+    return atom.predicate, atom.args
+
+
+def claimed_effects(diagnosis: Diagnosis, state: State) -> Step:
+    """The checked step claiming exactly the change it makes in ``state`` (adds not yet true, deletes true)."""
+    assert diagnosis.step is not None
+    add = tuple(sorted((a for a in diagnosis.add if a not in state.atoms), key=_atom_key))
+    delete = tuple(sorted((a for a in diagnosis.delete if a in state.atoms), key=_atom_key))
+    return Step(diagnosis.step.action, diagnosis.step.args, add, delete)
+
+
 def annotate_steps(domain: Domain, graph: SceneGraph, steps: Sequence[Step]) -> list[Step]:
     """The steps with their true effects as claims (the checker's transition); StepRejected if one is invalid."""
     from gsr.check import check_step
@@ -31,18 +45,10 @@ def annotate_steps(domain: Domain, graph: SceneGraph, steps: Sequence[Step]) -> 
     state = state_from_graph(graph, domain)
     out = []
     for i, step in enumerate(steps, 1):
-        bare = Step(step.action, step.args)
-        diagnosis = check_step(domain, state, bare)
+        diagnosis = check_step(domain, state, Step(step.action, step.args))
         if not diagnosis.ok:
             raise StepRejected(f"step {i}: {diagnosis}", diagnosis)
-        before = state.atoms
-        add = tuple(
-            sorted((a for a in diagnosis.add if a not in before), key=lambda a: (a.predicate, a.args))
-        )
-        delete = tuple(
-            sorted((a for a in diagnosis.delete if a in before), key=lambda a: (a.predicate, a.args))
-        )
-        out.append(Step(bare.action, bare.args, add, delete))
+        out.append(claimed_effects(diagnosis, state))
         state = diagnosis.next_state
     return out
 

@@ -1,0 +1,90 @@
+"""The model backend protocol and ``make_backend(spec)`` for ``grounder``, ``transformers:PATH``, ``openai:MODEL``.
+
+A backend answers one prompt at a time. Any object with
+``complete(prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str`` is a
+backend; a plain function ``str -> str`` is wrapped by :func:`as_backend` (it gets ``prompt.text()``).
+``query`` carries the structured request (scene graph, domain, goal, and for constrained decoding the
+step lines allowed now) for backends that use it; text-only models ignore it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain
+from gsr.reason.prompt import Prompt
+from gsr.scene_graph import SceneGraph
+from gsr.step import Goal, Step
+
+
+class BackendError(GSRError):
+    """A backend failed to answer (unreachable server, bad model path, no plan for the grounder)."""
+
+
+@dataclass(frozen=True)
+class Query:
+    """What the reasoner asks: ``kind`` is ``step`` or ``goal``; ``allowed`` lists admissible step lines."""
+
+    kind: str
+    prompt: Prompt
+    graph: SceneGraph
+    domain: Domain
+    instruction: str
+    goal: Goal | None = None
+    history: tuple[Step, ...] = ()
+    allowed: tuple[str, ...] | None = None
+
+
+@runtime_checkable
+class Backend(Protocol):
+    """A model that completes prompts."""
+
+    name: str
+
+    def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
+        """The model's answer to ``prompt``."""
+        ...
+
+
+class FunctionBackend:
+    """Wraps a function ``prompt text -> answer`` (tests, scripted replies, custom clients)."""
+
+    def __init__(self, fn: Callable[[str], str], name: str = "function") -> None:
+        self.fn = fn
+        self.name = name
+
+    def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
+        """Call the function on the plain prompt text."""
+        return self.fn(prompt.text())
+
+
+def as_backend(obj: Backend | Callable[[str], str] | str) -> Backend:
+    """A backend from a backend object, a ``str -> str`` function or a spec string."""
+    if isinstance(obj, str):
+        return make_backend(obj)
+    if hasattr(obj, "complete"):
+        return obj  # type: ignore[return-value]
+    if callable(obj):
+        return FunctionBackend(obj)
+    raise GSRError(f"not a backend: {obj!r}")
+
+
+def make_backend(spec: str, **options: object) -> Backend:
+    """``grounder`` | ``transformers:PATH`` | ``openai:MODEL``; options go to the backend's constructor."""
+    kind, _, arg = spec.partition(":")
+    if kind == "grounder" and not arg:
+        from gsr.reason.grounder_backend import GrounderBackend
+
+        return GrounderBackend(**options)  # type: ignore[arg-type]
+    if kind == "transformers" and arg:
+        from gsr.reason.hf_backend import TransformersBackend
+
+        return TransformersBackend(arg, **options)  # type: ignore[arg-type]
+    if kind == "openai" and arg:
+        from gsr.reason.openai_backend import OpenAIBackend
+
+        return OpenAIBackend(arg, **options)  # type: ignore[arg-type]
+    raise GSRError(f"unknown backend {spec!r}: use grounder, transformers:PATH or openai:MODEL")

@@ -1,0 +1,107 @@
+"""A model's goal answer: PDDL formula text, parsed and checked against the domain and the scene."""
+
+from __future__ import annotations
+
+import difflib
+
+from gsr.errors import GSRError, ParseError
+from gsr.pddl.model import (
+    And,
+    Atom,
+    Domain,
+    Equals,
+    Exists,
+    Forall,
+    Formula,
+    ForN,
+    ForPairs,
+    Imply,
+    Not,
+    Or,
+    TypedVar,
+    is_variable,
+)
+from gsr.state import State
+from gsr.step import Goal
+
+
+class GoalRejected(GSRError):
+    """A goal answer that does not parse or names unknown predicates, objects or types."""
+
+
+def _walk(f: Formula):
+    if isinstance(f, (Atom, Equals)):
+        yield f
+    elif isinstance(f, Not):
+        yield from _walk(f.formula)
+    elif isinstance(f, (And, Or)):
+        for p in f.parts:
+            yield from _walk(p)
+    elif isinstance(f, Imply):
+        yield from _walk(f.condition)
+        yield from _walk(f.then)
+    elif isinstance(f, (Exists, Forall, ForN)):
+        yield from f.params
+        yield from _walk(f.body)
+    elif isinstance(f, ForPairs):
+        yield from (*f.first, *f.second)
+        yield from _walk(f.body)
+
+
+def _near(word: str, choices: list[str]) -> str:
+    close = difflib.get_close_matches(word, choices, n=3, cutoff=0.6)
+    return f" (did you mean {', '.join(close)}?)" if close else ""
+
+
+def goal_problems(domain: Domain, state: State, formula: Formula) -> list[str]:
+    """What is wrong with a goal formula: unknown predicates, wrong arity, unknown objects or types, free variables."""
+    from gsr.semantics import free_variables
+
+    problems: list[str] = []
+    objects = sorted(state.objects)
+    for item in _walk(formula):
+        if isinstance(item, TypedVar):
+            for t in item.types:
+                if t not in domain.types:
+                    problems.append(f"unknown type {t}{_near(t, sorted(domain.types))}")
+            continue
+        terms = (item.left, item.right) if isinstance(item, Equals) else item.args
+        if isinstance(item, Atom):
+            pred = domain.predicates.get(item.predicate)
+            if pred is None:
+                problems.append(
+                    f"unknown predicate {item.predicate}{_near(item.predicate, sorted(domain.predicates))}"
+                )
+                continue
+            if pred.arity != len(item.args):
+                problems.append(
+                    f"{item} has {len(item.args)} argument(s); {item.predicate} takes {pred.arity}"
+                )
+        for term in terms:
+            if not is_variable(term) and term not in state.objects:
+                problems.append(f"unknown object {term}{_near(term, objects)}")
+    free = sorted(free_variables(formula))
+    if free:
+        problems.append(f"unbound variable(s) {', '.join(free)}: quantify them with forall/exists")
+    return list(dict.fromkeys(problems))
+
+
+def parse_goal_answer(text: str, domain: Domain, state: State, instruction: str | None = None) -> Goal:
+    """The first formula in a model's goal answer as a Goal; GoalRejected with the reasons otherwise."""
+    from gsr.pddl.parser import parse_formula
+    from gsr.reason.step_format import _content_lines
+
+    lines = [line.strip() for _, line in _content_lines(text)]
+    body = " ".join(lines)
+    if body.lower().startswith("goal:"):
+        body = body[5:].strip()
+    if not body:
+        raise GoalRejected("the answer is empty: expected one PDDL goal formula")
+    try:
+        formula = parse_formula(body, source="goal")
+    except ParseError as exc:
+        raise GoalRejected(f"the goal does not parse: {exc}") from None
+    problems = goal_problems(domain, state, formula)
+    if problems:
+        raise GoalRejected("; ".join(problems))
+    return Goal(formula, instruction)

@@ -1,0 +1,48 @@
+"""The embedded default backend: goals from gsr.language.ground, steps from the planner (no model)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from gsr.reason.backend import BackendError, Query
+from gsr.reason.prompt import DONE, Prompt
+from gsr.step import Goal
+
+
+def ground_goal(query: Query) -> Goal:
+    """The embedded grounder's goal for the query's instruction; BackendError when unavailable."""
+    try:
+        from gsr.language import ground
+    except ImportError as exc:  # the language package is optional at this layer
+        raise BackendError(f"the embedded grounder (gsr.language.ground) is not available: {exc}") from None
+    return ground(query.instruction, query.graph, domain=query.domain)
+
+
+class GrounderBackend:
+    """A deterministic reasoner: answers goal queries with the grounder and step queries with the planner."""
+
+    name = "grounder"
+
+    def __init__(self, planner: str = "lazy-ff", timeout: float = 30.0) -> None:
+        self.planner = planner
+        self.timeout = timeout
+
+    def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
+        """The goal formula, or the next planned step with its effects (``(done)`` when the goal holds)."""
+        from gsr.diagnosis import formula_text
+        from gsr.plan.api import plan_graph
+        from gsr.reason.examples import annotate_steps
+        from gsr.reason.step_format import format_step
+
+        if query is None:
+            raise BackendError("the grounder backend needs the structured query, not only the prompt text")
+        goal = query.goal if query.goal is not None else ground_goal(query)
+        if query.kind == "goal":
+            return formula_text(goal.formula)
+        result = plan_graph(query.domain, query.graph, goal, planner=self.planner, timeout=self.timeout)
+        if not result.solved or result.plan is None:
+            raise BackendError(f"the planner found no plan ({result.status}): {result.message}")
+        if not result.plan.steps:
+            return DONE
+        first = annotate_steps(query.domain, query.graph, result.plan.steps[:1])[0]
+        return format_step(first)

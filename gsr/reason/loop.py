@@ -1,0 +1,302 @@
+"""The reasoner loop: propose, check, repair, advance — in ``steps``, ``goal`` or ``hybrid`` mode.
+
+steps:  the model proposes every step; the checker validates it against the domain and the current
+        graph; a rejected answer goes back with the diagnosis (up to ``max_repairs`` times); an accepted
+        step advances the graph. Stops when the goal holds, at ``max_steps``, or when the model is stuck.
+goal:   the model answers a PDDL goal (checked against the domain and scene, repaired the same way);
+        the planner sequences it and every planned step is checked and applied.
+hybrid: as steps, but when the model is stuck (no valid step after the repairs, or it revisits a
+        state) the planner takes over from the current graph.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+
+from gsr.errors import GSRError, ParseError
+from gsr.pddl.model import Domain
+from gsr.reason.backend import Backend, BackendError, Query, as_backend
+from gsr.reason.prompt import Example, Prompt, build_goal_prompt, build_prompt
+from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
+from gsr.scene_graph import SceneGraph
+from gsr.step import Goal, Step
+
+MODES = ("steps", "goal", "hybrid")
+FORMAT_REMINDER = "answer one step line such as (pick red_cube1 table) +(holding red_cube1) -(hand_empty) -(on red_cube1 table)"
+
+
+class _Run:
+    """State of one solve call (kept out of the public API)."""
+
+    def __init__(
+        self, backend: Backend, domain: Domain, graph: SceneGraph, instruction: str, options: dict
+    ) -> None:
+        self.backend = backend
+        self.domain = domain
+        self.graph = graph
+        self.instruction = instruction
+        self.o = options
+        self.result = ReasonResult(
+            instruction, options["mode"], getattr(backend, "name", type(backend).__name__)
+        )
+
+    # ---------------------------------------------------------------- model calls
+
+    def ask(self, kind: str, prompt: Prompt, goal: Goal | None, history: Sequence[Step]) -> str:
+        """One backend call, recorded in the transcript; a backend crash becomes BackendError."""
+        allowed = None
+        if kind == "step" and self.o["constrained"]:
+            from gsr.reason.applicable import applicable_steps
+            from gsr.reason.step_format import format_step
+
+            allowed = tuple(format_step(s) for s in applicable_steps(self.domain, self.graph))
+        query = Query(kind, prompt, self.graph, self.domain, self.instruction, goal, tuple(history), allowed)
+        start = time.perf_counter()
+        try:
+            reply = self.backend.complete(prompt, (), query)
+        except BackendError:
+            raise
+        except Exception as exc:  # a model, client or grounder failure must not crash the loop: report it
+            raise BackendError(f"backend {self.result.backend} failed: {type(exc).__name__}: {exc}") from None
+        if not isinstance(reply, str):
+            raise BackendError(f"backend {self.result.backend} returned {type(reply).__name__}, not text")
+        self.result.transcript.append(Exchange(kind, prompt, reply, time.perf_counter() - start))
+        return reply
+
+    # ---------------------------------------------------------------- goal
+
+    def model_goal(self) -> Goal | None:
+        """Ask the model for the goal, repairing bad answers; None when none is acceptable."""
+        from gsr.facts import state_from_graph
+        from gsr.plan.api import plan_graph
+        from gsr.reason.goal_text import GoalRejected, parse_goal_answer
+
+        state = state_from_graph(self.graph, self.domain)
+        rejected: list[tuple[str, str]] = []
+        for _ in range(1 + self.o["max_repairs"]):
+            prompt = build_goal_prompt(
+                self.graph, self.domain, self.instruction, self.o["examples"], rejected
+            )
+            reply = self.ask("goal", prompt, None, ())
+            try:
+                goal = parse_goal_answer(reply, self.domain, state, self.instruction)
+            except GoalRejected as exc:
+                self.result.goal_attempts.append(Attempt(reply, error=str(exc)))
+                rejected.append((reply, str(exc)))
+                continue
+            if self.o["mode"] == "goal":  # the planner must be able to reach it
+                found = plan_graph(
+                    self.domain, self.graph, goal, self.o["planner"], self.o["planner_timeout"]
+                )
+                if not found.solved:
+                    why = f"the planner cannot reach this goal ({found.status}): {found.message}"
+                    self.result.goal_attempts.append(Attempt(reply, error=why))
+                    rejected.append((reply, why))
+                    continue
+            self.result.goal_attempts.append(Attempt(reply))
+            return goal
+        return None
+
+    def resolve_goal(self, goal: Goal | None) -> Goal | None:
+        """The goal to reach: given, else the embedded grounder's, else the model's (goal prompt)."""
+        if goal is not None:
+            self.result.goal_source = "given"
+            return goal
+        if self.o["mode"] != "goal" or self.result.backend == "grounder":
+            try:
+                from gsr.language import ground
+
+                found = ground(self.instruction, self.graph, domain=self.domain)
+                self.result.goal_source = "grounder"
+                return found
+            except ImportError:
+                pass
+            except GSRError as exc:
+                if self.result.backend == "grounder":
+                    raise BackendError(f"the grounder cannot interpret the instruction: {exc}") from None
+        found = self.model_goal()
+        if found is not None:
+            self.result.goal_source = "model"
+        return found
+
+    # ---------------------------------------------------------------- steps
+
+    def goal_holds(self, goal: Goal | None) -> bool:
+        from gsr.facts import state_from_graph
+        from gsr.semantics import goal_holds
+
+        return goal is not None and goal_holds(self.domain, goal, state_from_graph(self.graph, self.domain))
+
+    def accept(self, step: Step, diagnosis, source: str, rejected: Sequence[Attempt]) -> None:
+        from gsr.facts import graph_with_state
+
+        self.result.steps.append(CheckedStep(step, diagnosis, source, tuple(rejected)))
+        self.graph = graph_with_state(self.graph, diagnosis.next_state)
+
+    def judge(self, reply: str, goal: Goal | None) -> tuple[Attempt, bool]:
+        """Parse and check one step answer: (attempt, the model claims it is done)."""
+        from gsr.check import check_step
+        from gsr.facts import state_from_graph
+        from gsr.reason.step_format import parse_first_step
+        from gsr.validate import explain_goal
+
+        try:
+            step = parse_first_step(reply, source="reply")
+        except ParseError as exc:
+            return Attempt(reply, error=f"cannot parse the step: {exc}; {FORMAT_REMINDER}"), False
+        state = state_from_graph(self.graph, self.domain)
+        if step.action == "done" and not step.args and "done" not in self.domain.actions:
+            if goal is None:
+                return Attempt(reply, step), True
+            reasons, hints = explain_goal(self.domain, goal, state)
+            why = "; ".join(r.detail for r in reasons[:3]) + "".join(f"; hint: {h}" for h in hints[:2])
+            return Attempt(reply, step, error=f"the goal does not hold yet: {why}"), False
+        if self.o["require_effects"] and not step.claims_effects:
+            return Attempt(reply, step, error=f"the step claims no effects; {FORMAT_REMINDER}"), False
+        return Attempt(reply, step, check_step(self.domain, state, step)), False
+
+    def planner_takeover(self, goal: Goal | None, why: str) -> None:
+        """Sequence the rest with the planner from the current graph; every step is checked."""
+        from gsr.check import check_step
+        from gsr.facts import state_from_graph
+        from gsr.plan.api import plan_graph
+
+        self.result.planner_takeovers += 1
+        if goal is None:
+            self.finish("stuck", f"{why}; no goal is known, so the planner cannot take over")
+            return
+        found = plan_graph(self.domain, self.graph, goal, self.o["planner"], self.o["planner_timeout"])
+        if not found.solved or found.plan is None:
+            self.finish("unsolvable", f"{why}; the planner found no plan ({found.status}): {found.message}")
+            return
+        for step in found.plan.steps:
+            if len(self.result.steps) >= self.o["max_steps"]:
+                break
+            diagnosis = check_step(self.domain, state_from_graph(self.graph, self.domain), step)
+            if not diagnosis.ok:  # cannot happen with a sound planner: report rather than execute
+                self.finish("unsolvable", f"planner step rejected by the checker: {diagnosis.message}")
+                return
+            self.accept(step, diagnosis, "planner", ())
+
+    def run_steps(self, goal: Goal | None) -> None:
+        """The propose-check-repair loop."""
+        from gsr.facts import state_from_graph
+
+        seen = {state_from_graph(self.graph, self.domain).atoms}
+        while len(self.result.steps) < self.o["max_steps"]:
+            if self.goal_holds(goal):
+                self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+                return
+            rejected: list[Attempt] = []
+            accepted = False
+            for _ in range(1 + self.o["max_repairs"]):
+                history = [s.step for s in self.result.steps]
+                feedback = [(a.reply, a.error or str(a.diagnosis)) for a in rejected]
+                shown_goal = goal if self.o["show_goal"] else None
+                prompt = build_prompt(
+                    self.graph,
+                    self.domain,
+                    self.instruction,
+                    self.o["examples"],
+                    history,
+                    feedback,
+                    shown_goal,
+                )
+                attempt, done = self.judge(self.ask("step", prompt, goal, history), goal)
+                if done:
+                    self.finish(
+                        "done_unverified", "the model says the instruction is done (no goal to verify)"
+                    )
+                    return
+                if attempt.ok:
+                    assert attempt.step is not None and attempt.diagnosis is not None
+                    self.accept(attempt.step, attempt.diagnosis, "model", rejected)
+                    accepted = True
+                    break
+                rejected.append(attempt)
+            if not accepted:
+                self.result.unrepaired.append(tuple(rejected))
+                why = f"no valid step after {len(rejected)} answer(s)"
+                if self.o["mode"] == "hybrid":
+                    self.planner_takeover(goal, why)
+                    break
+                self.finish("stuck", f"{why}: {rejected[-1].error or rejected[-1].diagnosis.message}")
+                return
+            atoms = state_from_graph(self.graph, self.domain).atoms
+            if atoms in seen and self.o["mode"] == "hybrid":
+                self.planner_takeover(goal, "the model returned to an earlier state")
+                break
+            seen.add(atoms)
+        if self.result.status in ("stuck", "unsolvable"):
+            return
+        if self.goal_holds(goal):
+            self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+        else:
+            self.finish("step_limit", f"goal not reached within {self.o['max_steps']} step(s)")
+
+    def finish(self, status: str, message: str) -> None:
+        self.result.status = status
+        self.result.message = message
+
+
+def solve(
+    graph: SceneGraph,
+    instruction: str,
+    backend: Backend | Callable[[str], str] | str = "grounder",
+    mode: str = "steps",
+    domain: Domain | None = None,
+    goal: Goal | None = None,
+    examples: Sequence[Example] | None = None,
+    max_steps: int = 40,
+    max_repairs: int = 3,
+    constrained: bool = False,
+    require_effects: bool = False,
+    show_goal: bool = True,
+    planner: str = "lazy-ff",
+    planner_timeout: float = 30.0,
+) -> ReasonResult:
+    """Reach ``instruction`` from ``graph`` with checked steps; see the module docstring for the modes.
+
+    Never raises for bad model output (it is diagnosed, repaired or reported in the result); raises
+    GSRError only for bad arguments (unknown mode or backend spec).
+    """
+    from gsr.resources import load_builtin_domain
+
+    if mode not in MODES:
+        raise GSRError(f"unknown mode {mode!r}: choose one of {', '.join(MODES)}")
+    if max_steps < 0 or max_repairs < 0:
+        raise GSRError("max_steps and max_repairs must be >= 0")
+    domain = domain or load_builtin_domain()
+    options = {
+        "mode": mode,
+        "examples": examples,
+        "max_steps": max_steps,
+        "max_repairs": max_repairs,
+        "constrained": constrained,
+        "require_effects": require_effects,
+        "show_goal": show_goal,
+        "planner": planner,
+        "planner_timeout": planner_timeout,
+    }
+    run = _Run(as_backend(backend), domain, graph, instruction, options)
+    start = time.perf_counter()
+    try:
+        found = run.resolve_goal(goal)
+        run.result.goal = found
+        if mode == "goal":
+            if found is None:
+                run.finish("no_goal", f"no acceptable goal after {len(run.result.goal_attempts)} answer(s)")
+            else:
+                run.planner_takeover(found, "goal mode")
+                run.result.planner_takeovers = 0  # sequencing is the mode itself, not a takeover
+                if run.result.status not in ("unsolvable",):
+                    ok = run.goal_holds(found)
+                    run.finish("solved" if ok else "step_limit", "goal reached" if ok else "step limit")
+        else:
+            run.run_steps(found)
+    except BackendError as exc:
+        run.finish("backend_error", str(exc))
+    run.result.final_graph = run.graph
+    run.result.seconds = time.perf_counter() - start
+    return run.result
