@@ -154,6 +154,166 @@ def serve_cmd(
     uvicorn.run("gsr.service.asgi:app", host=host, port=port, workers=workers, log_level="warning")
 
 
+@app.command("perceive")
+def perceive_cmd(
+    rgb: Annotated[Path, typer.Option(help="RGB image (PNG/JPEG, or .npy HxWx3 uint8).")],
+    depth: Annotated[Path, typer.Option(help="Depth: .npy float metres, or 16-bit PNG millimetres.")],
+    masks: Annotated[Path, typer.Option(help="Instance ids: .npy int array or PNG; negative = none.")],
+    camera: Annotated[
+        Path, typer.Option(help="Camera JSON (intrinsics + cam_to_world), docs/perception.md.")
+    ],
+    labels: Annotated[
+        Path | None, typer.Option(help="Labels JSON: mask id -> {id, category, color, parent}.")
+    ] = None,
+    out: Annotated[
+        Path | None, typer.Option(help="Write the scene graph JSON here (default: stdout).")
+    ] = None,
+) -> None:
+    """Perceive one RGB-D frame with instance masks into a scene graph JSON."""
+    from perception.pipeline import perceive_files
+
+    graph = perceive_files(rgb, depth, masks, camera, labels, out)
+    if out is None:
+        typer.echo(graph.to_json())
+    else:
+        typer.echo(f"wrote {out}: {len(graph.nodes)} nodes, {len(graph.edges)} edges", err=True)
+
+
+@app.command("perceive-eval")
+def perceive_eval_cmd(
+    scenes: Annotated[int, typer.Option(help="Number of random scenes to render and perceive.")] = 20,
+    seed: Annotated[int, typer.Option(help="Seed of the scene generator.")] = 0,
+    depth_noise: Annotated[float, typer.Option(help="Gaussian depth noise sigma (m).")] = 0.0,
+    mask_erosion: Annotated[int, typer.Option(help="Erode every instance mask by this many pixels.")] = 0,
+    cameras: Annotated[int, typer.Option(help="Cameras per scene (fused).")] = 1,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+) -> None:
+    """Render random PyBullet scenes, perceive them, score against ground truth (rendering not timed)."""
+    if scenes < 1 or cameras < 1:
+        raise _fail("--scenes and --cameras must be >= 1")
+    if depth_noise < 0 or mask_erosion < 0:
+        raise _fail("--depth-noise and --mask-erosion must be >= 0")
+    from benchmarks.perception_eval import evaluate, format_report
+
+    report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras)
+    typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
+
+
+@app.command("solve")
+def solve_cmd(
+    instruction: Annotated[str, typer.Argument(help="The instruction, e.g. 'put the red cube in the box'.")],
+    scene: Annotated[Path, typer.Option(help="Scene graph JSON, GSR-Bench message or LIBERO BDDL file.")],
+    backend: Annotated[str, typer.Option(help="grounder, transformers:PATH or openai:MODEL.")] = "grounder",
+    mode: Annotated[str, typer.Option(help="steps, goal or hybrid.")] = "steps",
+    goal: Annotated[str | None, typer.Option(help="A PDDL goal to reach (default: from the instruction).")] = None,
+    domain: Annotated[Path | None, typer.Option(help="PDDL domain (default: tabletop).")] = None,
+    max_steps: Annotated[int, typer.Option(help="Step limit.")] = 40,
+    repairs: Annotated[int, typer.Option(help="Repair tries per step after a rejected answer.")] = 3,
+    constrained: Annotated[bool, typer.Option(help="Constrained decoding (transformers backend).")] = False,
+    base_url: Annotated[str | None, typer.Option(help="OpenAI-compatible base URL (openai backend).")] = None,
+    transcript: Annotated[bool, typer.Option(help="With --json: include every prompt and reply.")] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
+) -> None:
+    """Reason from a scene to an instruction with checked steps: exit 0 solved, 2 impossible, 3 never repaired, 4 step limit."""
+    from gsr.reason.cli import solve_command
+
+    raise typer.Exit(
+        solve_command(
+            scene, instruction, backend, mode, as_json, goal, domain, max_steps, repairs, constrained, transcript, base_url
+        )
+    )
+
+
+reason_app = typer.Typer(help="The LLM reasoner's prompt and step language.", no_args_is_help=True)
+app.add_typer(reason_app, name="reason")
+
+
+@reason_app.command("prompt")
+def reason_prompt_cmd(
+    instruction: Annotated[str, typer.Argument(help="The instruction.")],
+    scene: Annotated[Path, typer.Option(help="Scene graph JSON, GSR-Bench message or LIBERO BDDL file.")],
+    mode: Annotated[str, typer.Option(help="steps or goal.")] = "steps",
+    domain: Annotated[Path | None, typer.Option(help="PDDL domain (default: tabletop).")] = None,
+) -> None:
+    """Print the prompt the reasoner sends for the first step (or the goal)."""
+    from gsr.reason.cli import prompt_command
+
+    raise typer.Exit(prompt_command(scene, instruction, mode, domain))
+
+
+@reason_app.command("check")
+def reason_check_cmd(
+    steps: Annotated[Path, typer.Argument(help="Step lines (text or JSON), e.g. a model's output.")],
+    scene: Annotated[Path, typer.Option(help="Scene graph JSON, GSR-Bench message or LIBERO BDDL file.")],
+    domain: Annotated[Path | None, typer.Option(help="PDDL domain (default: tabletop).")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
+) -> None:
+    """Parse step lines and check them in order against the scene: exit 0 all valid, 1 otherwise."""
+    from gsr.reason.cli import check_command
+
+    raise typer.Exit(check_command(scene, steps, as_json, domain))
+
+
+delivery_app = typer.Typer(
+    help="In-building delivery: buildings, people, delivery tasks, baseline runs.", no_args_is_help=True
+)
+app.add_typer(delivery_app, name="delivery")
+
+
+@delivery_app.command("generate-building")
+def delivery_generate_building(
+    out: Annotated[Path, typer.Option(help="Write the building JSON here.")],
+    seed: Annotated[int, typer.Option(help="Random seed: the same seed gives the same building.")] = 7,
+    floors: Annotated[int, typer.Option(help="Number of floors (1-6).")] = 3,
+    people: Annotated[int, typer.Option(help="Number of residents (at most 20).")] = 12,
+    name: Annotated[str | None, typer.Option(help="Building name (default building-SEED).")] = None,
+) -> None:
+    """Generate a building from a seed, check its invariants and write it."""
+    from benchmarks.delivery.cli import generate_building_command
+
+    raise typer.Exit(generate_building_command(seed, out, floors, people, name))
+
+
+@delivery_app.command("tasks")
+def delivery_tasks(
+    split: Annotated[str, typer.Option(help="train (2000), val (200) or test (1000).")] = "test",
+    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
+    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
+    out: Annotated[Path | None, typer.Option(help="Write JSON Lines here instead of printing.")] = None,
+) -> None:
+    """Generate the delivery tasks of a split (deterministic)."""
+    from benchmarks.delivery.cli import tasks_command
+
+    raise typer.Exit(tasks_command(split, building, limit, out))
+
+
+@delivery_app.command("run")
+def delivery_run(
+    split: Annotated[str, typer.Option(help="train, val or test.")] = "test",
+    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
+    tasks: Annotated[Path | None, typer.Option(help="Run these tasks (JSON Lines) instead of a split.")] = None,
+    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
+    out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
+) -> None:
+    """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
+    from benchmarks.delivery.cli import run_command
+
+    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out))
+
+
+@delivery_app.command("schedule")
+def delivery_schedule(
+    person: Annotated[str, typer.Argument(help="Person id or name, e.g. imani.")],
+    seed: Annotated[int, typer.Option(help="World seed of the day.")] = 0,
+    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
+) -> None:
+    """Show a person's published routine and their actual day under a world seed."""
+    from benchmarks.delivery.cli import schedule_command
+
+    raise typer.Exit(schedule_command(person, seed, building))
+
+
 def main() -> None:
     """Console entry point: turn GSR errors into one-line messages and exit code 1."""
     try:

@@ -1,0 +1,146 @@
+"""Implementations of the ``gsr delivery ...`` commands (the typer layer in gsr/cli.py stays thin).
+
+Each function prints its output and returns the exit code: 0 success, 1 bad input (one-line message).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from gsr.building.model import Building, load_building, save_building, write_text_atomic
+from gsr.errors import GSRError
+
+
+def _err(message: str) -> int:
+    print(f"error: {message}", file=sys.stderr)
+    return 1
+
+
+def _building(path: Path | None) -> Building:
+    from gsr.building.shipped import load_shipped_building
+
+    return load_shipped_building() if path is None else load_building(path)
+
+
+def generate_building_command(seed: int, out: Path, floors: int, people: int, name: str | None) -> int:
+    """Generate a building, check its invariants, write it atomically and print a summary."""
+    from gsr.building.checks import building_problems
+    from gsr.building.generator import generate_building
+
+    try:
+        building = generate_building(seed, floors=floors, people=people, name=name)
+    except ValueError as exc:
+        return _err(str(exc))
+    problems = building_problems(building)
+    if problems:
+        return _err(f"generated building violates {len(problems)} invariants: {problems[0]}")
+    try:
+        save_building(building, out)
+    except OSError as exc:
+        return _err(f"{out}: cannot write: {exc.strerror}")
+    print(describe(building) + f"\nwrote {out}")
+    return 0
+
+
+def describe(building: Building) -> str:
+    """A few lines about a building: floors, rooms, receptacles, objects, people."""
+    lines = [f"{building.name} (seed {building.seed}): {len(building.floors)} floors"]
+    for f in building.floors:
+        rooms = [r.name for r in building.rooms if r.floor == f.level and r.kind != "corridor"]
+        lines.append(f"  {f.name} ({f.shape[1]}x{f.shape[0]} cells): {', '.join(rooms)}")
+    kinds = {it.category for it in building.items}
+    lines.append(
+        f"  {sum(r.kind != 'corridor' for r in building.rooms)} rooms, {len(building.receptacles)} receptacles, "
+        f"{len(building.items)} objects of {len(kinds)} types, {len(building.people)} people"
+    )
+    return "\n".join(lines)
+
+
+def tasks_command(split: str, building_path: Path | None, limit: int | None, out: Path | None) -> int:
+    """Generate a split's tasks; print them (id, instruction) or write JSON Lines."""
+    from benchmarks.delivery.tasks import generate_tasks, save_tasks
+
+    try:
+        building = _building(building_path)
+        tasks = generate_tasks(building, split, limit)
+    except (GSRError, ValueError) as exc:
+        return _err(str(exc))
+    if out is not None:
+        try:
+            save_tasks(tasks, out)
+        except OSError as exc:
+            return _err(f"{out}: cannot write: {exc.strerror}")
+        print(f"wrote {len(tasks)} {split} tasks to {out}")
+        return 0
+    for t in tasks:
+        print(f"{t.id}\t{t.instruction}")
+    return 0
+
+
+def run_command(
+    split: str,
+    building_path: Path | None,
+    tasks_path: Path | None,
+    limit: int | None,
+    as_json: bool,
+    out: Path | None,
+) -> int:
+    """Run the baseline on a split (or a tasks file) and print the PRS-style table or JSON summary."""
+    from benchmarks.delivery.metrics import summary_table
+    from benchmarks.delivery.run import run_split, run_tasks
+    from benchmarks.delivery.tasks import load_tasks
+
+    try:
+        building = _building(building_path)
+        if tasks_path is not None:
+            tasks = load_tasks(tasks_path)[:limit] if limit else load_tasks(tasks_path)
+            if not tasks:
+                return _err(f"{tasks_path}: no tasks")
+            result = run_tasks(building, tasks, tasks_path.stem)
+        else:
+            result = run_split(building, split, limit)
+    except (GSRError, ValueError) as exc:
+        return _err(str(exc))
+    if out is not None:
+        body = json.dumps(
+            {"summary": result.summary.model_dump(), "episodes": [r.model_dump() for r in result.results]},
+            indent=1,
+        )
+        try:
+            write_text_atomic(out, body + "\n")
+        except OSError as exc:
+            return _err(f"{out}: cannot write: {exc.strerror}")
+    if as_json:
+        print(json.dumps(result.summary.model_dump(), indent=2))
+    else:
+        print(summary_table(result.summary), end="")
+    return 0
+
+
+def schedule_command(person: str, seed: int, building_path: Path | None) -> int:
+    """Print a person's routine and their actual day under a world seed."""
+    from gsr.building.navigation import BuildingMap
+    from gsr.building.people import PeopleClock
+
+    try:
+        building = _building(building_path)
+        p = building.person(person.lower())
+    except (GSRError, KeyError) as exc:
+        return _err(str(exc).strip("'\""))
+    clock = PeopleClock(building, seed, BuildingMap(building).free_cells)
+
+    def hhmm(t: int) -> str:
+        return f"{t // 3600:02d}:{t % 3600 // 60:02d}"
+
+    a = p.appearance
+    look = f"{a.gender}, {a.color} {a.garment}, {a.hair}" + (", glasses" if a.glasses else "")
+    print(f"{p.name} ({p.role}; {look}); home room {building.room(p.home_room).name}")
+    print("routine:")
+    for s in p.routine:
+        print(f"  {hhmm(s.start)}-{hhmm(s.end)}  {building.room(s.room).name:<18} {s.activity}")
+    print(f"actual day (world seed {seed}):")
+    for s in clock.schedule(p.id):
+        print(f"  {hhmm(s.start)}-{hhmm(s.end)}  {building.room(s.room).name:<18} {s.activity}")
+    return 0
