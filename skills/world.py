@@ -116,7 +116,11 @@ class World:
         import pybullet as p
 
         if link < 0:
-            pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
+            # PyBullet reports the base's centre of mass; undo the inertial offset to get the URDF frame
+            com, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
+            local = p.getDynamicsInfo(body, -1, physicsClientId=self.client)
+            inv = p.invertTransform(local[3], local[4])
+            pos, orn = p.multiplyTransforms(com, orn, inv[0], inv[1])
         else:
             s = p.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=self.client)
             pos, orn = s[4], s[5]

@@ -1,0 +1,203 @@
+"""Pick and place with friction grasps: approach from above, close the fingers with force, lift, check.
+
+Grasp sites come from the asset model; round and hollow objects get sites around their rim and the one
+nearest the robot that the arm can reach without collision is taken. Placement computes where the
+held object's bottom must go (the grasp offset is measured, not assumed) and releases 1 cm above the
+surface. Every phase checks the simulator: fingers closed on something, object rises with the hand,
+object rests where the step says after release.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from skills.asset_model import GraspSite
+from skills.motion import Motion
+from skills.result import Failure, SkillError
+from skills.robot import top_down
+from skills.sim_graph import interior_boxes, support_of
+from skills.world import SimObject, World
+
+TRANSIT_CLEARANCE = 0.08  # m above the tallest thing under the path
+APPROACH = 0.1  # m above a grasp or release point
+
+
+def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
+    """A rim/wall site and its copies around the object's z axis (hollow objects), else the site (and +90 deg)."""
+    x, y, z = site.xyz
+    r = math.hypot(x, y)
+    if r < 1e-6:
+        return [site, GraspSite(site.link, site.xyz, site.yaw + math.pi / 2, site.approach, site.width)]
+    base = math.atan2(y, x)
+    n = 8 if obj.model.name in ("bowl", "plate", "mug", "cup", "ramekin", "pan") else 4
+    return [
+        GraspSite(
+            site.link,
+            (r * math.cos(base + 2 * math.pi * k / n), r * math.sin(base + 2 * math.pi * k / n), z),
+            site.yaw + 2 * math.pi * k / n,
+            site.approach,
+            site.width,
+        )
+        for k in range(n)
+    ]
+
+
+def transit_height(world: World, extra: float = 0.0) -> float:
+    """A safe travel height: above every object on the table plus clearance (and a held object's length)."""
+    tops = [
+        world.body_aabb(o.body)[1][2]
+        for o in world.objects.values()
+        if not o.model.fixed or o.model.extent[2] < 0.3
+    ]
+    return max([world.layout.table_height + 0.15, *tops]) + TRANSIT_CLEARANCE + extra
+
+
+def _lift(m: Motion, z: float) -> None:
+    pos, quat = m.pose()
+    if pos[2] < z - 0.005:
+        m.move_line((np.array([pos[0], pos[1], z]), quat), check=False)
+
+
+def _site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:
+    link = obj.links[site.link]
+    pos = world.to_world(obj.body, link, site.xyz)
+    return pos, world.yaw_of(obj.body, link) + site.yaw
+
+
+def pick(world: World, m: Motion, obj: SimObject) -> None:
+    """Grasp ``obj`` by friction and lift it to transit height; raises SkillError on failure."""
+    if not obj.model.grasps or obj.model.fixed:
+        raise SkillError(Failure.UNSUPPORTED, f"{obj.id} has no grasp site (a fixture)")
+    rail = world.robot.q()[0]
+    sites = [s for g in obj.model.grasps for s in _rim_sites(g, obj)]
+    base = world.robot.ee_pose()[0]
+    # nearest the robot first: those are the most reachable with a top-down hand
+    sites.sort(
+        key=lambda s: float(
+            np.linalg.norm(_site_pose(world, obj, s)[0][:2] - np.array([base[0] - 0.3, rail]))
+        )
+    )
+    z_transit = transit_height(world)
+    _lift(m, z_transit)
+    pos0 = _site_pose(world, obj, sites[0])[0]
+    m.move_rail(pos0[1])
+    m.ignore = {obj.body}
+    errors = []
+    for site in sites[:6]:
+        pos, yaw = _site_pose(world, obj, site)
+        quat = top_down(yaw)
+        try:
+            grasp_q = m.solve(pos, quat)
+            if m.collision(grasp_q, margin=0.0) is not None:
+                m.ignore = set()
+                hit = m.collision(grasp_q)
+                m.ignore = {obj.body}
+                if hit is not None:
+                    raise SkillError(Failure.BLOCKED, f"grasp pose collides with {hit}")
+            m.gripper(min(0.08, site.width + 0.035))
+            m.move_line((np.array([pos[0], pos[1], z_transit]), quat))
+            m.move_line((pos + np.array([0, 0, APPROACH]), quat))
+            m.move_line((pos, quat))
+            break
+        except SkillError as exc:
+            errors.append(exc)
+            _lift(m, z_transit)
+    else:
+        worst = max(errors, key=lambda e: list(Failure).index(e.failure)) if errors else None
+        raise SkillError(
+            worst.failure if worst else Failure.UNREACHABLE,
+            f"cannot reach a grasp on {obj.id}: " + "; ".join(e.message for e in errors[:3]),
+        )
+    z0 = world.body_aabb(obj.body)[0][2]
+    width = m.gripper(0.0, force=60.0, steps=90)
+    if width < 0.002:
+        raise SkillError(Failure.GRASP_MISSED, f"fingers closed on nothing at {obj.id}")
+    m.step(20)
+    m.held = obj.body
+    m.move_line((np.array([pos[0], pos[1], z_transit]), quat), check=False)
+    m.step(30)
+    if world.body_aabb(obj.body)[0][2] < z0 + 0.03 or support_of(world, obj.id) != ("held", ""):
+        raise SkillError(Failure.GRASP_SLIPPED, f"{obj.id} did not come up with the hand")
+
+
+def target_point(world: World, target: str, obj: SimObject, relation: str) -> np.ndarray:
+    """Where the held object's bottom centre should go: a free spot in the interior or on top of ``target``."""
+    if relation == "in":
+        for node_id, lo, hi, _ in interior_boxes(world):
+            if node_id == target:
+                floor = lo[2] if node_id in world.parts else lo[2] + 0.25 * (hi[2] - lo[2]) / 1.5 * 0
+                return _free_spot(world, obj, lo, hi, floor)
+        raise SkillError(Failure.UNSUPPORTED, f"{target} has no interior to put things in")
+    if target in world.regions:
+        r = world.regions[target]
+        z = world.layout.table_height
+        lo, hi = np.array([r.bounds[0], r.bounds[1], z]), np.array([r.bounds[2], r.bounds[3], z])
+        return _free_spot(world, obj, lo, hi, z)
+    loc = world.locate(target)
+    if loc.body == world.table_body:
+        raise SkillError(Failure.UNSUPPORTED, "placing on the bare table needs a spot; use a region")
+    lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
+    return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
+
+
+def _free_spot(
+    world: World, obj: SimObject, lo: np.ndarray, hi: np.ndarray, z: float, prefer_near: bool = False
+) -> np.ndarray:
+    """A point in the rectangle lo..hi (shrunk by the object's half size) not covered by another object."""
+    half = np.array(obj.model.extent[:2]) / 2 + 0.005
+    xlo, xhi = lo[0] + half.max(), hi[0] - half.max()
+    ylo, yhi = lo[1] + half.max(), hi[1] - half.max()
+    if xlo > xhi:
+        xlo = xhi = (lo[0] + hi[0]) / 2
+    if ylo > yhi:
+        ylo = yhi = (lo[1] + hi[1]) / 2
+    others = [
+        world.body_aabb(o.body)
+        for o in world.objects.values()
+        if o.id != obj.id
+        and not o.model.fixed
+        and world.body_aabb(o.body)[1][2] > z - 0.005
+        and world.body_aabb(o.body)[0][2] < z + 0.1
+    ]
+    candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 4) for y in np.linspace(ylo, yhi, 4)]
+    centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
+    if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
+        rail = world.robot.ee_pose()[0]
+        candidates.sort(key=lambda c: (c[0] - rail[0]) + 0.3 * abs(c[1] - centre[1]))
+    else:
+        candidates.sort(key=lambda c: float(np.linalg.norm(c - centre)))
+    for c in candidates:
+        if all(
+            not (olo[0] - half[0] < c[0] < ohi[0] + half[0] and olo[1] - half[1] < c[1] < ohi[1] + half[1])
+            for olo, ohi in others
+        ):
+            return np.array([c[0], c[1], z])
+    return np.array([centre[0], centre[1], z])
+
+
+def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
+    """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome."""
+    spot = target_point(world, target, obj, relation)
+    ee, quat = m.pose()
+    lo, hi = world.body_aabb(obj.body)
+    centre = (lo + hi) / 2
+    # the grasp offset as it is now: where the hand must be for the object's bottom centre to be at spot
+    offset = ee - np.array([centre[0], centre[1], lo[2]])
+    goal = spot + offset + np.array([0, 0, 0.012])
+    z_transit = max(transit_height(world, extra=hi[2] - lo[2]), goal[2] + APPROACH)
+    m.ignore = {obj.body}
+    _lift(m, z_transit)
+    m.move_rail(goal[1])
+    m.move_line((np.array([goal[0], goal[1], z_transit]), quat))
+    m.move_line((goal + np.array([0, 0, 0.04]), quat))
+    m.move_line((goal, quat), check=False)
+    m.step(10)
+    m.gripper(0.08, steps=60)
+    m.held = None
+    m.step(40)
+    pos, quat = m.pose()
+    m.move_line((np.array([pos[0], pos[1], pos[2] + APPROACH]), quat), check=False)
+    m.ignore = set()
+    m.step(60)

@@ -1,0 +1,154 @@
+"""Collision-checked arm motion: Cartesian waypoints -> IK configurations -> checked, tracked joint motion.
+
+Every straight segment is interpolated at 1 cm, solved by IK seeded from the previous configuration
+(so the path is continuous), and each configuration is checked against the world with
+``getClosestPoints`` before anything moves. Execution drives the joints with position control inside a
+step budget; nothing here teleports objects or welds them to the hand.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from skills.result import Failure, SkillError
+from skills.robot import ARM_FRONT, ARM_HOME, RAIL_RANGE
+from skills.world import World
+
+Pose = tuple[np.ndarray, tuple[float, float, float, float]]
+RESOLUTION = 0.01  # m between interpolated waypoints
+STEPS_PER_WAYPOINT = 6  # 240 Hz: about 0.4 m/s
+POS_TOL, ANG_TOL = 0.006, 0.06
+
+
+class Motion:
+    """Plans and executes checked arm motions in one world; counts the simulation steps it uses."""
+
+    def __init__(self, world: World, budget: int = 12000) -> None:
+        self.world = world
+        self.robot = world.robot
+        self.budget = budget
+        self.used = 0
+        self.ignore: set[int] = set()  # bodies the arm may touch (the object being grasped or held)
+        self.ignore_links: set[tuple[int, int]] = set()
+        self.held: int | None = None
+
+    # ------------------------------------------------------------ planning
+
+    def solve(self, pos: np.ndarray, quat: Sequence[float], seed: np.ndarray | None = None) -> np.ndarray:
+        """An IK configuration for the grasp point at ``pos`` / ``quat`` with the rail where it is now."""
+        rail = float(self.robot.q()[0])
+        seeds = [s for s in (seed, self.robot.q()) if s is not None]
+        seeds += [np.array((rail, *ARM_HOME)), np.array((rail, *ARM_FRONT))]
+        best, best_err = None, math.inf
+        for s in seeds:
+            q = self.robot.ik(np.asarray(pos), quat, rail, seed=s)
+            dp, da = self.robot.fk_error(q, np.asarray(pos), quat)
+            if dp < POS_TOL and da < ANG_TOL:
+                return q
+            if dp + da * 0.1 < best_err:
+                best, best_err = q, dp + da * 0.1
+        raise SkillError(
+            Failure.UNREACHABLE, f"no IK solution at {np.round(pos, 3).tolist()} (best error {best_err:.3f})"
+        )
+
+    def collision(self, q: np.ndarray, margin: float = 0.0) -> str | None:
+        """The first obstacle the arm at ``q`` would touch (closer than ``margin``), or None."""
+        import pybullet as p
+
+        w, r = self.world, self.robot
+        saved = r.q()
+        r.reset(q)
+        try:
+            for o in w.objects.values():
+                if o.body in self.ignore:
+                    continue
+                for pt in p.getClosestPoints(r.body, o.body, margin, physicsClientId=w.client):
+                    if (o.body, pt[4]) not in self.ignore_links:
+                        return o.id
+            for pt in p.getClosestPoints(r.body, w.table_body, -0.002, physicsClientId=w.client):
+                return f"table ({pt[3]})"
+            return None
+        finally:
+            r.reset(saved)
+
+    def line(self, start: Pose, goal: Pose, seed: np.ndarray, check: bool = True) -> list[np.ndarray]:
+        """Configurations along the straight segment start -> goal (orientation slerped), collision-checked."""
+        import pybullet as p
+
+        dist = float(np.linalg.norm(goal[0] - start[0]))
+        dq = p.getDifferenceQuaternion(start[1], goal[1])
+        ang = 2 * math.acos(min(1.0, abs(dq[3])))
+        n = max(1, int(math.ceil(max(dist / RESOLUTION, ang / 0.05))))
+        out, q = [], seed
+        for i in range(1, n + 1):
+            t = i / n
+            pos = start[0] + (goal[0] - start[0]) * t
+            quat = p.getQuaternionSlerp(start[1], goal[1], t)
+            q = self.solve(pos, quat, seed=q)
+            if check:
+                hit = self.collision(q)
+                if hit is not None:
+                    raise SkillError(
+                        Failure.BLOCKED, f"path to {np.round(goal[0], 3).tolist()} collides with {hit}"
+                    )
+            out.append(q)
+        return out
+
+    # ------------------------------------------------------------ execution
+
+    def step(self, n: int = 1) -> None:
+        """Advance the world ``n`` steps, enforcing the budget."""
+        if self.used + n > self.budget:
+            raise SkillError(Failure.TIMEOUT, f"step budget of {self.budget} simulation steps exhausted")
+        self.world.step(n)
+        self.used += n
+
+    def follow(self, qs: Iterable[np.ndarray], settle: int = 120) -> None:
+        """Track configurations with position control, then wait (bounded) until the arm converges."""
+        q = None
+        for q in qs:
+            self.robot.hold(q)
+            self.step(STEPS_PER_WAYPOINT)
+        if q is None:
+            return
+        for _ in range(settle // 4):
+            if float(np.max(np.abs(self.robot.q() - q))) < 0.01:
+                return
+            self.step(4)
+
+    def pose(self) -> Pose:
+        """The grasp point's current pose."""
+        pos, quat = self.robot.ee_pose()
+        return pos, tuple(float(v) for v in quat)  # type: ignore[return-value]
+
+    def move_line(self, goal: Pose, check: bool = True) -> None:
+        """Move the grasp point in a straight line to ``goal``."""
+        self.follow(self.line(self.pose(), goal, self.robot.q(), check=check))
+
+    def move_rail(self, y: float) -> None:
+        """Slide the rail (with the arm held still) to ``y``, clamped to its range."""
+        y = float(np.clip(y, -RAIL_RANGE, RAIL_RANGE))
+        q = self.robot.q()
+        start = float(q[0])
+        n = max(1, int(abs(y - start) / 0.01))
+        qs = []
+        for i in range(1, n + 1):
+            qq = q.copy()
+            qq[0] = start + (y - start) * i / n
+            qs.append(qq)
+        self.follow(qs)
+
+    def gripper(self, width: float, force: float = 40.0, steps: int = 60) -> float:
+        """Drive the fingers to ``width`` (bounded wait) and return the width reached."""
+        self.robot.command_gripper(width, force)
+        last = self.robot.finger_width()
+        for _ in range(steps // 6):
+            self.step(6)
+            now = self.robot.finger_width()
+            if abs(now - last) < 2e-4 and abs(now - width) < 0.004:
+                break
+            last = now
+        return self.robot.finger_width()
