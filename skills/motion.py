@@ -42,14 +42,14 @@ class Motion:
         rail = float(self.robot.q()[0])
         seeds = [s for s in (seed, self.robot.q()) if s is not None]
         seeds += [np.array((rail, *ARM_HOME)), np.array((rail, *ARM_FRONT))]
-        best, best_err = None, math.inf
+        _best, best_err = None, math.inf
         for s in seeds:
             q = self.robot.ik(np.asarray(pos), quat, rail, seed=s)
             dp, da = self.robot.fk_error(q, np.asarray(pos), quat)
             if dp < POS_TOL and da < ANG_TOL:
                 return q
             if dp + da * 0.1 < best_err:
-                best, best_err = q, dp + da * 0.1
+                _best, best_err = q, dp + da * 0.1
         raise SkillError(
             Failure.UNREACHABLE, f"no IK solution at {np.round(pos, 3).tolist()} (best error {best_err:.3f})"
         )
@@ -81,7 +81,7 @@ class Motion:
         dist = float(np.linalg.norm(goal[0] - start[0]))
         dq = p.getDifferenceQuaternion(start[1], goal[1])
         ang = 2 * math.acos(min(1.0, abs(dq[3])))
-        n = max(1, int(math.ceil(max(dist / RESOLUTION, ang / 0.05))))
+        n = max(1, math.ceil(max(dist / RESOLUTION, ang / 0.05)))
         out, q = [], seed
         for i in range(1, n + 1):
             t = i / n

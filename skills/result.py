@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from enum import Enum
+from enum import StrEnum
 from typing import Any
 
 
-class Failure(str, Enum):
+class Failure(StrEnum):
     """Why a skill failed."""
 
     UNREACHABLE = "unreachable"  # no inverse-kinematics solution for a required pose
