@@ -1,1 +1,50 @@
-"""RGB-D to grounded scene graph (see ARCHITECTURE.md). Depends on `gsr` only."""
+"""RGB-D to grounded scene graph (see ARCHITECTURE.md and docs/perception.md). Depends on `gsr` only.
+
+open3d is imported inside the functions that need it, so importing this package stays light.
+"""
+
+from perception.articulation import ArticulationThresholds
+from perception.camera import (
+    Camera,
+    camera_from_dict,
+    camera_from_gl,
+    depth_from_gl_buffer,
+    load_camera,
+    near_far_from_projection,
+    save_camera,
+    split_gl_segmentation,
+)
+from perception.corrupt import add_depth_noise, erode_masks
+from perception.evaluate import Score, score
+from perception.frame import Detector, Frame, InstanceLabel, frame_from_detector, load_frame, load_labels
+from perception.geometry import GeometryParams, back_project
+from perception.pipeline import PerceptionParams, perceive, perceive_files
+from perception.relations import RelationThresholds
+
+__all__ = [
+    "ArticulationThresholds",
+    "Camera",
+    "Detector",
+    "Frame",
+    "GeometryParams",
+    "InstanceLabel",
+    "PerceptionParams",
+    "RelationThresholds",
+    "Score",
+    "add_depth_noise",
+    "back_project",
+    "camera_from_dict",
+    "camera_from_gl",
+    "depth_from_gl_buffer",
+    "erode_masks",
+    "frame_from_detector",
+    "load_camera",
+    "load_frame",
+    "load_labels",
+    "near_far_from_projection",
+    "perceive",
+    "perceive_files",
+    "save_camera",
+    "score",
+    "split_gl_segmentation",
+]

@@ -153,19 +153,27 @@ def near_far_from_projection(projection: Any) -> tuple[float, float]:
     return float(b / (a - 1.0)), float(b / (a + 1.0))
 
 
-def camera_from_gl(view: Any, projection: Any, width: int, height: int) -> Camera:
-    """A ``Camera`` from PyBullet's view and projection matrices (16 numbers each, column-major)."""
+def camera_from_gl(view: Any, projection: Any, width: int, height: int, renderer: str = "tiny") -> Camera:
+    """A ``Camera`` from PyBullet's view and projection matrices (16 numbers each, column-major).
+
+    ``renderer`` fixes the sub-pixel convention: ``"tiny"`` (PyBullet's TinyRenderer, the one DIRECT
+    mode has) samples pixel ``u`` at window x = u and stores rows bottom-up from y = height - 1;
+    ``"opengl"`` (hardware OpenGL/EGL) samples pixel centres, x = u + 0.5.
+    """
+    if renderer not in ("tiny", "opengl"):
+        raise GSRError(f"renderer must be 'tiny' or 'opengl', got {renderer!r}")
     v = _gl_matrix(view, "view matrix")
     p = _gl_matrix(projection, "projection matrix")
     near_far_from_projection(projection)  # validates the projection's form
     # The view matrix maps world to the GL camera frame; invert it and flip y/z to OpenCV axes.
     cam_to_world = np.linalg.inv(v) @ _GL_TO_CV
     cam_to_world[3] = (0.0, 0.0, 0.0, 1.0)
-    # x_ndc = P00 * X/Z - P02 and pixel centres sit at u + 0.5 in GL's window coordinates.
+    # x_ndc = P00 * X/Z - P02, window x = (x_ndc + 1) * width / 2; rows run top-down in the image.
     fx = p[0, 0] * width / 2.0
     fy = p[1, 1] * height / 2.0
-    cx = width / 2.0 * (1.0 - p[0, 2]) - 0.5
-    cy = height / 2.0 * (1.0 + p[1, 2]) - 0.5
+    shift_x, shift_y = (0.0, 1.0) if renderer == "tiny" else (0.5, 0.5)
+    cx = width / 2.0 * (1.0 - p[0, 2]) - shift_x
+    cy = height / 2.0 * (1.0 + p[1, 2]) - shift_y
     return Camera(int(width), int(height), float(fx), float(fy), float(cx), float(cy), cam_to_world)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -11,7 +12,8 @@ from gsr.categories import category_of
 from gsr.errors import GSRError
 from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
 from perception.articulation import ArticulationThresholds, keypoints, part_states
-from perception.frame import Frame, InstanceLabel
+from perception.camera import write_text_atomic
+from perception.frame import Frame, InstanceLabel, load_frame
 from perception.geometry import (
     GeometryParams,
     Instance,
@@ -121,6 +123,7 @@ def _node(inst: Instance, state: tuple[tuple[str, ...], dict[str, float]] | None
         size_y=round(float(inst.size[1]), 4),
         size_z=round(float(inst.size[2]), 4),
         points=len(inst.points),
+        views=inst.views,
     )
     states: tuple[str, ...] = ()
     if state is not None:
@@ -159,3 +162,19 @@ def _missing_parents(nodes: list[Node]) -> list[Node]:
             out.append(Node(id=n.parent, category=category, attributes={**attrs, "observed": False}))
             ids.add(n.parent)
     return out
+
+
+def perceive_files(
+    rgb: str | Path,
+    depth: str | Path,
+    masks: str | Path,
+    camera: str | Path,
+    labels: str | Path | None = None,
+    out: str | Path | None = None,
+    params: PerceptionParams | None = None,
+) -> SceneGraph:
+    """Perceive one frame given as files; with ``out``, write the graph JSON there atomically."""
+    graph = perceive(load_frame(rgb, depth, masks, camera, labels), params)
+    if out is not None:
+        write_text_atomic(Path(out), graph.to_json() + "\n")
+    return graph
