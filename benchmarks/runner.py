@@ -98,6 +98,7 @@ class EpisodeResult:
     best_alternative: int = 0
     failure: dict[str, Any] | None = None
     plan: list[str] = field(default_factory=list)
+    reference_steps: int | None = None
 
     @property
     def executability(self) -> float:
@@ -210,6 +211,7 @@ class RunConfig:
     seed: int = 0
     max_steps: int = 200
     retries: int = 0
+    reference: str | None = None  # a planner name: also record its plan length ("plan length vs optimal")
 
 
 def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
@@ -220,7 +222,20 @@ def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> di
     agent = make_agent(config.agent, config.agent_options)
     domain = load_builtin_domain("tabletop")
     result = run_episode(task, agent, domain, config.seed, trial, config.max_steps, config.retries)
+    if config.reference:
+        result.reference_steps = reference_length(task, domain, config.reference)
     return result.to_dict()
+
+
+def reference_length(
+    task: TaskSpec, domain: Domain, planner: str = "lazy-ff", timeout: float = 120.0
+) -> int | None:
+    """Length of the reference plan (optimal with an A* planner, best-found with lazy-ff); None if none."""
+    from benchmarks.scoring import any_goal
+    from gsr.plan.api import plan_graph
+
+    result = plan_graph(domain, task.initial, any_goal(task), planner=planner, timeout=timeout)
+    return len(result.plan) if result.solved and result.plan is not None else None
 
 
 def _jobs(tasks: list[TaskSpec], trials: int) -> list[tuple[dict[str, Any], int]]:

@@ -314,6 +314,78 @@ def delivery_schedule(
     raise typer.Exit(schedule_command(person, seed, building))
 
 
+bench_app = typer.Typer(
+    help="Benchmark suites: list them, run an agent on one (reports), export tasks.", no_args_is_help=True
+)
+app.add_typer(bench_app, name="bench")
+
+
+@bench_app.command("list")
+def bench_list_cmd() -> None:
+    """List the benchmark suites and built-in agents."""
+    from benchmarks.cli import list_text
+
+    typer.echo(list_text())
+
+
+@bench_app.command("run")
+def bench_run_cmd(
+    suite: Annotated[str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench or tasks.")],
+    source: Annotated[str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder).")] = None,
+    tasks: Annotated[str | None, typer.Option(help="Run TaskSpec JSON/YAML files (a file or folder).")] = None,
+    agent: Annotated[str, typer.Option(help="planner, grounder, reasoner, random or module:factory.")] = "planner",
+    agent_opt: Annotated[list[str] | None, typer.Option(help="Agent option key=value (repeatable).")] = None,
+    trials: Annotated[int, typer.Option(help="Episodes per task.")] = 1,
+    seed: Annotated[int, typer.Option(help="Seed for generated suites and agents.")] = 0,
+    workers: Annotated[int, typer.Option(help="Local worker processes.")] = 1,
+    backend: Annotated[str, typer.Option(help="local or ray.")] = "local",
+    address: Annotated[str | None, typer.Option(help="Ray cluster address (backend ray).")] = None,
+    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
+    max_steps: Annotated[int, typer.Option(help="Step limit per episode.")] = 200,
+    retries: Annotated[int, typer.Option(help="Re-asks after a rejected step (diagnosis fed back).")] = 0,
+    reference: Annotated[
+        str | None, typer.Option(help="Also plan with this planner for plan length vs reference.")
+    ] = None,
+    out: Annotated[str | None, typer.Option(help="Write results.json, report.md, report.html here.")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print results.json to stdout.")] = False,
+) -> None:
+    """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
+    from benchmarks.cli import run, summary_text
+
+    doc = run(
+        suite,
+        source=source,
+        tasks=tasks,
+        agent=agent,
+        agent_options=agent_opt,
+        trials=trials,
+        seed=seed,
+        workers=workers,
+        backend=backend,
+        address=address,
+        limit=limit,
+        max_steps=max_steps,
+        retries=retries,
+        reference=reference,
+        out=out,
+    )
+    typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
+    raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)
+
+
+@bench_app.command("export")
+def bench_export_cmd(
+    suite: Annotated[str, typer.Argument(help="The suite to export.")],
+    out: Annotated[str, typer.Option(help="Folder for one TaskSpec JSON per task.")],
+    source: Annotated[str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder).")] = None,
+    seed: Annotated[int, typer.Option(help="Seed for generated suites.")] = 0,
+) -> None:
+    """Write a suite's tasks as TaskSpec JSON files (run them later with --tasks)."""
+    from benchmarks.cli import export
+
+    typer.echo(f"wrote {export(suite, out, source, seed)} task(s) to {out}")
+
+
 def main() -> None:
     """Console entry point: turn GSR errors into one-line messages and exit code 1."""
     try:

@@ -1,0 +1,113 @@
+"""Task suites: each loads (or generates, by seed) a list of TaskSpecs.
+
+``gsr-bench`` (the public config file), ``gsr-bench-gen`` (the nine generated cells), ``libero`` (a
+folder of BDDL task files), ``rlbench`` (100 generated RLBench-style tasks) and ``tasks`` (a folder or
+file of TaskSpec JSON/YAML, e.g. exported with ``gsr bench export``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from gsr.errors import GSRError
+from gsr.task_spec import TaskSpec, load_task
+
+_REPO = Path(__file__).resolve().parents[2]
+
+
+def shared_data() -> Path:
+    """Where the third-party reference data lies: $GSR_SHARED_DATA or ../shared/data beside the checkout."""
+    return Path(os.environ.get("GSR_SHARED_DATA", _REPO.parent / "shared" / "data"))
+
+
+@dataclass(frozen=True)
+class Suite:
+    """A named suite: a description, its default source (if it reads files) and its loader."""
+
+    name: str
+    description: str
+    load: Callable[[Path | None, int], list[TaskSpec]]
+    default_source: Callable[[], Path] | None = None
+
+    def tasks(self, source: str | Path | None = None, seed: int = 0) -> list[TaskSpec]:
+        """The suite's tasks from ``source`` (or the default) and ``seed``."""
+        path = (
+            Path(source) if source is not None else (self.default_source() if self.default_source else None)
+        )
+        if path is not None and not path.exists():
+            raise GSRError(f"suite {self.name}: {path} does not exist (pass --source PATH)")
+        return self.load(path, seed)
+
+
+def _gsr_bench(path: Path | None, seed: int) -> list[TaskSpec]:
+    from benchmarks.suites.gsr_bench import load_gsr_bench
+
+    assert path is not None
+    return load_gsr_bench(path)
+
+
+def _gsr_bench_gen(path: Path | None, seed: int) -> list[TaskSpec]:
+    from benchmarks.suites.gsr_bench_gen import generate_gsr_bench
+
+    return generate_gsr_bench(seed)
+
+
+def _libero(path: Path | None, seed: int) -> list[TaskSpec]:
+    from benchmarks.suites.libero_suite import load_libero
+
+    assert path is not None
+    return load_libero(path)
+
+
+def _rlbench(path: Path | None, seed: int) -> list[TaskSpec]:
+    from benchmarks.suites.rlbench import generate_rlbench
+
+    return generate_rlbench(seed)
+
+
+def load_task_files(path: Path | None, seed: int = 0) -> list[TaskSpec]:
+    """TaskSpecs from a JSON/YAML file or every such file under a folder (sorted); ids must be unique."""
+    if path is None:
+        raise GSRError("suite tasks: pass --tasks PATH (a TaskSpec file or a folder of them)")
+    files = (
+        [path]
+        if path.is_file()
+        else sorted(p for p in path.rglob("*") if p.suffix.lower() in (".json", ".yaml", ".yml"))
+    )
+    if not files:
+        raise GSRError(f"{path}: no TaskSpec .json/.yaml files found")
+    tasks = [load_task(f) for f in files]
+    seen: dict[str, Path] = {}
+    for f, t in zip(files, tasks, strict=True):
+        if t.id in seen:
+            raise GSRError(f"{f}: duplicate task id {t.id!r} (also in {seen[t.id]})")
+        seen[t.id] = f
+    return tasks
+
+
+SUITES: dict[str, Suite] = {
+    s.name: s
+    for s in (
+        Suite(
+            "gsr-bench",
+            "GSR-Bench configs (public saved_configs.yaml format); goals from the query semantics",
+            _gsr_bench,
+            lambda: shared_data() / "gsr_bench" / "saved_configs_dev.yaml",
+        ),
+        Suite("gsr-bench-gen", "the nine GSR-Bench cells, 20 seeded tasks each (180)", _gsr_bench_gen),
+        Suite("libero", "every LIBERO BDDL task file of a folder", _libero, lambda: shared_data() / "libero"),
+        Suite("rlbench", "100 RLBench-style tasks in 5 categories (seeded)", _rlbench),
+        Suite("tasks", "TaskSpec JSON/YAML files (a file or a folder)", load_task_files),
+    )
+}
+
+
+def get_suite(name: str) -> Suite:
+    """The suite ``name``; a clear error listing the known ones otherwise."""
+    try:
+        return SUITES[name]
+    except KeyError:
+        raise GSRError(f"unknown suite {name!r}; choose one of {', '.join(SUITES)}") from None

@@ -1,0 +1,148 @@
+"""Logic behind ``gsr bench ...`` (gsr/cli.py declares the options and imports this lazily)."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from gsr.errors import GSRError
+
+
+def list_text() -> str:
+    """The suites and agents, one per line."""
+    from benchmarks.agents import BUILTIN
+    from benchmarks.suites import SUITES
+
+    lines = ["suites:"]
+    lines += [f"  {s.name:<14} {s.description}" for s in SUITES.values()]
+    lines.append("agents:")
+    lines += [f"  {a}" for a in BUILTIN]
+    lines.append("  package.module:factory  (your own agent; options with --agent-opt key=value)")
+    return "\n".join(lines)
+
+
+def parse_options(pairs: list[str]) -> dict[str, Any]:
+    """``key=value`` pairs; values parsed as JSON when they can be (numbers, booleans), else strings."""
+    out: dict[str, Any] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise GSRError(f"--agent-opt {pair!r}: expected key=value")
+        try:
+            out[key] = json.loads(value)
+        except json.JSONDecodeError:
+            out[key] = value
+    return out
+
+
+def load_suite_tasks(suite: str, source: str | None, tasks: str | None, seed: int, limit: int | None) -> list:
+    """The tasks of a suite (``--tasks`` overrides the source), cut to ``limit``."""
+    from benchmarks.suites import get_suite
+
+    s = get_suite("tasks" if tasks else suite)
+    out = s.tasks(tasks or source, seed)
+    if limit is not None:
+        if limit < 1:
+            raise GSRError("--limit must be at least 1")
+        out = out[:limit]
+    return out
+
+
+class _Progress:
+    """A one-line progress display on a terminal's stderr (silent when stderr is not a terminal)."""
+
+    def __init__(self, total: int) -> None:
+        self.total, self.done, self.ok = total, 0, 0
+        self.tty = sys.stderr.isatty()
+        self.start = time.perf_counter()
+
+    def __call__(self, result: Any) -> None:
+        self.done += 1
+        self.ok += bool(result.success)
+        if self.tty:
+            width = 30
+            filled = int(width * self.done / max(self.total, 1))
+            sys.stderr.write(
+                f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+                f"success {self.ok}/{self.done} {time.perf_counter() - self.start:6.1f}s"
+            )
+            sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.tty:
+            sys.stderr.write("\n")
+
+
+def run(
+    suite: str,
+    *,
+    source: str | None = None,
+    tasks: str | None = None,
+    agent: str = "planner",
+    agent_options: list[str] | None = None,
+    trials: int = 1,
+    seed: int = 0,
+    workers: int = 1,
+    backend: str = "local",
+    address: str | None = None,
+    limit: int | None = None,
+    max_steps: int = 200,
+    retries: int = 0,
+    reference: str | None = None,
+    out: str | None = None,
+) -> dict[str, Any]:
+    """Run a suite and write the reports; the results document."""
+    from benchmarks.report import results_document, write_reports
+    from benchmarks.runner import RunConfig, run_tasks
+
+    if trials < 1 or workers < 1 or max_steps < 1 or retries < 0:
+        raise GSRError("--trials, --workers and --max-steps must be at least 1, --retries at least 0")
+    task_list = load_suite_tasks(suite, source, tasks, seed, limit)
+    config = RunConfig(agent, parse_options(agent_options or []), seed, max_steps, retries, reference)
+    progress = _Progress(len(task_list) * trials)
+    try:
+        results = run_tasks(task_list, config, trials, workers, backend, address, progress)
+    finally:
+        progress.close()
+    doc = results_document(
+        results,
+        suite="tasks" if tasks else suite,
+        agent=agent,
+        seed=seed,
+        trials=trials,
+        backend=backend,
+        workers=workers,
+        max_steps=max_steps,
+        retries=retries,
+    )
+    if out:
+        write_reports(out, doc)
+    return doc
+
+
+def summary_text(doc: dict[str, Any]) -> str:
+    """A few lines for the terminal: overall and per-category success."""
+    m = doc["metrics"]
+    lines = [
+        f"{doc['suite']} / {doc['agent']}: success {m.get('success_rate', 0):.1%} "
+        f"({m.get('episodes', 0)} episodes), score {m.get('score', 0):.3f}, "
+        f"executability {m.get('executability', 0):.3f}, mean steps {m.get('mean_steps')}",
+    ]
+    for name, c in doc["by_cell"].items():
+        lines.append(f"  {name:<48} {c['success_rate']:>7.1%}  steps {c['mean_steps']}")
+    return "\n".join(lines)
+
+
+def export(suite: str, out: str, source: str | None = None, seed: int = 0) -> int:
+    """Write every task of a suite as ``OUT/<id>.json`` (atomically); the number written."""
+    from benchmarks.report import write_atomic
+    from gsr.task_spec import task_json
+
+    task_list = load_suite_tasks(suite, source, None, seed, None)
+    folder = Path(out)
+    for t in task_list:
+        write_atomic(folder / f"{t.id}.json", task_json(t) + "\n")
+    return len(task_list)
