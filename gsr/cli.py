@@ -205,7 +205,9 @@ def solve_cmd(
     scene: Annotated[Path, typer.Option(help="Scene graph JSON, GSR-Bench message or LIBERO BDDL file.")],
     backend: Annotated[str, typer.Option(help="grounder, transformers:PATH or openai:MODEL.")] = "grounder",
     mode: Annotated[str, typer.Option(help="steps, goal or hybrid.")] = "steps",
-    goal: Annotated[str | None, typer.Option(help="A PDDL goal to reach (default: from the instruction).")] = None,
+    goal: Annotated[
+        str | None, typer.Option(help="A PDDL goal to reach (default: from the instruction).")
+    ] = None,
     domain: Annotated[Path | None, typer.Option(help="PDDL domain (default: tabletop).")] = None,
     max_steps: Annotated[int, typer.Option(help="Step limit.")] = 40,
     repairs: Annotated[int, typer.Option(help="Repair tries per step after a rejected answer.")] = 3,
@@ -219,7 +221,18 @@ def solve_cmd(
 
     raise typer.Exit(
         solve_command(
-            scene, instruction, backend, mode, as_json, goal, domain, max_steps, repairs, constrained, transcript, base_url
+            scene,
+            instruction,
+            backend,
+            mode,
+            as_json,
+            goal,
+            domain,
+            max_steps,
+            repairs,
+            constrained,
+            transcript,
+            base_url,
         )
     )
 

@@ -24,6 +24,10 @@ class BackendError(GSRError):
     """A backend failed to answer (unreachable server, bad model path, no plan for the grounder)."""
 
 
+class GoalUnreachable(BackendError):
+    """The grounder backend's planner proves the goal unreachable from the current scene."""
+
+
 @dataclass(frozen=True)
 class Query:
     """What the reasoner asks: ``kind`` is ``step`` or ``goal``; ``allowed`` lists admissible step lines."""

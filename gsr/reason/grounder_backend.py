@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gsr.reason.backend import BackendError, Query
+from gsr.reason.backend import BackendError, GoalUnreachable, Query
 from gsr.reason.prompt import DONE, Prompt
 from gsr.step import Goal
 
@@ -40,6 +40,8 @@ class GrounderBackend:
         if query.kind == "goal":
             return formula_text(goal.formula)
         result = plan_graph(query.domain, query.graph, goal, planner=self.planner, timeout=self.timeout)
+        if result.status == "unsolvable":
+            raise GoalUnreachable(f"the planner proves the goal unreachable: {result.message}")
         if not result.solved or result.plan is None:
             raise BackendError(f"the planner found no plan ({result.status}): {result.message}")
         if not result.plan.steps:

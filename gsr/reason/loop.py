@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 
 from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Domain
-from gsr.reason.backend import Backend, BackendError, Query, as_backend
+from gsr.reason.backend import Backend, BackendError, GoalUnreachable, Query, as_backend
 from gsr.reason.prompt import Example, Prompt, build_goal_prompt, build_prompt
 from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.scene_graph import SceneGraph
@@ -295,6 +295,8 @@ def solve(
                     run.finish("solved" if ok else "step_limit", "goal reached" if ok else "step limit")
         else:
             run.run_steps(found)
+    except GoalUnreachable as exc:
+        run.finish("unsolvable", str(exc))
     except BackendError as exc:
         run.finish("backend_error", str(exc))
     run.result.final_graph = run.graph

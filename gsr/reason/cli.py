@@ -1,0 +1,140 @@
+"""`gsr solve` and `gsr reason ...`: the reasoner on the command line (called from gsr.cli).
+
+Exit codes of ``gsr solve``: 0 solved; 1 bad input or backend failure; 2 the goal is impossible
+(the planner proves it unreachable); 3 the model's output never repaired (no valid step / goal);
+4 step limit reached, or the model said done with no goal to verify.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain
+from gsr.reason.result import ReasonResult
+
+EXIT_CODES = {
+    "solved": 0,
+    "backend_error": 1,
+    "unsolvable": 2,
+    "stuck": 3,
+    "no_goal": 3,
+    "step_limit": 4,
+    "done_unverified": 4,
+}
+
+
+def _domain(path: Path | None) -> Domain:
+    from gsr.pddl.parser import load_domain
+    from gsr.resources import load_builtin_domain
+
+    return load_domain(path) if path is not None else load_builtin_domain()
+
+
+def _goal(text: str | None, domain: Domain, graph):
+    if text is None:
+        return None
+    from gsr.facts import state_from_graph
+    from gsr.reason.goal_text import GoalRejected, parse_goal_answer
+
+    try:
+        return parse_goal_answer(text, domain, state_from_graph(graph, domain))
+    except GoalRejected as exc:
+        raise GSRError(f"--goal: {exc}") from None
+
+
+def render(result: ReasonResult) -> str:
+    """Human-readable report: the goal, the checked steps (with who proposed them), the outcome."""
+    from gsr.diagnosis import formula_text
+    from gsr.reason.step_format import format_step
+
+    lines = []
+    if result.goal is not None:
+        lines.append(f"goal: {formula_text(result.goal.formula)}  ({result.goal_source})")
+    for i, s in enumerate(result.steps, 1):
+        note = f"{s.source}" + (f", after {len(s.rejected)} rejected" if s.rejected else "")
+        lines.append(f"{i}. {format_step(s.step)}    ; {note}")
+    counts = result.to_dict()["counts"]
+    lines.append(
+        f"{result.status}: {result.message} (model calls {counts['model_calls']}, "
+        f"rejections {counts['rejections']}, repairs {counts['repairs']}, "
+        f"planner takeovers {counts['planner_takeovers']}, {result.seconds:.2f} s)"
+    )
+    return "\n".join(lines)
+
+
+def solve_command(
+    scene: Path,
+    instruction: str,
+    backend: str,
+    mode: str,
+    as_json: bool,
+    goal: str | None = None,
+    domain_file: Path | None = None,
+    max_steps: int = 40,
+    repairs: int = 3,
+    constrained: bool = False,
+    transcript: bool = False,
+    base_url: str | None = None,
+) -> int:
+    """Run the reasoner on a scene file; print the checked steps; return the exit code."""
+    from gsr.io import load_scene
+    from gsr.reason.backend import make_backend
+    from gsr.reason.loop import solve
+
+    domain = _domain(domain_file)
+    graph = load_scene(scene)
+    options = {"base_url": base_url} if base_url and backend.startswith("openai:") else {}
+    model = make_backend(backend, **options)
+    result = solve(
+        graph,
+        instruction,
+        model,
+        mode=mode,
+        domain=domain,
+        goal=_goal(goal, domain, graph),
+        max_steps=max_steps,
+        max_repairs=repairs,
+        constrained=constrained,
+    )
+    if as_json:
+        print(json.dumps(result.to_dict(transcript=transcript), indent=2))
+    else:
+        print(render(result))
+    code = EXIT_CODES.get(result.status, 1)
+    if code:
+        print(f"error: {result.status}: {result.message}", file=sys.stderr)
+        for group in result.unrepaired[-1:]:
+            for attempt in group[-2:]:
+                why = attempt.error or (attempt.diagnosis.message if attempt.diagnosis else "")
+                print(f"  rejected {attempt.reply.strip()[:120]!r}: {why}", file=sys.stderr)
+    return code
+
+
+def prompt_command(scene: Path, instruction: str, mode: str, domain_file: Path | None = None) -> int:
+    """Print the prompt the reasoner would send for the first step (or the goal)."""
+    from gsr.io import load_scene
+    from gsr.reason.prompt import build_goal_prompt, build_prompt
+
+    domain = _domain(domain_file)
+    graph = load_scene(scene)
+    prompt = (build_goal_prompt if mode == "goal" else build_prompt)(graph, domain, instruction)
+    print(prompt.text(), end="")
+    return 0
+
+
+def check_command(scene: Path, steps_file: Path, as_json: bool, domain_file: Path | None = None) -> int:
+    """Parse step lines (a model's output) and check them in order against the scene: 0 all valid, 1 not."""
+    from gsr.facts import state_from_graph
+    from gsr.io import load_scene, read_text
+    from gsr.reason.step_format import parse_steps
+    from gsr.validate import validate_plan
+
+    domain = _domain(domain_file)
+    graph = load_scene(scene)
+    steps = parse_steps(read_text(steps_file), source=str(steps_file))
+    report = validate_plan(domain, state_from_graph(graph, domain), steps)
+    print(json.dumps(report.to_dict(), indent=2) if as_json else str(report))
+    return 0 if report.valid else 1

@@ -1,0 +1,76 @@
+"""`gsr solve` and `gsr reason`: output, JSON, exit codes for impossible goals, bad output and bad files."""
+
+from __future__ import annotations
+
+import json
+
+from typer.testing import CliRunner
+
+from gsr.cli import app
+
+from .conftest import SCENE
+
+runner = CliRunner()
+
+
+def _scene(tmp_path):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(SCENE))
+    return str(path)
+
+
+def test_solve_prints_checked_steps(tmp_path):
+    res = runner.invoke(app, ["solve", "x", "--scene", _scene(tmp_path), "--goal", "(in red_cube1 blue_box)"])
+    assert res.exit_code == 0, res.output
+    assert "1. (pick red_cube1 table) +(holding red_cube1)" in res.output
+    assert "solved: goal reached after 2 step(s)" in res.output
+
+
+def test_solve_json_goal_mode(tmp_path):
+    args = [
+        "solve",
+        "x",
+        "--scene",
+        _scene(tmp_path),
+        "--goal",
+        "(in red_cube1 blue_box)",
+        "--mode",
+        "goal",
+        "--json",
+    ]
+    res = runner.invoke(app, args)
+    data = json.loads(res.stdout)
+    assert res.exit_code == 0 and data["success"] and data["counts"]["planner_steps"] == 2
+
+
+def test_solve_exit_codes(tmp_path):
+    scene = _scene(tmp_path)
+    impossible = runner.invoke(app, ["solve", "x", "--scene", scene, "--goal", "(in red_cube1 red_cube1)"])
+    assert impossible.exit_code == 2 and "unsolvable" in impossible.output
+    bad_goal = runner.invoke(app, ["solve", "x", "--scene", scene, "--goal", "(in red_cube blue_box)"])
+    assert bad_goal.exit_code == 1 and "unknown object red_cube" in str(bad_goal.exception or bad_goal.output)
+    missing = runner.invoke(app, ["solve", "x", "--scene", str(tmp_path / "none.json")])
+    assert missing.exit_code == 1
+    bad_backend = runner.invoke(app, ["solve", "x", "--scene", scene, "--backend", "gpt"])
+    assert bad_backend.exit_code == 1
+
+
+def test_solve_never_repaired_exits_3(tmp_path, monkeypatch):
+    from .test_openai_backend import FakeOpenAI
+
+    with FakeOpenAI(["nonsense"] * 3) as server:
+        args = ["solve", "x", "--scene", _scene(tmp_path), "--goal", "(in red_cube1 blue_box)"]
+        res = runner.invoke(app, [*args, "--backend", "openai:m", "--base-url", server.url, "--repairs", "2"])
+    assert res.exit_code == 3 and "stuck" in res.output and "cannot parse the step" in res.output
+
+
+def test_reason_prompt_and_check(tmp_path):
+    scene = _scene(tmp_path)
+    res = runner.invoke(app, ["reason", "prompt", "put the red cube in the box", "--scene", scene])
+    assert res.exit_code == 0 and res.output.endswith("Next step:\n") and "blue_box on table" in res.output
+    steps = tmp_path / "reply.txt"
+    steps.write_text("(pick red_cube1 table) +(holding red_cube1) -(hand_empty) -(on red_cube1 table)\n")
+    assert runner.invoke(app, ["reason", "check", str(steps), "--scene", scene]).exit_code == 0
+    steps.write_text("(pick red_cube1 table) +(holding red_cube1)\n")
+    res = runner.invoke(app, ["reason", "check", str(steps), "--scene", scene])
+    assert res.exit_code == 1 and "missing delete effect" in res.output
