@@ -10,7 +10,9 @@ from gsr.scene_graph import SceneGraph
 
 def test_hierarchy(shipped: Building) -> None:
     bmap = BuildingMap(shipped)
-    g = building_graph(shipped, people_rooms={p.id: p.home_room for p in shipped.people}, room_of_place=bmap.room_at)
+    g = building_graph(
+        shipped, people_rooms={p.id: p.home_room for p in shipped.people}, room_of_place=bmap.room_at
+    )
     support = {e.source: (e.relation, e.target) for e in g.edges if e.relation in ("in", "on")}
     for f in shipped.floors:
         assert support[f"floor_{f.level}"] == ("in", "building")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 from collections import deque
 
@@ -56,7 +57,7 @@ def _dijkstra8(free: np.ndarray, start, goal):
 
 def _check_path(free, path, start, goal, diagonal):
     assert path[0] == start and path[-1] == goal
-    for a, b in zip(path, path[1:], strict=False):
+    for a, b in itertools.pairwise(path):
         assert free[b]
         dr, dc = abs(a[0] - b[0]), abs(a[1] - b[1])
         assert max(dr, dc) == 1 and (diagonal or dr + dc == 1)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 from gsr.building.model import Building
 from gsr.building.navigation import BuildingMap
 from gsr.building.people import DAY_END, DAY_START, PeopleClock, daily_schedule
@@ -23,7 +25,7 @@ def test_schedule_deterministic_per_seed(shipped: Building) -> None:
     assert len(days) > 1  # seeds do change the day
     for s in range(10):
         day = daily_schedule(shipped, p, s)
-        assert all(a.end == b.start for a, b in zip(day, day[1:], strict=False))
+        assert all(a.end == b.start for a, b in itertools.pairwise(day))
         assert day[0].start == DAY_START and day[-1].end == DAY_END
 
 

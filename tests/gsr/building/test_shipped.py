@@ -23,7 +23,16 @@ def test_sizes_and_contents(shipped: Building) -> None:
     rooms = [r for r in shipped.rooms if r.kind != "corridor"]
     assert len(rooms) >= 20
     kinds = Counter(r.kind for r in rooms)
-    for kind in ("bedroom", "office", "laboratory", "medical_room", "kitchen", "gym", "living_room", "leisure_room"):
+    for kind in (
+        "bedroom",
+        "office",
+        "laboratory",
+        "medical_room",
+        "kitchen",
+        "gym",
+        "living_room",
+        "leisure_room",
+    ):
         assert kinds[kind] >= 1, kind
     assert kinds["bedroom"] >= 2 and kinds["office"] >= 2
     assert len({it.category for it in shipped.items}) >= 40
