@@ -228,11 +228,17 @@ def fuse_anonymous(instances: list[Instance], params: GeometryParams, iou: float
         match.rgb = np.concatenate((match.rgb, inst.rgb))
         match.views += 1
         _finish(match, params)
-    counts: dict[str, int] = {}
-    for inst in fused:  # stable, readable ids: cube_1, cube_2, ...
-        counts[inst.label.category] = counts.get(inst.label.category, 0) + 1
-        inst.key = f"{inst.label.category}_{counts[inst.label.category]}"
+    number_anonymous(fused)
     return fused
+
+
+def number_anonymous(instances: list[Instance]) -> None:
+    """Give instances without a node id stable, readable keys: cube_1, cube_2, ... in order."""
+    counts: dict[str, int] = {}
+    for inst in instances:
+        if inst.label.id is None:
+            counts[inst.label.category] = counts.get(inst.label.category, 0) + 1
+            inst.key = f"{inst.label.category}_{counts[inst.label.category]}"
 
 
 def support_plane(points: np.ndarray, params: GeometryParams, seed: int = 0) -> np.ndarray | None:

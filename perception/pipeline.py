@@ -21,6 +21,7 @@ from perception.geometry import (
     build_instances,
     color_name,
     fit_boxes,
+    number_anonymous,
     support_plane,
 )
 from perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
@@ -74,17 +75,17 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
 def _ground_plane(
     instances: list[Instance], frames: list[Frame], params: PerceptionParams
 ) -> np.ndarray | None:
-    """RANSAC support plane: on the labelled ground (table/floor), else on unlabelled background."""
+    """RANSAC support plane of the ground; finds (and names) the ground when no label gave it.
+
+    Order: the labelled ground (table/floor); else the dominant plane of unlabelled background pixels;
+    else the largest anonymous instance that is one horizontal plane (a detector's "table" segment).
+    """
     grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
     if grounds:
-        pts = np.concatenate([g.points for g in grounds])
-    else:
-        pts = _background_points(frames, params.geometry)
-    if len(pts) > 20000:  # RANSAC needs a sample of the surface, not all of it
-        pts = pts[np.random.default_rng(0).choice(len(pts), 20000, replace=False)]
-    plane = support_plane(pts, params.geometry)
-    if plane is not None and not grounds:
-        # No ground was labelled: the dominant plane of the unlabelled points becomes the table.
+        return support_plane(_sample(np.concatenate([g.points for g in grounds])), params.geometry)
+    pts = _sample(_background_points(frames, params.geometry))
+    plane = support_plane(pts, params.geometry) if len(pts) >= params.geometry.min_points else None
+    if plane is not None and abs(plane[2]) > _HORIZONTAL:
         inliers = pts[np.abs(pts @ plane[:3] + plane[3]) <= params.geometry.plane_distance]
         if len(inliers) >= params.geometry.min_points:
             table = Instance(
@@ -92,7 +93,29 @@ def _ground_plane(
             )
             fit_boxes(table)
             instances.append(table)
-    return plane
+            return plane
+    anonymous = sorted(
+        (i for i in instances if i.label.id is None), key=lambda i: -float(i.size[0] * i.size[1])
+    )
+    for cand in anonymous[:1]:
+        plane = support_plane(_sample(cand.points), params.geometry)
+        if plane is None or abs(plane[2]) < _HORIZONTAL:
+            break
+        on_plane = np.abs(cand.points @ plane[:3] + plane[3]) <= params.geometry.plane_distance
+        if float(on_plane.mean()) >= 0.9:  # one flat horizontal surface: the ground
+            cand.label = InstanceLabel(id="table", category="table")
+            cand.key = "table"
+            number_anonymous(instances)
+            return plane
+    return None
+
+
+_HORIZONTAL = 0.95  # |normal z| of a plane that counts as horizontal (within ~18 degrees)
+
+
+def _sample(pts: np.ndarray, n: int = 20000) -> np.ndarray:
+    """At most ``n`` points (fixed seed): RANSAC needs a sample of the surface, not all of it."""
+    return pts if len(pts) <= n else pts[np.random.default_rng(0).choice(len(pts), n, replace=False)]
 
 
 def _background_points(frames: list[Frame], params: GeometryParams) -> np.ndarray:

@@ -12,7 +12,7 @@ from perception.pipeline import perceive
 pytest.importorskip("pybullet")
 pytest.importorskip("open3d")
 
-from tests.perception.scenes import FRONT, LEFT, frames, hand_scene  # noqa: E402
+from tests.perception.scenes import FRONT, LEFT, frames, hand_scene
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +43,7 @@ def test_single_view_graph_matches_ground_truth(rendered):
 
 
 def test_articulated_states_and_measurements(rendered):
-    views, truth, _ = rendered
+    views, _, _ = rendered
     nodes = perceive(views[0]).node_map()
     assert nodes["cabinet_1/drawer_low"].states == ("open",)
     assert nodes["cabinet_1/drawer_high"].states == ("closed",)
