@@ -1,0 +1,29 @@
+"""Shared fixtures: the shipped building, its map and instruction parser."""
+
+from __future__ import annotations
+
+import pytest
+
+from benchmarks.delivery.parser import InstructionParser
+from benchmarks.delivery.run import parser_for
+from gsr.building.model import Building
+from gsr.building.navigation import BuildingMap
+from gsr.building.shipped import load_shipped_building
+
+
+@pytest.fixture(scope="session")
+def shipped() -> Building:
+    """data/buildings/three_floor.json."""
+    return load_shipped_building()
+
+
+@pytest.fixture(scope="session")
+def bmap(shipped: Building) -> BuildingMap:
+    """The shipped building's navigation map."""
+    return BuildingMap(shipped)
+
+
+@pytest.fixture(scope="session")
+def parser(shipped: Building) -> InstructionParser:
+    """The shipped building's instruction parser."""
+    return parser_for(shipped)

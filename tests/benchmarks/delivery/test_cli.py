@@ -1,0 +1,57 @@
+"""`gsr delivery ...` commands: outputs, files and clear errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gsr.building.model import load_building
+from gsr.cli import app
+
+runner = CliRunner()
+
+
+def test_generate_building(tmp_path: Path) -> None:
+    out = tmp_path / "b.json"
+    res = runner.invoke(
+        app, ["delivery", "generate-building", "--seed", "3", "--floors", "2", "--out", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert "2 floors" in res.output
+    assert len(load_building(out).floors) == 2
+
+
+def test_generate_building_bad_floors(tmp_path: Path) -> None:
+    out = tmp_path / "b.json"
+    res = runner.invoke(app, ["delivery", "generate-building", "--floors", "0", "--out", str(out)])
+    assert res.exit_code == 1 and "floors must be" in res.output
+    assert not out.exists()
+
+
+def test_tasks_and_run(tmp_path: Path) -> None:
+    tasks = tmp_path / "t.jsonl"
+    res = runner.invoke(app, ["delivery", "tasks", "--split", "val", "--limit", "4", "--out", str(tasks)])
+    assert res.exit_code == 0 and len(tasks.read_text().splitlines()) == 4
+    res = runner.invoke(app, ["delivery", "tasks", "--split", "test", "--limit", "2"])
+    assert res.exit_code == 0 and res.output.startswith("test-0000\t")
+    out = tmp_path / "r.json"
+    res = runner.invoke(app, ["delivery", "run", "--tasks", str(tasks), "--json", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    summary = json.loads(res.output)
+    assert summary["episodes"] == 4
+    assert len(json.loads(out.read_text())["episodes"]) == 4
+    res = runner.invoke(app, ["delivery", "run", "--split", "val", "--limit", "2"])
+    assert res.exit_code == 0 and "| Task SR |" in res.output
+
+
+def test_errors() -> None:
+    res = runner.invoke(app, ["delivery", "run", "--split", "nope"])
+    assert res.exit_code == 1 and "unknown split" in res.output
+    res = runner.invoke(app, ["delivery", "run", "--building", "/no/such.json"])
+    assert res.exit_code == 1 and "no such file" in res.output
+    res = runner.invoke(app, ["delivery", "schedule", "nobody"])
+    assert res.exit_code == 1 and "no person" in res.output
+    res = runner.invoke(app, ["delivery", "schedule", "Imani", "--seed", "4"])
+    assert res.exit_code == 0 and "routine:" in res.output and "actual day" in res.output
