@@ -1,4 +1,4 @@
-"""Agents under evaluation: the protocol and the built-ins (planner, grounder, llm/reasoner, random).
+"""Agents under evaluation: the protocol and the built-ins (planner, grounder, reasoner, random).
 
 An agent is reset on a task, then asked again and again for the next step given the current scene
 graph and the instruction; it answers a :class:`~gsr.step.Step` or ``None`` ("done"). When the checker
@@ -101,7 +101,7 @@ class GrounderAgent(_PlanningAgent):
             raise AgentFailure("gsr.language.ground is not available in this installation") from None
         self.domain, self.plan_time = domain, 0.0
         try:
-            result = ground(task.instruction, task.initial)
+            result = ground(task.instruction, task.initial, domain=domain)
         except GSRError as exc:
             raise AgentFailure(f"grounding failed: {exc}") from None
         formula = getattr(result, "formula", result)
@@ -112,54 +112,69 @@ class GrounderAgent(_PlanningAgent):
         self._plan(task.initial)
 
 
-class LLMAgent:
-    """Step-wise LLM reasoner: prompt (gsr.reason.build_prompt) -> model text -> parsed step, with repair.
+class ReasonerAgent:
+    """The LLM reasoner (:func:`gsr.reason.solve`: propose, check, repair) as an agent.
 
-    ``generate`` maps a :class:`gsr.reason.Prompt` to the model's reply text; any model fits.
+    ``backend`` is a gsr.reason backend spec (``grounder``, ``transformers:PATH``, ``openai:MODEL``), a
+    ``package.module:attr`` naming your own backend object or ``prompt text -> answer`` function, or such
+    an object itself. The reasoner's rejected answers count as proposed-but-invalid steps.
     """
 
-    name = "llm"
+    name = "reasoner"
 
-    def __init__(self, generate: Callable[[Any], str], examples: Any = None) -> None:
-        self.generate = generate
-        self.examples = examples
-        self.history: list[Step] = []
-        self.rejected: list[tuple[str, str]] = []
-        self.domain: Domain | None = None
-        self.last_reply = ""
+    def __init__(
+        self,
+        backend: Any = "grounder",
+        mode: str = "steps",
+        max_repairs: int = 3,
+        constrained: bool = False,
+        max_steps: int = 200,
+        planner_timeout: float = 30.0,
+    ) -> None:
+        self.backend = _backend(backend)
+        self.options = {
+            "mode": mode,
+            "max_repairs": int(max_repairs),
+            "constrained": bool(constrained),
+            "max_steps": int(max_steps),
+            "planner_timeout": float(planner_timeout),
+        }
+        self.queue: deque[Step] = deque()
+        self.believed_goal: Formula | None = None
+        self.rejected_proposals = 0
+        self.status = ""
 
     def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
-        """Forget the previous episode."""
-        self.domain, self.history, self.rejected = domain, [], []
+        """Run the reasoner on the initial graph and instruction; its checked steps are replayed."""
+        from gsr.reason import solve
+
+        result = solve(task.initial, task.instruction, backend=self.backend, domain=domain, **self.options)
+        self.queue = deque(s.step for s in result.steps)
+        self.believed_goal = result.goal.formula if result.goal is not None else None
+        self.rejected_proposals = result.rejections
+        self.status = result.status
+        if not result.steps and result.status not in ("solved",):
+            raise AgentFailure(f"reasoner {result.status}: {result.message}")
 
     def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
-        """Ask the model for one step (the rejected replies and their diagnoses go into the prompt)."""
-        from gsr.errors import ParseError
-        from gsr.reason import DONE, build_prompt, parse_first_step
+        """The reasoner's next checked step (None when it stopped)."""
+        return self.queue.popleft() if self.queue else None
 
-        assert self.domain is not None
-        if feedback is not None and not feedback.ok:
-            self.rejected.append((self.last_reply, feedback.message))
-        elif self.history or feedback is not None:
-            self.rejected = []
-        prompt = build_prompt(
-            graph,
-            self.domain,
-            instruction,
-            examples=self.examples,
-            history=self.history,
-            rejected=self.rejected,
-        )
-        reply = self.generate(prompt)
-        self.last_reply = reply.strip()
-        if self.last_reply.splitlines()[:1] == [DONE] or self.last_reply.startswith(DONE):
-            return None
+
+def _backend(spec: Any) -> Any:
+    """A reasoner backend from a spec string, ``module:attr`` or an object."""
+    if not isinstance(spec, str):
+        return spec
+    kind = spec.partition(":")[0]
+    if spec == "grounder" or kind in ("transformers", "openai"):
+        return spec
+    if ":" in spec:
+        module_name, _, attr = spec.partition(":")
         try:
-            step = parse_first_step(reply)
-        except ParseError as exc:
-            raise AgentFailure(f"unparsable model reply: {exc}") from None
-        self.history.append(step)
-        return step
+            return getattr(importlib.import_module(module_name), attr)
+        except (ImportError, AttributeError) as exc:
+            raise GSRError(f"reasoner backend {spec!r}: cannot import: {exc}") from None
+    raise GSRError(f"reasoner backend {spec!r}: use grounder, transformers:PATH, openai:MODEL or module:attr")
 
 
 class RandomAgent:
@@ -194,22 +209,10 @@ class RandomAgent:
         return Step(g.name, g.args)
 
 
-def _reasoner(**options: Any) -> Agent:
-    """The project's LLM reasoner (gsr.reason) wrapped as an agent, if a model backend is installed."""
-    reason = importlib.import_module("gsr.reason")
-    make = getattr(reason, "make_generator", None) or getattr(reason, "load_backend", None)
-    if make is None:
-        raise GSRError(
-            "gsr.reason provides no model backend yet; benchmark your own model with "
-            "--agent benchmarks.agents:LLMAgent-compatible factory (see docs/benchmarks.md)"
-        )
-    return LLMAgent(make(**options))
-
-
 BUILTIN: dict[str, Callable[..., Agent]] = {
     "planner": PlannerAgent,
     "grounder": GrounderAgent,
-    "reasoner": _reasoner,
+    "reasoner": ReasonerAgent,
     "random": RandomAgent,
 }
 

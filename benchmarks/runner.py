@@ -168,6 +168,8 @@ def run_episode(
         outcome_hint, reason = "planning_error", f"agent failed: {exc}"
     except GSRError as exc:
         outcome_hint, reason = "planning_error", f"error: {exc}"
+    # answers a reasoner rejected internally (before returning a checked step) are proposals too
+    proposed += int(getattr(agent, "rejected_proposals", 0) or 0)
     score = score_task(domain, task, state)
     if score.success:
         outcome, reason = "true_success", reason or "goal reached"
