@@ -196,7 +196,14 @@ class Resolver:
         found = self._head_matches(category)
         if d.noun_mods:
             mod_words = {w for m in d.noun_mods for w in m.split("_")}
-            with_mods = [e for e in found if mod_words <= e.words or any(m in e.kinds for m in d.noun_mods)]
+            with_mods = [
+                e
+                for e in found
+                if mod_words <= e.words
+                or any(m in e.kinds for m in d.noun_mods)
+                # "the caddy compartment", "the cabinet drawer": the modifier names the owner
+                or (e.parent is not None and all(m in self.entities[e.parent].kinds for m in d.noun_mods))
+            ]
             if with_mods:
                 found = with_mods
             else:  # "the drawer handle"-style compounds read the other way round: the modifier is the head
