@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Domain
 from gsr.reason.backend import Backend, BackendError, GoalUnreachable, Query, as_backend
-from gsr.reason.prompt import Example, Prompt, build_goal_prompt, build_prompt
+from gsr.reason.prompt import DONE, Example, Prompt, build_goal_prompt, build_prompt
 from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
@@ -51,6 +51,8 @@ class _Run:
             from gsr.reason.step_format import format_step
 
             allowed = tuple(format_step(s) for s in applicable_steps(self.domain, self.graph))
+            if goal is None:  # with no goal to verify, the model must be able to say it is done
+                allowed += (DONE,)
         query = Query(kind, prompt, self.graph, self.domain, self.instruction, goal, tuple(history), allowed)
         start = time.perf_counter()
         try:
