@@ -168,34 +168,21 @@ def handle_ground(req: GroundRequest) -> dict[str, Any]:
 
 
 def handle_solve(req: SolveRequest, settings: ServiceSettings) -> dict[str, Any]:
-    """Instruction -> goal -> planned, checked steps (the embedded grounder backend)."""
-    from gsr.language import ground
-    from gsr.pddl.writer import write_formula
-    from gsr.plan import plan_graph
-    from gsr.resources import load_builtin_domain
-    from gsr.validate import validate_plan
+    """Instruction -> goal -> checked steps, through the reasoner loop with a server-approved backend."""
+    from gsr.reason import MODES, solve
 
     if req.backend not in settings.backends:
+        offered = ", ".join(settings.backends)
         raise ApiError(
-            422,
-            "unknown_backend",
-            f"backend {req.backend!r} is not offered here (offered: {', '.join(settings.backends)})",
+            422, "unknown_backend", f"backend {req.backend!r} is not offered here (offered: {offered})"
         )
-    domain = load_builtin_domain()
-    graph = _graph(req.scene_graph)
-    goal = ground(req.instruction, graph)
+    if req.mode not in MODES:
+        raise ApiError(422, "unknown_mode", f"unknown mode {req.mode!r}; choose one of {', '.join(MODES)}")
     timeout = min(req.timeout or settings.max_plan_seconds, settings.max_plan_seconds)
-    result = plan_graph(domain, graph, goal, timeout=timeout)
-    out: dict[str, Any] = {"goal": write_formula(goal.formula), "status": result.status, "steps": []}
-    if result.plan is not None:
-        from gsr.facts import problem_from_graph
-
-        report = validate_plan(domain, problem_from_graph(graph, goal.formula, domain=domain), result.plan)
-        out["steps"] = [d.to_dict() for d in report.steps]
-        out["valid"] = report.valid
-    else:
-        out["message"] = result.message
-    return out
+    result = solve(
+        _graph(req.scene_graph), req.instruction, backend=req.backend, mode=req.mode, planner_timeout=timeout
+    )
+    return result.to_dict()
 
 
 def handle_scene_graph(data: dict[str, Any]) -> dict[str, Any]:

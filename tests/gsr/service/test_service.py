@@ -158,3 +158,54 @@ def test_busy_server_answers_503() -> None:
     client = TestClient(create_app(ServiceSettings(max_concurrent=0, queue_timeout=0.01)))
     r = client.post("/v1/check", json={"scene_graph": SCENE, "step": "(pick red_cube1 table)"})
     assert r.status_code == 503 and r.headers["retry-after"] == "1"
+
+
+GROUND_SCENE = {
+    "nodes": ["table", "blue_box", "red_box", "red_cube1", "red_cube2", "blue_cube1"],
+    "edges": [
+        "blue_box(on)table",
+        "red_box(on)table",
+        "red_cube1(on)table",
+        "red_cube2(on)blue_box",
+        "blue_cube1(on)table",
+    ],
+}
+
+
+def test_ground_and_its_errors(client: TestClient) -> None:
+    ok = client.post(
+        "/v1/ground", json={"scene_graph": GROUND_SCENE, "instruction": "put all red cubes in the red box"}
+    )
+    assert ok.status_code == 200 and "red_box" in ok.json()["goal"]
+    unknown = client.post(
+        "/v1/ground", json={"scene_graph": GROUND_SCENE, "instruction": "frobnicate the zorp"}
+    )
+    assert unknown.status_code == 422
+    assert set(unknown.json()["error"]["unknown_words"]) == {"frobnicate", "zorp"}
+    ambiguous = client.post(
+        "/v1/ground", json={"scene_graph": GROUND_SCENE, "instruction": "put the cube in the box"}
+    )
+    assert ambiguous.status_code == 422 and "red_cube1" in ambiguous.json()["error"]["candidates"]
+
+
+@pytest.mark.parametrize("mode", ["goal", "steps", "hybrid"])
+def test_solve_gives_checked_steps_reaching_the_goal(client: TestClient, mode: str) -> None:
+    body = client.post(
+        "/v1/solve",
+        json={"scene_graph": GROUND_SCENE, "instruction": "put all red cubes in the red box", "mode": mode},
+    ).json()
+    assert body["status"] == "solved" and body["success"] is True
+    moved = [s["step"] for s in body["steps"] if s["step"].startswith("(place_in")]
+    assert len(moved) == 2 and all("red_box" in m for m in moved)
+
+
+def test_solve_only_offers_server_backends(client: TestClient) -> None:
+    r = client.post(
+        "/v1/solve",
+        json={
+            "scene_graph": GROUND_SCENE,
+            "instruction": "put all red cubes in the red box",
+            "backend": "openai:x",
+        },
+    )
+    assert r.status_code == 422 and r.json()["error"]["type"] == "unknown_backend"
