@@ -140,7 +140,7 @@ class BaselineAgent:
         looked_rooms: set[str] = set()
         widen = False
         while not world.done:
-            found = [i for i, o in seen.items() if self._matches(o, ref) and world.item_at.get(i) == o[2]]
+            found = [i for i, o in seen.items() if self._matches(o, ref)]
             if found:
                 iid = found[0]
                 rec = seen[iid][2]

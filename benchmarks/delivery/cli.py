@@ -129,7 +129,7 @@ def schedule_command(person: str, seed: int, building_path: Path | None) -> int:
         p = building.person(person.lower())
     except (GSRError, KeyError) as exc:
         return _err(str(exc).strip("'\""))
-    clock = PeopleClock(building, seed, BuildingMap(building).free_cells)
+    clock = PeopleClock(building, seed, BuildingMap(building))
 
     def hhmm(t: int) -> str:
         return f"{t // 3600:02d}:{t % 3600 // 60:02d}"

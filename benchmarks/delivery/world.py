@@ -61,7 +61,7 @@ class DeliveryWorld:
     def __init__(self, building: Building, bmap: BuildingMap, task: DeliveryTask) -> None:
         """Start the robot where the task says, at the task's time of day."""
         self.building, self.bmap, self.task = building, bmap, task
-        self.clock = PeopleClock(building, task.world_seed, bmap.free_cells)
+        self.clock = PeopleClock(building, task.world_seed, bmap)
         self.t0 = float(task.start_time)
         self.time = self.t0
         self.robot: Place = tuple(task.start)  # type: ignore[assignment]

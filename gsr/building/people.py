@@ -3,20 +3,26 @@
 A person's ``routine`` is what everyone (the robot included) knows: "Imani works in office 104, has lunch
 in the dining room at noon". The ``daily_schedule`` for a world seed is what really happens that day:
 slot boundaries drift by a few minutes, some slots are spent elsewhere, short errands interrupt work.
-Within a slot a person stands at one free cell of the room, re-chosen every ``MOVE_EVERY`` seconds.
+Within a slot a person stands at one free cell of the room, re-chosen every ``MOVE_EVERY`` seconds;
+between slots in different rooms they walk the A* path from one room to the other.
 """
 
 from __future__ import annotations
 
 import bisect
+import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from gsr.building.catalog import COLORS, ROLES
-from gsr.building.model import Appearance, Building, Person, Place, Slot
+from gsr.building.model import Appearance, Building, Cell, Person, Place, Slot
+from gsr.building.navigation import BuildingMap, path_cells_length
 
 MOVE_EVERY = 180  # seconds a person stays on one spot inside a room
+WALK_SPEED = 1.2  # m/s when walking between rooms
+MAX_TRANSIT = 900  # s; no walk between rooms takes longer (so later queries skip path finding)
 DAY_START, DAY_END = 7 * 3600, 22 * 3600
 
 NAMES: tuple[tuple[str, str], ...] = (
@@ -162,16 +168,64 @@ class _Day:
     slots: tuple[Slot, ...]
 
 
-class PeopleClock:
-    """Where everyone is at any second of one day, for a building and a world seed (deterministic)."""
+@dataclass(frozen=True)
+class _Transit:
+    """A walk between two rooms at the start of a slot: floor paths and the connector ride between."""
 
-    def __init__(self, building: Building, seed: int, free_cells) -> None:
-        """``free_cells(room_id)`` lists the cells people may stand on (``BuildingMap.free_cells``)."""
+    legs: tuple[tuple[int, tuple[Cell, ...]], ...]  # (floor, path) walked in order
+    ride: float  # seconds in the elevator / stairwell between the legs (0 on one floor)
+
+    def duration(self) -> float:
+        """Seconds the whole transit takes."""
+        return sum(_length(p) for _, p in self.legs) * self._cell / WALK_SPEED + self.ride
+
+    _cell: float = 0.5
+
+    def at(self, dt: float) -> Place | None:
+        """Where the walker is ``dt`` seconds into the transit (None while riding between floors)."""
+        metres = dt * WALK_SPEED
+        first_floor, first = self.legs[0]
+        first_len = _length(first) * self._cell
+        if metres <= first_len:
+            return (first_floor, *_along(first, metres / self._cell))
+        if len(self.legs) == 1:
+            return (first_floor, *first[-1])
+        if dt < first_len / WALK_SPEED + self.ride:
+            return None
+        floor, path = self.legs[1]
+        return (floor, *_along(path, (metres - first_len - self.ride * WALK_SPEED) / self._cell))
+
+
+def _length(path: tuple[Cell, ...]) -> float:
+    return path_cells_length(list(path))
+
+
+def _along(path: tuple[Cell, ...], cells: float) -> Cell:
+    """The path cell reached after walking ``cells`` cell-lengths along it."""
+    done = 0.0
+    for a, b in itertools.pairwise(path):
+        done += math.sqrt(2.0) if a[0] != b[0] and a[1] != b[1] else 1.0
+        if done > cells:
+            return a
+    return path[-1]
+
+
+class PeopleClock:
+    """Where everyone is at any second of one day, for a building and a world seed (deterministic).
+
+    Within a slot a person stands on one free cell of the slot's room (re-chosen every ``MOVE_EVERY``
+    seconds); when a slot moves them to another room they first walk there at ``WALK_SPEED`` along
+    the A* path (stairs or elevator between floors), so they can be met in corridors and doorways.
+    """
+
+    def __init__(self, building: Building, seed: int, bmap: BuildingMap) -> None:
+        """Compute everyone's day for ``seed``; ``bmap`` gives free cells and paths."""
         self.building = building
         self.seed = seed
-        self._free = free_cells
+        self.bmap = bmap
         self._index = {p.id: i for i, p in enumerate(building.people)}
-        self._days = {}
+        self._days: dict[str, _Day] = {}
+        self._transits: dict[tuple[str, int], _Transit | None] = {}
         for p in building.people:
             slots = daily_schedule(building, p, seed)
             self._days[p.id] = _Day([s.start for s in slots], slots)
@@ -180,26 +234,79 @@ class PeopleClock:
         """The actual day of one person."""
         return self._days[person_id].slots
 
-    def slot_at(self, person_id: str, t: float) -> Slot | None:
-        """The slot a person is in at time ``t`` (None outside the day: not in the building)."""
+    def _slot_index(self, person_id: str, t: float) -> int | None:
         day = self._days[person_id]
         i = bisect.bisect_right(day.starts, int(t)) - 1
         if i < 0 or t >= day.slots[i].end:
             return None
-        return day.slots[i]
+        return i
 
-    def location(self, person_id: str, t: float) -> Place | None:
-        """``(floor, row, col)`` of a person at time ``t``, or None when they are not in the building."""
-        slot = self.slot_at(person_id, t)
-        if slot is None:
-            return None
+    def slot_at(self, person_id: str, t: float) -> Slot | None:
+        """The slot a person is in at time ``t`` (None outside the day: not in the building)."""
+        i = self._slot_index(person_id, t)
+        return None if i is None else self._days[person_id].slots[i]
+
+    def _spot(self, person_id: str, slot: Slot, window: int) -> Place:
         room = self.building.room(slot.room)
-        cells = self._free(slot.room)
-        window = int(t - slot.start) // MOVE_EVERY
+        cells = self.bmap.free_cells(slot.room)
         rng = np.random.default_rng([self.seed, self._index[person_id], slot.start, window, 2])
         r, c = cells[int(rng.integers(len(cells)))]
         return (room.floor, r, c)
 
+    def _transit(self, person_id: str, i: int) -> _Transit | None:
+        key = (person_id, i)
+        if key not in self._transits:
+            self._transits[key] = self._make_transit(person_id, i)
+        return self._transits[key]
+
+    def _make_transit(self, person_id: str, i: int) -> _Transit | None:
+        slots = self._days[person_id].slots
+        if i == 0 or slots[i - 1].room == slots[i].room:
+            return None
+        prev = slots[i - 1]
+        a = self._spot(person_id, prev, (prev.end - 1 - prev.start) // MOVE_EVERY)
+        b = self._spot(person_id, slots[i], 0)
+        cell = self.building.cell_size
+        if a[0] == b[0]:
+            path = self.bmap.path(a[0], a[1:], b[1:])
+            return None if path is None else _Transit(((a[0], path),), 0.0, cell)
+        route = self.bmap.route(a, b, allow_stairs=True)
+        if route is None or route.connector is None:
+            return None
+        con = next(c for c in self.building.connectors if c.id == route.connector)
+        p1 = self.bmap.path(a[0], a[1:], con.access[a[0]])
+        p2 = self.bmap.path(b[0], con.access[b[0]], b[1:])
+        if p1 is None or p2 is None:
+            return None
+        return _Transit(((a[0], p1), (b[0], p2)), route.connector_seconds, cell)
+
+    def in_transit(self, person_id: str, t: float) -> bool:
+        """True while a person is walking (or riding) from one slot's room to the next."""
+        i = self._slot_index(person_id, t)
+        if i is None:
+            return False
+        start = self._days[person_id].slots[i].start
+        if t - start >= MAX_TRANSIT:
+            return False
+        tr = self._transit(person_id, i)
+        return tr is not None and t < start + tr.duration()
+
+    def location(self, person_id: str, t: float) -> Place | None:
+        """``(floor, row, col)`` of a person at time ``t``; None when not in the building or riding."""
+        i = self._slot_index(person_id, t)
+        if i is None:
+            return None
+        slot = self._days[person_id].slots[i]
+        tr = self._transit(person_id, i) if t - slot.start < MAX_TRANSIT else None
+        if tr is not None and t < slot.start + tr.duration():
+            return tr.at(t - slot.start)
+        return self._spot(person_id, slot, int(t - slot.start) // MOVE_EVERY)
+
     def people_in(self, room_id: str, t: float) -> list[str]:
-        """Ids of the people in a room at time ``t``."""
-        return [pid for pid in self._days if (s := self.slot_at(pid, t)) is not None and s.room == room_id]
+        """Ids of the people standing in a room at time ``t``."""
+        out = []
+        for pid in self._days:
+            where = self.location(pid, t)
+            if where is not None and self.bmap.room_at(where) == room_id:
+                out.append(pid)
+        return out
