@@ -1,0 +1,143 @@
+"""The runner: checked steps, outcome classes, retries with feedback, step limit, workers, Ray, reports."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+
+from benchmarks.agents import make_agent
+from benchmarks.report import results_document, write_reports
+from benchmarks.runner import RunConfig, run_episode, run_tasks
+from benchmarks.suites.builder import SceneBuilder
+from gsr.errors import GSRError
+from gsr.task_spec import TaskSpec
+from tests.benchmarks.scripted_agents import Scripted
+
+AGENT = "tests.benchmarks.scripted_agents:Scripted"
+
+
+@pytest.fixture()
+def task() -> TaskSpec:
+    b = SceneBuilder(seed=0)
+    b.add("box", "lidded_box", states=("closed",))
+    b.add("red_cube", "cube", color="red")
+    b.add("blue_cube", "cube", color="blue")
+    return TaskSpec(
+        id="cube_in_box",
+        suite="unit",
+        category="c",
+        level="Simple",
+        instructions=("put the red cube in the box",),
+        initial=b.graph(),
+        layout=b.layout(),
+        goal="(and (in red_cube box) (in blue_cube box))",
+        goal_alternatives=("(and (in red_cube box) (not (open box)))",),
+    )
+
+
+GOOD = [["open", "box"], ["pick", "red_cube", "table"], ["place_in", "red_cube", "box"]]
+
+
+def test_planner_episode_true_success(task, domain) -> None:
+    r = run_episode(task, make_agent("planner"), domain)
+    assert r.success and r.outcome == "true_success" and r.score == 1.0
+    assert r.steps == r.proposed == r.valid and r.executability == 1.0
+    assert r.plan and r.plan[0].startswith("(")
+
+
+def test_invalid_step_is_a_planning_error_with_diagnosis(task, domain) -> None:
+    agent = Scripted([["pick", "red_cube", "table"], ["place_in", "red_cube", "box"]])
+    r = run_episode(task, agent, domain)
+    assert not r.success and r.outcome == "planning_error"
+    assert r.proposed == 2 and r.valid == 1 and r.executability == 0.5
+    assert "rejected" in r.reason and r.failure is not None and not r.failure["ok"]
+
+
+def test_retries_feed_the_diagnosis_back(task, domain) -> None:
+    agent = Scripted([["place_in", "red_cube", "box"], *GOOD[1:]], retry_with=["open", "box"])
+    r = run_episode(task, agent, domain, retries=1)
+    assert len(agent.feedback) == 1 and not agent.feedback[0].ok
+    # the rejected place_in was retried as open, then the script went on: 4 proposed, 3 valid
+    assert r.proposed == 4 and r.valid == 3 and r.plan[0] == "(open box)"
+    r0 = run_episode(task, Scripted([["place_in", "red_cube", "box"]], retry_with=["open", "box"]), domain)
+    assert r0.outcome == "planning_error" and r0.valid == 0
+
+
+def test_false_positive_and_goal_error(task, domain) -> None:
+    r = run_episode(task, Scripted(GOOD), domain)
+    # the open box does not satisfy the alternative; only 1 of 2 relations of the canonical goal
+    assert not r.success and r.outcome == "false_positive" and r.score == 0.5
+    r = run_episode(task, Scripted(GOOD, believed="(in red_cube box)"), domain)
+    assert r.outcome == "goal_error"
+    r = run_episode(task, Scripted([*GOOD, ["close", "box"]]), domain)
+    assert r.success and r.best_alternative == 1  # the alternative holds
+
+
+def test_step_limit(task, domain) -> None:
+    r = run_episode(task, make_agent("random"), domain, seed=1, max_steps=1)
+    assert not r.success and r.outcome == "planning_error" and "step limit" in r.reason
+
+
+def test_workers_and_seed_determinism(task) -> None:
+    tasks = [task, task.model_copy(update={"id": "second"})]
+    config = RunConfig(agent="random", seed=5, max_steps=50)
+    one = [r.to_dict() for r in run_tasks(tasks, config, trials=2)]
+    two = [r.to_dict() for r in run_tasks(tasks, config, trials=2, workers=2)]
+    strip = lambda rows: [{k: v for k, v in r.items() if k != "time"} for r in rows]  # noqa: E731
+    assert strip(one) == strip(two)
+    assert len({r["seed"] for r in one}) == 4
+
+
+def test_bad_agent_and_backend(task) -> None:
+    with pytest.raises(GSRError, match="unknown agent"):
+        run_tasks([task], RunConfig(agent="nobody"))
+    with pytest.raises(GSRError, match="cannot import"):
+        make_agent("no_such_module:Agent")
+    with pytest.raises(GSRError, match="unknown backend"):
+        run_tasks([task], RunConfig(), backend="slurm")
+
+
+def test_ray_missing_gives_a_clear_error(task, monkeypatch) -> None:
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray -> ImportError
+    with pytest.raises(GSRError, match=r"pip install 'gsr\[dist\]'"):
+        run_tasks([task], RunConfig(), backend="ray")
+
+
+@pytest.mark.slow
+def test_ray_backend_matches_local(task) -> None:
+    pytest.importorskip("ray")
+    tasks = [task, task.model_copy(update={"id": "second"})]
+    config = RunConfig(agent="random", seed=3, max_steps=50)
+    local = [r.to_dict() for r in run_tasks(tasks, config)]
+    remote = [r.to_dict() for r in run_tasks(tasks, config, backend="ray")]
+    strip = lambda rows: [{k: v for k, v in r.items() if k != "time"} for r in rows]  # noqa: E731
+    assert strip(local) == strip(remote)
+
+
+def test_reports_are_written_atomically(task, tmp_path, monkeypatch) -> None:
+    results = run_tasks([task], RunConfig(agent="planner", reference="lazy-ff"))
+    doc = results_document(results, suite="unit", agent="planner", seed=0, trials=1, backend="local")
+    paths = write_reports(tmp_path / "out", doc)
+    data = json.loads(paths[0].read_text())
+    assert {"suite", "agent", "success_rate", "tasks"} <= set(data)
+    row = data["tasks"][0]
+    assert {"id", "category", "level", "success", "score", "steps", "reason"} <= set(row)
+    assert row["reference_steps"] == row["steps"] and data["metrics"]["length_vs_reference"] == 1.0
+    assert "| c / Simple |" in paths[1].read_text()
+    assert paths[2].read_text().startswith("<!doctype html>")
+
+    # a crash while writing leaves the previous file intact and no temporary behind
+    def boom(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("benchmarks.report.os.replace", boom)
+    with pytest.raises(KeyboardInterrupt):
+        write_reports(tmp_path / "out", {**doc, "success_rate": 0.0})
+    assert json.loads(paths[0].read_text()) == data
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "report.html",
+        "report.md",
+        "results.json",
+    ]
