@@ -22,7 +22,7 @@ sysdeps:
 	fi
 
 $(VENV)/.installed-demo: pyproject.toml | $(PY)
-	$(PIP) install -e .
+	$(PIP) install -e '.[sim,vision]'
 	@touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(PY)
@@ -30,7 +30,7 @@ $(VENV)/.installed-test: pyproject.toml | $(PY)
 	@touch $@ $(VENV)/.installed-demo
 
 demo: sysdeps $(VENV)/.installed-demo
-	$(VENV)/bin/gsr demo
+	$(VENV)/bin/gsr demo --symbolic
 
 test: sysdeps $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .

@@ -122,14 +122,30 @@ def check_cmd(
 
 @app.command("demo")
 def demo_cmd(
+    out: Annotated[Path, typer.Option(help="Output folder for the report.")] = Path("out/demo"),
     task: Annotated[
         Path | None, typer.Option(help="A LIBERO BDDL task file (default: the black-bowl drawer task).")
     ] = None,
+    seed: Annotated[int, typer.Option(help="Simulator seed.")] = 0,
+    ground_truth: Annotated[
+        bool, typer.Option("--ground-truth", help="Use the simulator's scene graph instead of perception.")
+    ] = False,
+    symbolic: Annotated[
+        bool, typer.Option("--symbolic", help="Symbolic only: parse, plan, check (no simulator needed).")
+    ] = False,
 ) -> None:
-    """Run the end-to-end demo: parse a LIBERO task, plan it, check every step, verify the goal."""
-    from gsr.demo import run_demo
+    """The end-to-end demo: PyBullet scene, perception, grounding, checked steps, execution, verification."""
+    if symbolic:
+        from gsr.demo import run_demo
 
-    raise typer.Exit(run_demo(task))
+        raise typer.Exit(run_demo(task))
+    try:
+        from benchmarks.demo import run_demo as run_physical
+    except ImportError as exc:
+        raise _fail(
+            f"the physical demo needs the 'sim' and 'vision' extras ({exc}); try --symbolic"
+        ) from None
+    raise typer.Exit(run_physical(out, task, seed=seed, use_perception=not ground_truth))
 
 
 @app.command("serve")
@@ -304,7 +320,9 @@ def delivery_tasks(
 def delivery_run(
     split: Annotated[str, typer.Option(help="train, val or test.")] = "test",
     building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-    tasks: Annotated[Path | None, typer.Option(help="Run these tasks (JSON Lines) instead of a split.")] = None,
+    tasks: Annotated[
+        Path | None, typer.Option(help="Run these tasks (JSON Lines) instead of a split.")
+    ] = None,
     limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
@@ -345,8 +363,12 @@ def bench_list_cmd() -> None:
 def bench_run_cmd(
     suite: Annotated[str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench or tasks.")],
     source: Annotated[str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder).")] = None,
-    tasks: Annotated[str | None, typer.Option(help="Run TaskSpec JSON/YAML files (a file or folder).")] = None,
-    agent: Annotated[str, typer.Option(help="planner, grounder, reasoner, random or module:factory.")] = "planner",
+    tasks: Annotated[
+        str | None, typer.Option(help="Run TaskSpec JSON/YAML files (a file or folder).")
+    ] = None,
+    agent: Annotated[
+        str, typer.Option(help="planner, grounder, reasoner, random or module:factory.")
+    ] = "planner",
     agent_opt: Annotated[list[str] | None, typer.Option(help="Agent option key=value (repeatable).")] = None,
     trials: Annotated[int, typer.Option(help="Episodes per task.")] = 1,
     seed: Annotated[int, typer.Option(help="Seed for generated suites and agents.")] = 0,
@@ -397,6 +419,39 @@ def bench_export_cmd(
     from benchmarks.cli import export
 
     typer.echo(f"wrote {export(suite, out, source, seed)} task(s) to {out}")
+
+
+@app.command("datagen")
+def datagen_cmd(
+    out: Annotated[Path, typer.Option(help="Output directory (sharded JSONL, manifest, dataset card).")],
+    samples: Annotated[int, typer.Option(help="Number of rows (samples) to generate.")],
+    workers: Annotated[int, typer.Option(help="Parallel worker processes.")] = 1,
+    backend: Annotated[str, typer.Option(help="local (processes) or ray.")] = "local",
+    seed: Annotated[int, typer.Option(help="Random seed: same seed, byte-identical shards.")] = 0,
+    resume: Annotated[bool, typer.Option(help="Continue an interrupted run in OUT.")] = False,
+    shard_size: Annotated[int, typer.Option(help="Rows per shard (part of the dataset's identity).")] = 5000,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar on stderr.")] = True,
+) -> None:
+    """Generate a Manip-Cognition-style dataset of checked samples (see docs/dataset.md)."""
+    from gsr.datagen.cli import datagen_command
+
+    raise typer.Exit(datagen_command(out, samples, workers, backend, seed, resume, shard_size, progress))
+
+
+@app.command("ground")
+def ground_cmd(
+    instruction: Annotated[
+        str, typer.Argument(help="The instruction, e.g. 'put all red cubes in the blue box'.")
+    ],
+    scene: Annotated[
+        Path, typer.Option(help="Scene graph: JSON, a GSR-Bench message {nodes, edges} or a BDDL file.")
+    ],
+    as_json: Annotated[bool, typer.Option("--json", help="Print the goal as JSON.")] = False,
+) -> None:
+    """Ground an instruction on a scene graph and print the goal as PDDL (exit 1 naming unknown words or candidates)."""
+    from gsr.language.cli import ground_command
+
+    raise typer.Exit(ground_command(scene, instruction, as_json))
 
 
 def main() -> None:
