@@ -177,7 +177,9 @@ class Interpreter:
             ids = [d.entity]
         if not ids:
             raise GroundingError(f"no object in the scene matches {d.text!r}", phrase=d.text)
-        return Ref(tuple(ids), d.text, plural=len(ids) > 1)
+        ref = Ref(tuple(ids), d.text, plural=len(ids) > 1)
+        self.mentions.append(ref)  # "put the cubes of the same colour as the box into it"
+        return ref
 
     def target(self, t: Tree) -> Ref | Place:
         """A relation target or owner: a phrase or a place, resolved leniently."""
@@ -216,6 +218,8 @@ class Interpreter:
                 self._premod(c.children[0], d)
             elif c.data == "heads":
                 for h in c.children:
+                    if not isinstance(h, Token):
+                        continue  # the comma of "cubes, mugs and bowls"
                     tok = _tok(h)
                     if tok.cls == "NOUN":
                         d.heads.append((tok.value, tok.plural))
@@ -365,7 +369,7 @@ class Interpreter:
         order = {
             "in": ("container", "supporter"),
             "on": ("supporter", "container"),
-            "to": ("supporter", "container"),
+            "to": ("container", "supporter"),
         }[prep]
         for a in order:
             if a in aff:
@@ -440,7 +444,12 @@ def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Fo
             if ref.forall:
                 out.extend(_forall(ref, dest, types))
             else:
-                out.extend(Atom(dest.predicate, (x, dest.target)) for x in ref.ids if x != dest.target)
+                ids = [x for x in ref.ids if x != dest.target]
+                if (
+                    ref.generic and dest.predicate == "in"
+                ):  # "all items": a container never goes in a container
+                    ids = [x for x in ids if "container" not in resolver.entities[x].affordances]
+                out.extend(Atom(dest.predicate, (x, dest.target)) for x in ids)
         if not out:
             raise GroundingError(
                 f"nothing to put at {dest.target}: the only object named is the destination itself"

@@ -51,6 +51,10 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
         except GroundingError as exc:
             errors.append(exc)
             continue
+        except (AssertionError, StopIteration, KeyError, IndexError, ValueError) as exc:
+            # a reading the interpreter has no rule for (a grammar path without semantics): not this reading
+            errors.append(GroundingError(f"cannot interpret {instruction!r} ({type(exc).__name__}: {exc})"))
+            continue
         if formula not in goals:
             goals.append(formula)
     if not goals:

@@ -75,6 +75,7 @@ FUNCTION_WORDS: dict[str, str] = {
     "toward": "TO",
     "of": "OF",
     "from": "FROM",
+    "out of": "FROM",
     "off of": "FROM",
     "between": "BETWEEN",
     "near": "NEAR",

@@ -60,6 +60,7 @@ class Ref:
     text: str
     plural: bool = False
     forall: tuple[tuple[str, tuple[str, ...]], ...] | None = None  # ((category, colours), ...)
+    generic: bool = False  # the head was "items" / "objects" / "things"
 
 
 @dataclass(slots=True)
@@ -279,7 +280,10 @@ class Resolver:
                 phrase=d.text,
             )
         quantified = d.quant in ("all", "each") and len(forall) == len(d.heads)
-        return Ref(tuple(ids), d.text, plural=d.plural, forall=tuple(forall) if quantified else None)
+        generic = any(c == "thing" for c, _ in d.heads)
+        return Ref(
+            tuple(ids), d.text, plural=d.plural, forall=tuple(forall) if quantified else None, generic=generic
+        )
 
     def _quantifiable(self, d: Description, category: str) -> bool:
         """A quantifier over static properties only (category, colour) becomes a PDDL forall."""

@@ -111,8 +111,8 @@ def test_sample_configs_plan_to_the_benchmark_goal(gsr_bench_configs: list[dict]
 
 @pytest.mark.slow
 def test_all_90_configs_plan_to_the_benchmark_goal(gsr_bench_configs: list[dict]) -> None:
-    from gsr.semantics import goal_holds
     from gsr.facts import state_from_graph
+    from gsr.semantics import goal_holds
 
     reached = 0
     for config in gsr_bench_configs:

@@ -48,46 +48,102 @@ def test_libero_scene8_is_the_goal_without_the_unstated_stove(libero_files: list
     ("name", "instruction", "expected"),
     [
         # paraphrases of LIBERO instructions on the same scenes
-        ("KITCHEN_SCENE3_turn_on_the_stove", "switch on the stove, then place the moka pot onto it",
-         "(and (turned_on flat_stove_1) (on moka_pot_1 flat_stove_1))"),
-        ("KITCHEN_SCENE3_turn_on_the_stove", "put the moka pot on the stove and turn it on",
-         "(and (on moka_pot_1 flat_stove_1) (turned_on flat_stove_1))"),
-        ("KITCHEN_SCENE4_put_the_black_bowl", "place black bowl into the lowest drawer and shut it",
-         "(and (in akita_black_bowl_1 white_cabinet_1/bottom_drawer) (not (open white_cabinet_1/bottom_drawer)))"),
-        ("KITCHEN_SCENE4_put_the_black_bowl", "close the bottom drawer of the white cabinet",
-         "(and (not (open white_cabinet_1/bottom_drawer)))"),
-        ("KITCHEN_SCENE6_put_the_yellow", "move the white and yellow mug into the microwave, then close the microwave",
-         "(and (in white_yellow_mug_1 microwave_1) (not (open microwave_1)))"),
-        ("KITCHEN_SCENE8_put_both", "put all moka pots on the stove",
-         "(and (forall (?x - moka_pot) (on ?x flat_stove_1)))"),
-        ("LIVING_ROOM_SCENE5_put_the_white_mug", "put the yellow and white mug on the right plate",
-         "(and (on white_yellow_mug_1 plate_2))"),
-        ("LIVING_ROOM_SCENE1_put_both", "pick up the cream cheese and put it in the basket",
-         "(and (in cream_cheese_1 basket_1))"),
-        ("LIVING_ROOM_SCENE1_put_both", "put the ketchup and the tomato sauce into the basket",
-         "(and (in ketchup_1 basket_1) (in tomato_sauce_1 basket_1))"),
-        ("STUDY_SCENE1_pick_up_the_book", "put the black book into the caddy's front compartment",
-         "(and (in black_book_1 desk_caddy_1/front_compartment))"),
-        ("STUDY_SCENE1_pick_up_the_book", "put the book in the left compartment of the desk caddy",
-         "(and (in black_book_1 desk_caddy_1/left_compartment))"),
-        ("open_the_middle_drawer_of_the_cabinet", "open the middle drawer",
-         "(and (open wooden_cabinet_1/middle_drawer))"),
-        ("open_the_top_drawer_and_put_the_bowl_inside", "put the bowl in the top drawer",
-         "(and (in akita_black_bowl_1 wooden_cabinet_1/top_drawer))"),
-        ("put_the_bowl_on_top_of_the_cabinet", "place the black bowl on top of the cabinet",
-         "(and (on akita_black_bowl_1 wooden_cabinet_1/top_side))"),
-        ("put_the_bowl_on_top_of_the_cabinet", "put the plate on the cabinet",
-         "(and (on plate_1 wooden_cabinet_1/top_side))"),
+        (
+            "KITCHEN_SCENE3_turn_on_the_stove",
+            "switch on the stove, then place the moka pot onto it",
+            "(and (turned_on flat_stove_1) (on moka_pot_1 flat_stove_1))",
+        ),
+        (
+            "KITCHEN_SCENE3_turn_on_the_stove",
+            "put the moka pot on the stove and turn it on",
+            "(and (on moka_pot_1 flat_stove_1) (turned_on flat_stove_1))",
+        ),
+        (
+            "KITCHEN_SCENE4_put_the_black_bowl",
+            "place black bowl into the lowest drawer and shut it",
+            "(and (in akita_black_bowl_1 white_cabinet_1/bottom_drawer) (not (open white_cabinet_1/bottom_drawer)))",
+        ),
+        (
+            "KITCHEN_SCENE4_put_the_black_bowl",
+            "close the bottom drawer of the white cabinet",
+            "(and (not (open white_cabinet_1/bottom_drawer)))",
+        ),
+        (
+            "KITCHEN_SCENE6_put_the_yellow",
+            "move the white and yellow mug into the microwave, then close the microwave",
+            "(and (in white_yellow_mug_1 microwave_1) (not (open microwave_1)))",
+        ),
+        (
+            "KITCHEN_SCENE8_put_both",
+            "put all moka pots on the stove",
+            "(and (forall (?x - moka_pot) (on ?x flat_stove_1)))",
+        ),
+        (
+            "LIVING_ROOM_SCENE5_put_the_white_mug",
+            "put the yellow and white mug on the right plate",
+            "(and (on white_yellow_mug_1 plate_2))",
+        ),
+        (
+            "LIVING_ROOM_SCENE1_put_both",
+            "pick up the cream cheese and put it in the basket",
+            "(and (in cream_cheese_1 basket_1))",
+        ),
+        (
+            "LIVING_ROOM_SCENE1_put_both",
+            "put the ketchup and the tomato sauce into the basket",
+            "(and (in ketchup_1 basket_1) (in tomato_sauce_1 basket_1))",
+        ),
+        (
+            "STUDY_SCENE1_pick_up_the_book",
+            "put the black book into the caddy's front compartment",
+            "(and (in black_book_1 desk_caddy_1/front_compartment))",
+        ),
+        (
+            "STUDY_SCENE1_pick_up_the_book",
+            "put the book in the left compartment of the desk caddy",
+            "(and (in black_book_1 desk_caddy_1/left_compartment))",
+        ),
+        (
+            "open_the_middle_drawer_of_the_cabinet",
+            "open the middle drawer",
+            "(and (open wooden_cabinet_1/middle_drawer))",
+        ),
+        (
+            "open_the_top_drawer_and_put_the_bowl_inside",
+            "put the bowl in the top drawer",
+            "(and (in akita_black_bowl_1 wooden_cabinet_1/top_drawer))",
+        ),
+        (
+            "put_the_bowl_on_top_of_the_cabinet",
+            "place the black bowl on top of the cabinet",
+            "(and (on akita_black_bowl_1 wooden_cabinet_1/top_side))",
+        ),
+        (
+            "put_the_bowl_on_top_of_the_cabinet",
+            "put the plate on the cabinet",
+            "(and (on plate_1 wooden_cabinet_1/top_side))",
+        ),
         ("turn_on_the_stove", "turn the stove on", "(and (turned_on flat_stove_1))"),
-        ("pick_up_the_black_bowl_on_the_ramekin", "pick up the black bowl that is on the cookie box and put it on the stove",
-         "(and (on akita_black_bowl_2 flat_stove_1))"),
-        ("pick_up_the_black_bowl_between", "put the bowl next to the ramekin on the plate",
-         "(and (on akita_black_bowl_2 plate_1))"),
-        ("pick_up_the_black_bowl_in_the_top_drawer", "pick up the bowl from the top of the cabinet and place it in the top drawer",
-         "(and (in akita_black_bowl_2 wooden_cabinet_1/top_drawer))"),
+        (
+            "pick_up_the_black_bowl_on_the_ramekin",
+            "pick up the black bowl that is on the cookie box and put it on the stove",
+            "(and (on akita_black_bowl_2 flat_stove_1))",
+        ),
+        (
+            "pick_up_the_black_bowl_between",
+            "put the bowl next to the ramekin on the plate",
+            "(and (on akita_black_bowl_2 plate_1))",
+        ),
+        (
+            "pick_up_the_black_bowl_in_the_top_drawer",
+            "pick up the bowl from the top of the cabinet and place it in the top drawer",
+            "(and (in akita_black_bowl_2 wooden_cabinet_1/top_drawer))",
+        ),
     ],
 )
-def test_paraphrases_on_libero_scenes(libero_files: list[Path], name: str, instruction: str, expected: str) -> None:
+def test_paraphrases_on_libero_scenes(
+    libero_files: list[Path], name: str, instruction: str, expected: str
+) -> None:
     from gsr.pddl.writer import write_formula
 
     path = next(p for p in libero_files if p.name.startswith(name))

@@ -1,0 +1,128 @@
+"""Paraphrases and new combinations: synonyms, word order, plural/singular, verbs, optional articles, pronouns."""
+
+from __future__ import annotations
+
+import pytest
+
+from gsr.language import ground
+from gsr.pddl.writer import write_formula
+from gsr.plan import plan_graph
+from tests.gsr.language.conftest import ground_dnf
+from tests.gsr.language.scene_fixture import scene
+
+RED_IN_BLUE = "(and (forall (?x - cube) (imply (has_color ?x red) (in ?x blue_box))))"
+
+
+def _goal(text: str) -> str:
+    return " ".join(write_formula(ground(text, scene()).formula).split())
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "move all red_cubes into blue_box.",
+        "Place all the red cubes in the blue box",
+        "put every red cube into the blue box",
+        "move each red cube to the blue box",
+        "Please put all red cubes inside of the blue box.",
+        "transfer all of the red cubes into blue_box",
+    ],
+)
+def test_quantified_paraphrases(text: str) -> None:
+    assert _goal(text) == RED_IN_BLUE
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("put red cubes into the blue box", "(and (in red_cube1 blue_box) (in red_cube2 blue_box))"),
+        ("put the red cube that is in the blue box into the red box", "(and (in red_cube2 red_box))"),
+        ("put the red cube on the table in the yellow box", "(and (in red_cube1 yellow_box))"),
+        ("move the blue cube from the red box to the yellow box", "(and (in blue_cube1 yellow_box))"),
+        ("put the cubes with the same color as the blue box into it", "(and (in blue_cube1 blue_box))"),
+        ("pick up the milk and put it in the middle drawer", "(and (in milk short_cabinet/drawer_middle))"),
+        (
+            "grab the popcorn, then drop it into the lowest drawer and close it",
+            "(and (in popcorn short_cabinet/drawer_low) (not (open short_cabinet/drawer_low)))",
+        ),
+        ("put milk in top drawer", "(and (in milk short_cabinet/drawer_high))"),
+        ("take the book out of the top drawer and put it on the table", "(and (on yellow_book table))"),
+        ("open the bottom drawer", "(and (open short_cabinet/drawer_low))"),
+        ("shut the upper drawer", "(and (not (open short_cabinet/drawer_high)))"),
+        (
+            "close drawer_high and open drawer_middle",
+            "(and (not (open short_cabinet/drawer_high)) (open short_cabinet/drawer_middle))",
+        ),
+        (
+            "pick up the red cubes and put them in the red box",
+            "(and (in red_cube1 red_box) (in red_cube2 red_box))",
+        ),
+        ("put both mugs in the red box", "(and (in red_mug1 red_box) (in blue_mug1 red_box))"),
+        (
+            "put the red mug and the blue mug into the yellow box",
+            "(and (in red_mug1 yellow_box) (in blue_mug1 yellow_box))",
+        ),
+        ("pick up the yellow book", "(and (holding yellow_book))"),
+        (
+            "put all items on the table into the yellow box",
+            "(and (in red_cube1 yellow_box) (in yellow_cube1 yellow_box) (in red_mug1 yellow_box) "
+            "(in blue_mug1 yellow_box) (in milk yellow_box) (in popcorn yellow_box))",
+        ),
+        (
+            "put the mugs and cubes into the boxes of the same color",
+            "(and (in red_mug1 red_box) (in blue_mug1 blue_box) (in red_cube1 red_box) (in red_cube2 red_box) "
+            "(in blue_cube1 blue_box) (in yellow_cube1 yellow_box))",
+        ),
+    ],
+)
+def test_new_combinations(text: str, expected: str) -> None:
+    assert _goal(text) == expected
+
+
+def test_corresponding_paraphrases_agree() -> None:
+    g = scene()
+
+    def dnf(text: str) -> frozenset:
+        return ground_dnf(ground(text, g).formula, g)
+
+    a = dnf("Put all the mugs and cubes into their corresponding colored boxes")
+    assert len(a) == 1 and len(next(iter(a))) == 6
+    assert a == dnf("put every mug and cube in their matching coloured boxes")
+    assert a == dnf("place the cubes and the mugs into the boxes of the same colour")
+
+
+def test_different_drawers_is_an_injective_assignment() -> None:
+    g = scene()
+    goal = ground("put the yellow book, the milk and the popcorn in different drawers", g)
+    dnf = ground_dnf(goal.formula, g)
+    assert len(dnf) == 6  # 3! assignments of three items to three drawers
+    for conj in dnf:
+        drawers = {atom.args[1] for atom, _ in conj}
+        assert len(drawers) == 3 and {atom.args[0] for atom, _ in conj} == {"yellow_book", "milk", "popcorn"}
+    assert (
+        ground_dnf(ground("place milk, popcorn and the book into different drawer layers", g).formula, g)
+        == dnf
+    )
+
+
+def test_one_color_per_drawer() -> None:
+    g = scene()
+    goal = ground("sort all cubes and mugs into the drawers, one colour per drawer", g)
+    dnf = ground_dnf(goal.formula, g)
+    assert len(dnf) == 6  # 3 colours onto 3 drawers
+    for conj in dnf:
+        where = {atom.args[0]: atom.args[1] for atom, _ in conj}
+        assert where["red_cube1"] == where["red_cube2"] == where["red_mug1"]
+        assert len({where["red_cube1"], where["blue_cube1"], where["yellow_cube1"]}) == 3
+    plan = plan_graph(None, g, goal, timeout=120)
+    assert plan.solved
+
+
+def test_goals_are_plannable() -> None:
+    g = scene()
+    for text in (
+        "move every red cube to the blue box",
+        "put the blue cube on the table and close the top drawer",
+        "put the milk in the bottom drawer",
+    ):
+        assert plan_graph(None, g, ground(text, g), timeout=60).solved, text
