@@ -326,11 +326,12 @@ def delivery_run(
     limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
+    agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
 ) -> None:
     """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
     from benchmarks.delivery.cli import run_command
 
-    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out))
+    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent))
 
 
 @delivery_app.command("schedule")
