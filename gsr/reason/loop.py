@@ -204,6 +204,7 @@ class _Run:
                     history,
                     feedback,
                     shown_goal,
+                    self.o["prompt_actions"],
                 )
                 attempt, done = self.judge(self.ask("step", prompt, goal, history), goal)
                 if done:
@@ -255,6 +256,7 @@ def solve(
     constrained: bool = False,
     require_effects: bool = False,
     show_goal: bool = True,
+    prompt_actions: str = "pddl",
     planner: str = "lazy-ff",
     planner_timeout: float = 30.0,
 ) -> ReasonResult:
@@ -278,6 +280,7 @@ def solve(
         "constrained": constrained,
         "require_effects": require_effects,
         "show_goal": show_goal,
+        "prompt_actions": prompt_actions,
         "planner": planner,
         "planner_timeout": planner_timeout,
     }
