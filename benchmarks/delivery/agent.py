@@ -61,9 +61,13 @@ def resolve_person(people: tuple[Person, ...], ref: PersonRef) -> list[str]:
 class BaselineAgent:
     """The search-based baseline for one building."""
 
-    def __init__(self, building: Building, bmap: BuildingMap, parser: InstructionParser) -> None:
-        """Precompute the map knowledge the agent uses (room look-out cells, receptacle places)."""
+    def __init__(
+        self, building: Building, bmap: BuildingMap, parser: InstructionParser, use_routines: bool = True
+    ) -> None:
+        """Precompute the map knowledge the agent uses; ``use_routines=False`` is the ablation that
+        searches for people without their published routines (home room and nearest rooms only)."""
         self.building, self.bmap, self.parser = building, bmap, parser
+        self.use_routines = use_routines
         self.rec_place: dict[str, Place] = {
             r.id: (building.room(r.room).floor, *r.access) for r in building.receptacles
         }
@@ -196,7 +200,7 @@ class BaselineAgent:
         if ref.room:
             order.append(ref.room)
         now = world.time
-        for s in person.routine:
+        for s in person.routine if self.use_routines else ():
             if s.start <= now < s.end:
                 order.append(s.room)
                 if s.end - now < 300:  # about to move on: the next slot's room is a good bet too

@@ -86,6 +86,7 @@ def run_command(
     limit: int | None,
     as_json: bool,
     out: Path | None,
+    agent: str = "baseline",
 ) -> int:
     """Run the baseline on a split (or a tasks file) and print the PRS-style table or JSON summary."""
     from benchmarks.delivery.metrics import summary_table
@@ -98,14 +99,18 @@ def run_command(
             tasks = load_tasks(tasks_path)[:limit] if limit else load_tasks(tasks_path)
             if not tasks:
                 return _err(f"{tasks_path}: no tasks")
-            result = run_tasks(building, tasks, tasks_path.stem)
+            result = run_tasks(building, tasks, tasks_path.stem, agent)
         else:
-            result = run_split(building, split, limit)
+            result = run_split(building, split, limit, agent)
     except (GSRError, ValueError) as exc:
         return _err(str(exc))
     if out is not None:
         body = json.dumps(
-            {"summary": result.summary.model_dump(), "episodes": [r.model_dump() for r in result.results]},
+            {
+                "agent": agent,
+                "summary": result.summary.model_dump(),
+                "episodes": [r.model_dump() for r in result.results],
+            },
             indent=1,
         )
         try:

@@ -29,10 +29,20 @@ class RunOutput:
     summary: Summary
 
 
-def run_tasks(building: Building, tasks: list[DeliveryTask], split: str = "custom") -> RunOutput:
-    """Run the baseline agent on ``tasks`` (one simulated world per task) and score every episode."""
+AGENTS: dict[str, str] = {
+    "baseline": "parse, search receptacles nearest-first, find people via sightings, hints and routines",
+    "no-routines": "ablation: the baseline without people's published routines",
+}
+
+
+def run_tasks(
+    building: Building, tasks: list[DeliveryTask], split: str = "custom", agent_name: str = "baseline"
+) -> RunOutput:
+    """Run an agent on ``tasks`` (one simulated world per task) and score every episode."""
+    if agent_name not in AGENTS:
+        raise ValueError(f"unknown agent {agent_name!r} (known: {', '.join(AGENTS)})")
     bmap = BuildingMap(building)
-    agent = BaselineAgent(building, bmap, parser_for(building))
+    agent = BaselineAgent(building, bmap, parser_for(building), use_routines=agent_name == "baseline")
     results = []
     start = time.perf_counter()
     for task in tasks:
@@ -43,6 +53,8 @@ def run_tasks(building: Building, tasks: list[DeliveryTask], split: str = "custo
     return RunOutput(results, summarize(split, results, wall))
 
 
-def run_split(building: Building, split: str = "test", limit: int | None = None) -> RunOutput:
-    """Generate a split's tasks (optionally the first ``limit``) and run the baseline on them."""
-    return run_tasks(building, generate_tasks(building, split, limit), split)
+def run_split(
+    building: Building, split: str = "test", limit: int | None = None, agent_name: str = "baseline"
+) -> RunOutput:
+    """Generate a split's tasks (optionally the first ``limit``) and run an agent on them."""
+    return run_tasks(building, generate_tasks(building, split, limit), split, agent_name)
