@@ -1,10 +1,17 @@
-"""Planner benchmark: GSR's planner vs pyperplan (GBFS + h_FF) vs Fast Downward lama-first on the IPC sets.
+"""Planner benchmark: GSR's planner vs pyperplan (GBFS + h_FF) vs Fast Downward lama-first.
 
-Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,miconic-simpleadl] [--timeout 60]
-       [--planner lazy-ff] [--systems gsr,pyperplan,fd] [--json] [--tabletop]
+Sets: the IPC sets in ../shared/data/pddl (blocks 35, gripper 20, miconic-simpleadl 30), the 40
+LIBERO tasks (``libero``) and seeded long GSR-Bench-style tabletop tasks (``tabletop-long``).
 
-GSR runs in-process (parsing + grounding + search timed); pyperplan and Fast Downward run as
-subprocesses (their interpreter start-up and FD's translator included), PYTHONHASHSEED=0.
+Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems gsr,pyperplan,fd]
+       [--timeout 60] [--planner lazy-ff] [--long-tasks 30] [--seed 0] [--save FILE] [--markdown] [-v]
+       python benchmarks/bench_planner.py --merge A.json B.json ... [--markdown]
+
+GSR runs in-process; on IPC sets its time covers parsing, grounding and search, on tabletop sets it
+is ``PlanResult.time`` (grounding + search; the problem is built from the scene graph beforehand).
+pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
+with PYTHONHASHSEED=0. Every GSR plan is checked with gsr.validate.validate_plan (not timed); an
+invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
 """
 
 from __future__ import annotations
@@ -12,25 +19,34 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import random
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))
+if str(REPO) not in sys.path:
+    sys.path.insert(0, str(REPO))
 
 from gsr.errors import GSRError  # noqa: E402
+from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E402
 from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
 from gsr.plan import plan  # noqa: E402
 from gsr.plan.fast_downward import run_fast_downward  # noqa: E402
+from gsr.scene_graph import SceneGraph  # noqa: E402
+from gsr.validate import validate_plan  # noqa: E402
 
-DATA = REPO.parent / "shared" / "data"
-SETS = ("blocks", "gripper", "miconic-simpleadl")
-ADL_SETS = frozenset({"miconic-simpleadl"})  # pyperplan handles STRIPS only
+DATA = Path(os.environ.get("GSR_SHARED_DATA", REPO.parent / "shared" / "data"))
+IPC_SETS = ("blocks", "gripper", "miconic-simpleadl")
+TABLETOP_SETS = ("libero", "tabletop-long")
+SETS = IPC_SETS + TABLETOP_SETS
+STRIPS_SETS = frozenset({"blocks", "gripper"})  # pyperplan handles STRIPS (+ typing) only
+LONG = 10  # "long" tabletop task: a plan of at least this many steps
 
 
 def problems(domain_set: str) -> list[Path]:
@@ -40,18 +56,27 @@ def problems(domain_set: str) -> list[Path]:
     return sorted(files, key=lambda p: (len(p.stem), p.stem))
 
 
-def run_gsr(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
-    """Parse, ground and search in-process; wall time of all three."""
+def _gsr_row(domain: Domain, problem: Problem, timeout: float, planner: str, t0: float) -> dict:
+    result = plan(domain, problem, planner=planner, timeout=timeout)
+    elapsed = time.perf_counter() - t0
+    row = {"status": result.status, "time": elapsed, "plan_time": result.time, "length": None}
+    if result.plan is not None:
+        report = validate_plan(domain, problem, result.plan)
+        if not report.valid:  # never count a wrong plan as solved
+            return {**row, "status": "invalid", "message": str(report)}
+        row["length"] = len(result.plan)
+    return {**row, "expanded": result.expanded}
+
+
+def run_gsr_files(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
+    """Parse, ground and search in-process; ``time`` is the wall time of all three."""
     start = time.perf_counter()
     try:
         domain = load_domain(domain_file)
         problem = load_problem(problem_file, domain)
-        result = plan(domain, problem, planner=planner, timeout=timeout)
+        return _gsr_row(domain, problem, timeout, planner, start)
     except GSRError as err:
         return {"status": "error", "time": time.perf_counter() - start, "length": None, "message": str(err)}
-    elapsed = time.perf_counter() - start
-    length = len(result.plan) if result.plan is not None else None
-    return {"status": result.status, "time": elapsed, "length": length, "expanded": result.expanded}
 
 
 def run_pyperplan(domain_file: Path, problem_file: Path, timeout: float) -> dict:
@@ -80,132 +105,283 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
     """Fast Downward --alias lama-first (driver, translator and search) as a subprocess."""
     start = time.perf_counter()
     try:
-        status, found, _ = run_fast_downward(domain_file, problem_file, timeout)
+        status, found, message = run_fast_downward(domain_file, problem_file, timeout)
     except GSRError as err:
         return {"status": "n/a", "time": 0.0, "length": None, "message": str(err)}
     elapsed = time.perf_counter() - start
-    return {"status": status, "time": elapsed, "length": len(found) if found is not None else None}
+    row = {"status": status, "time": min(elapsed, timeout), "length": len(found) if found else None}
+    if found is not None:
+        row["length"] = len(found)
+    elif status == "error":
+        row["message"] = message
+    return row
 
 
-def bench_set(domain_set: str, systems: list[str], timeout: float, planner: str, verbose: bool) -> dict:
-    """Run every system on every problem of one set; per-problem rows and per-system summaries."""
-    domain_file = DATA / "pddl" / domain_set / "domain.pddl"
+# ------------------------------------------------------------------ long tabletop tasks
+
+COLORS = ("red", "yellow", "blue", "green")
+CABINET = "short_cabinet"
+DRAWERS = (
+    "drawer_high",
+    "drawer_middle",
+    "drawer_low",
+)  # top to bottom: a lower one needs those above closed
+
+
+def long_tabletop_task(seed: int) -> tuple[str, SceneGraph, Formula, int]:
+    """One GSR-Bench-style task: (name, scene graph, goal, lower bound on its plan length >= 10).
+
+    A table, a short cabinet with three drawers (each open or closed), three coloured boxes (some
+    lidded and closed, some stacked on another box) and 5-9 cubes and mugs on the table, on boxes, in
+    boxes or in drawers. Goals: everything into the box of its colour with lids closed (``boxes``), one
+    colour per drawer with every drawer closed (``drawers``), or cubes into boxes and mugs into the low
+    drawer (``mixed``). The graph is built from GSR-Bench strings with graph_from_gsr_bench.
+    """
+    from gsr.gsr_bench_format import graph_from_gsr_bench
+
+    rng = random.Random(seed)
+    while True:  # redraw until at least 5 objects must move (each move is pick + place)
+        kind = rng.choice(("boxes", "drawers", "mixed"))
+        colors = rng.sample(COLORS, 3)
+        nodes, edges = ["table", CABINET], [f"{CABINET}(on)table"]
+        drawers = [f"{CABINET}/{d}" for d in DRAWERS]
+        nodes += [f"{d}({rng.choice(('open', 'closed'))})" for d in drawers]
+        boxes: dict[str, str] = {}
+        for c in colors:
+            lidded = rng.random() < 0.5
+            boxes[c] = f"{c}_lidded_box" if lidded else f"{c}_box"
+            nodes.append(
+                boxes[c] + ("(closed)" if lidded and rng.random() < 0.7 else "(open)" if lidded else "")
+            )
+            below = [b for b in boxes.values() if b != boxes[c]]
+            on_box = below and rng.random() < 0.25
+            edges.append(f"{boxes[c]}(on){rng.choice(below) if on_box else 'table'}")
+        objects: list[tuple[str, str]] = []
+        count: dict[str, int] = {}
+        for _ in range(rng.randint(5, 9)):
+            c = rng.choice(colors)
+            what = "mug" if rng.random() < 0.25 else "cube"
+            count[c + what] = count.get(c + what, 0) + 1
+            name = f"{c}_{what}{count[c + what]}"
+            objects.append((name, c))
+            nodes.append(name)
+            r = rng.random()
+            where = "on)table" if r < 0.6 else f"on){rng.choice(list(boxes.values()))}" if r < 0.7 else None
+            if where is None:
+                where = f"in){rng.choice(list(boxes.values()) + drawers)}"
+            edges.append(f"{name}({where}")
+        goal, targets = [], {}
+        for name, c in objects:
+            if kind == "drawers":
+                targets[name] = drawers[colors.index(c)]
+            elif kind == "mixed" and "_mug" in name:
+                targets[name] = drawers[2]
+            else:
+                targets[name] = boxes[c]
+        goal = [Atom("in", (o, t)) for o, t in targets.items()]
+        closed = drawers if kind != "boxes" else [b for b in boxes.values() if "lidded" in b]
+        goal += [Not(Atom("open", (x,))) for x in closed]
+        must_move = sum(f"{o}(in){t}" not in edges for o, t in targets.items())
+        if must_move >= 5:
+            graph = graph_from_gsr_bench({"nodes": nodes, "edges": edges})
+            return f"long-{seed}-{kind}", graph, And(tuple(goal)), 2 * must_move
+
+
+def long_tabletop_tasks(count: int, seed: int = 0) -> list[tuple[str, SceneGraph, Formula]]:
+    """``count`` long tabletop tasks, deterministic in ``seed``."""
+    return [long_tabletop_task(seed * 100_003 + i)[:3] for i in range(count)]
+
+
+def tabletop_tasks(domain_set: str, count: int, seed: int) -> Iterator[tuple[str, Domain, Problem]]:
+    """(name, domain, problem) of the LIBERO tasks or of the generated long tabletop tasks."""
+    from gsr.facts import problem_from_graph
+    from gsr.libero import libero_task
+    from gsr.pddl.bddl import load_bddl
+    from gsr.resources import load_builtin_domain
+
+    domain = load_builtin_domain("tabletop")
+    if domain_set == "libero":
+        for bddl in sorted((DATA / "libero").rglob("*.bddl")):
+            yield f"{bddl.parent.name}/{bddl.name}", domain, libero_task(load_bddl(bddl), domain)[1]
+    else:
+        for name, graph, goal in long_tabletop_tasks(count, seed):
+            yield name, domain, problem_from_graph(graph, goal, name=name, domain=domain)
+
+
+def bench_set(
+    domain_set: str, systems: list[str], timeout: float, planner: str, verbose: bool, count: int, seed: int
+) -> dict:
+    """Run every system on every task of one set; per-task rows and per-system summaries."""
+    from gsr.pddl.writer import write_domain, write_problem
+
     rows = []
-    for prob in problems(domain_set):
-        row: dict = {"problem": prob.name}
-        for system in systems:
-            if system == "gsr":
-                row[system] = run_gsr(domain_file, prob, timeout, planner)
-            elif system == "pyperplan":
-                if domain_set in ADL_SETS:
-                    row[system] = {"status": "n/a", "time": 0.0, "length": None}
+    if domain_set in IPC_SETS:
+        domain_file = DATA / "pddl" / domain_set / "domain.pddl"
+        tasks: Iterator = ((p.name, domain_file, p) for p in problems(domain_set))
+    else:
+        tasks = tabletop_tasks(domain_set, count, seed)
+    for name, dom, prob in tasks:
+        row: dict = {"problem": name}
+        with tempfile.TemporaryDirectory(prefix="gsr-bench-") as tmp:
+            if isinstance(dom, Path):
+                dom_file, prob_file = dom, prob
+            else:  # tabletop: peers read the PDDL our writer emits (not timed)
+                dom_file, prob_file = Path(tmp) / "domain.pddl", Path(tmp) / "problem.pddl"
+                dom_file.write_text(write_domain(dom))
+                prob_file.write_text(write_problem(prob))
+            for system in systems:
+                if system == "gsr":
+                    if isinstance(dom, Path):
+                        row[system] = run_gsr_files(dom_file, prob_file, timeout, planner)
+                    else:
+                        row[system] = _gsr_row(dom, prob, timeout, planner, time.perf_counter())
+                elif system == "pyperplan":
+                    if domain_set in STRIPS_SETS:
+                        row[system] = run_pyperplan(dom_file, prob_file, timeout)
+                    else:
+                        row[system] = {"status": "n/a", "time": 0.0, "length": None}
+                elif system == "fd":
+                    row[system] = run_fd(dom_file, prob_file, timeout)
                 else:
-                    row[system] = run_pyperplan(domain_file, prob, timeout)
-            elif system == "fd":
-                row[system] = run_fd(domain_file, prob, timeout)
+                    raise SystemExit(f"unknown system {system!r}; choose from gsr, pyperplan, fd")
         if verbose:
             cells = "  ".join(
-                f"{s}:{row[s]['status']}/{row[s]['time']:.2f}s/{row[s]['length']}" for s in systems
+                f"{s}:{row[s]['status']}/{row[s]['time']:.3f}s/{row[s]['length']}" for s in systems
             )
-            print(f"{domain_set}/{prob.name}: {cells}", file=sys.stderr, flush=True)
+            print(f"{domain_set}/{name}: {cells}", file=sys.stderr, flush=True)
         rows.append(row)
-    summary = {}
-    for system in systems:
-        results = [r[system] for r in rows]
-        if all(r["status"] == "n/a" for r in results):
-            summary[system] = {"coverage": "n/a"}
-            continue
-        solved = [r for r in results if r["status"] == "solved"]
-        summary[system] = {
-            "coverage": len(solved),
-            "tasks": len(results),
-            "total_time": sum(r["time"] for r in results),
-            "total_length": sum(r["length"] for r in solved),
-        }
-    return {"set": domain_set, "rows": rows, "summary": summary}
+    return {"set": domain_set, "timeout": timeout, "planner": planner, "rows": rows}
 
 
-def bench_tabletop(timeout: float, planner: str) -> dict:
-    """Plan the LIBERO .bddl tasks through gsr.libero.libero_task; median times (all, >= 10 steps)."""
-    try:
-        from gsr.plan.cli import load_libero
-    except ImportError as err:  # pragma: no cover - depends on the tree
-        return {"status": f"n/a ({err})"}
-    times, long_times, rows = [], [], []
-    for bddl in sorted((DATA / "libero").rglob("*.bddl")):
-        try:
-            domain, problem = load_libero(bddl, None)
-        except GSRError as err:
-            return {"status": f"n/a ({err})"}
-        result = plan(domain, problem, planner=planner, timeout=timeout)
-        rows.append(
-            {
-                "task": bddl.name,
-                "status": result.status,
-                "time": result.time,
-                "length": len(result.plan) if result.plan else None,
-            }
-        )
-        if result.solved:
-            times.append(result.time)
-            if len(result.plan) >= 10:
-                long_times.append(result.time)
-    return {
-        "tasks": len(rows),
-        "solved": len(times),
-        "median_time": statistics.median(times) if times else None,
-        "long_tasks": len(long_times),
-        "median_time_long": statistics.median(long_times) if long_times else None,
-        "rows": rows,
+def summarize(result: dict, system: str) -> dict:
+    """Coverage, total time (unsolved tasks count their time, timeouts the full limit), lengths."""
+    cells = [r[system] for r in result["rows"] if system in r]
+    if not cells or all(c["status"] == "n/a" for c in cells):
+        return {"coverage": None}
+    solved = [c for c in cells if c["status"] == "solved"]
+    out = {
+        "coverage": len(solved),
+        "tasks": len(cells),
+        "total_time": sum(c["time"] for c in cells),
+        "total_length": sum(c["length"] for c in solved),
+        "median_time": statistics.median(c["time"] for c in cells),
     }
+    long_times = [c.get("plan_time", c["time"]) for c in solved if c["length"] >= LONG]
+    out["long_tasks"] = len(long_times)
+    out["median_time_long"] = statistics.median(long_times) if long_times else None
+    return out
 
 
-def print_table(results: list[dict], systems: list[str]) -> None:
-    """A plain-text table: coverage, total time, total plan length, time ratio vs Fast Downward."""
-    print(f"{'set':<20}{'system':<11}{'coverage':>10}{'time (s)':>11}{'length':>9}{'time/FD':>9}")
+def _systems(results: list[dict]) -> list[str]:
+    seen: list[str] = []
     for res in results:
-        fd = res["summary"].get("fd", {})
-        for system in systems:
-            s = res["summary"][system]
-            if s["coverage"] == "n/a":
-                print(f"{res['set']:<20}{system:<11}{'n/a':>10}")
+        for row in res["rows"]:
+            seen += [k for k in row if k != "problem" and k not in seen]
+    return seen
+
+
+def print_table(results: list[dict], markdown: bool) -> None:
+    """Coverage, total time, total plan length (solved tasks), time ratio vs FD, median times."""
+    head = ["set", "system", "coverage", "total time (s)", "plan length", "time / FD", "median (ms)"]
+    lines = [head]
+    for res in results:
+        fd = summarize(res, "fd") if any("fd" in r for r in res["rows"]) else {"coverage": None}
+        for system in _systems([res]):
+            s = summarize(res, system)
+            if s["coverage"] is None:
+                lines.append([res["set"], system, "n/a", "", "", "", ""])
                 continue
-            ratio = ""
-            if fd.get("coverage") not in (None, "n/a") and fd["total_time"] > 0:
-                ratio = f"{s['total_time'] / fd['total_time']:.2f}"
-            cov = f"{s['coverage']}/{s['tasks']}"
-            print(
-                f"{res['set']:<20}{system:<11}{cov:>10}{s['total_time']:>11.2f}{s['total_length']:>9}{ratio:>9}"
+            ratio = f"{s['total_time'] / fd['total_time']:.2f}" if fd["coverage"] is not None else ""
+            lines.append(
+                [
+                    res["set"],
+                    system,
+                    f"{s['coverage']}/{s['tasks']}",
+                    f"{s['total_time']:.2f}",
+                    str(s["total_length"]),
+                    ratio,
+                    f"{s['median_time'] * 1000:.1f}",
+                ]
             )
+            if res["set"] in TABLETOP_SETS and system == "gsr" and s["median_time_long"] is not None:
+                lines[-1][0] += (
+                    f" ({s['long_tasks']} tasks >= {LONG} steps: median {s['median_time_long'] * 1000:.1f} ms)"
+                )
+    if markdown:
+        print("| " + " | ".join(head) + " |")
+        print("|" + "|".join("---" if i < 2 else "---:" for i in range(len(head))) + "|")
+        for line in lines[1:]:
+            print("| " + " | ".join(line) + " |")
+        return
+    widths = [max(len(line[i]) for line in lines) for i in range(len(head))]
+    for line in lines:
+        print(
+            "  ".join(
+                cell.ljust(w) if i < 2 else cell.rjust(w) for i, (cell, w) in enumerate(zip(line, widths))
+            )
+        )
+
+
+def merge(results: list[dict]) -> list[dict]:
+    """Combine runs of the same set (e.g. peers run separately): per-task rows are joined by name."""
+    by_set: dict[str, dict] = {}
+    for res in results:
+        cur = by_set.setdefault(res["set"], {**res, "rows": [dict(r) for r in res["rows"]]})
+        if cur is res or cur["rows"] is res["rows"]:
+            continue
+        index = {r["problem"]: r for r in cur["rows"]}
+        for row in res["rows"]:
+            index.setdefault(row["problem"], {"problem": row["problem"]})
+            if row["problem"] not in {r["problem"] for r in cur["rows"]}:
+                cur["rows"].append(index[row["problem"]])
+            index[row["problem"]].update({k: v for k, v in row.items() if k != "problem"})
+    order = {s: i for i, s in enumerate(SETS)}
+    return sorted(by_set.values(), key=lambda r: order.get(r["set"], len(order)))
+
+
+def save(path: Path, data: object) -> None:
+    """Write JSON atomically (temp file + rename)."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    with os.fdopen(fd, "w") as fh:
+        json.dump(data, fh, indent=1)
+    os.replace(tmp, path)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sets", default=",".join(SETS))
-    parser.add_argument("--timeout", type=float, default=60.0)
-    parser.add_argument("--planner", default="lazy-ff")
-    parser.add_argument("--systems", default="gsr,pyperplan,fd")
-    parser.add_argument("--json", action="store_true", help="print the full results as JSON")
-    parser.add_argument("--tabletop", action="store_true", help="also plan the LIBERO tasks")
+    parser.add_argument("--sets", default=",".join(SETS), help=f"comma-separated, from {', '.join(SETS)}")
+    parser.add_argument("--systems", default="gsr,pyperplan,fd", help="comma-separated: gsr, pyperplan, fd")
+    parser.add_argument("--timeout", type=float, default=60.0, help="seconds per task and system")
+    parser.add_argument("--planner", default="lazy-ff", help="GSR planner (see gsr.plan.PLANNERS)")
+    parser.add_argument("--long-tasks", type=int, default=30, help="number of generated long tabletop tasks")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the long tabletop task generator")
+    parser.add_argument("--save", type=Path, help="write the full per-task results as JSON")
+    parser.add_argument("--merge", type=Path, nargs="+", help="print the table of saved runs instead")
+    parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per task on stderr")
     args = parser.parse_args(argv)
+    if args.merge:
+        try:
+            loaded = [json.loads(p.read_text()) for p in args.merge]
+        except (OSError, json.JSONDecodeError) as err:
+            parser.error(f"cannot read saved results: {err}")
+        print_table(merge([s for d in loaded for s in d["sets"]]), args.markdown)
+        return 0
     systems = [s for s in args.systems.split(",") if s]
     sets = [s for s in args.sets.split(",") if s]
-    unknown = [s for s in sets if s not in SETS]
+    unknown = [s for s in sets if s not in SETS] + [s for s in systems if s not in ("gsr", "pyperplan", "fd")]
     if unknown:
-        parser.error(f"unknown set(s) {unknown}; choose from {', '.join(SETS)}")
-    results = [bench_set(s, systems, args.timeout, args.planner, args.verbose) for s in sets]
-    out: dict = {"timeout": args.timeout, "planner": args.planner, "sets": results}
-    if args.tabletop:
-        out["tabletop"] = bench_tabletop(args.timeout, args.planner)
-    if args.json:
-        print(json.dumps(out, indent=2))
-    else:
-        print_table(results, systems)
-        if args.tabletop:
-            t = out["tabletop"]
-            print(f"tabletop: {json.dumps({k: v for k, v in t.items() if k != 'rows'})}")
+        parser.error(
+            f"unknown set(s)/system(s) {unknown}; sets: {', '.join(SETS)}; systems: gsr, pyperplan, fd"
+        )
+    results = [
+        bench_set(s, systems, args.timeout, args.planner, args.verbose, args.long_tasks, args.seed)
+        for s in sets
+    ]
+    if args.save:
+        save(args.save, {"argv": sys.argv[1:], "sets": results})
+    print_table(results, args.markdown)
     return 0
 
 

@@ -14,15 +14,17 @@ EXIT_SOLVED, EXIT_ERROR, EXIT_UNSOLVABLE, EXIT_TIMEOUT = 0, 1, 2, 3
 
 
 def load_libero(problem: Path, domain: Path | None) -> tuple[Domain, Problem]:
-    """Domain and problem of a LIBERO ``.bddl`` task, via gsr.libero.libero_task (tabletop domain)."""
-    try:
-        from gsr.libero import libero_task
-    except ImportError as err:
-        raise GSRError(f"{problem}: planning .bddl tasks needs gsr.libero, which is not available") from err
-    task = libero_task(problem) if domain is None else libero_task(problem, domain=domain)
-    if isinstance(task, tuple):
-        return task[0], task[1]
-    return task.domain, task.problem
+    """Domain and problem of a LIBERO ``.bddl`` task (the tabletop domain unless ``domain`` is given)."""
+    from gsr.libero import libero_task
+    from gsr.pddl.bddl import load_bddl
+    from gsr.pddl.parser import load_domain
+    from gsr.resources import load_builtin_domain
+
+    bddl = load_bddl(problem)
+    if domain is not None and not domain.is_file():
+        raise GSRError(f"{domain}: no such file")
+    dom = load_domain(domain) if domain is not None else load_builtin_domain("tabletop")
+    return dom, libero_task(bddl, dom)[1]
 
 
 def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
@@ -34,7 +36,7 @@ def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
     if problem.suffix.lower() == ".bddl":
         return load_libero(problem, domain)
     if domain is None:
-        raise GSRError("a PDDL problem needs its DOMAIN file")
+        raise GSRError(f"{problem}: a PDDL problem needs its DOMAIN file as well")
     if not domain.is_file():
         raise GSRError(f"{domain}: no such file")
     dom = load_domain(domain)

@@ -3,19 +3,18 @@
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable
 from dataclasses import dataclass
 
 from gsr.errors import GSRError
-from gsr.pddl.model import And, Atom, Domain, Formula, Increase, Problem, is_variable
+from gsr.pddl.model import FALSE, TRUE, And, Atom, Domain, Formula, Increase, Not, Or, Problem, is_variable
 from gsr.plan.normalize import (
     Conjunction,
     Schema,
-    ground_simplify,
     nnf,
     normalize_action,
     to_dnf,
 )
+from gsr.plan.simplify import Simplifier
 from gsr.plan.task import GroundOp, Task
 
 GroundEffect = tuple[Conjunction, Atom, bool]  # (condition, atom, is_delete)
@@ -23,14 +22,47 @@ GroundEffect = tuple[Conjunction, Atom, bool]  # (condition, atom, is_delete)
 
 @dataclass(slots=True)
 class _Variant:
-    """One DNF disjunct of a ground action's precondition, sharing the action's ground effects."""
+    """A ground action: its simplified precondition formula; effects are grounded once it fires."""
 
     name: str
     args: tuple[str, ...]
-    pre: Conjunction
-    effects: list[GroundEffect]
-    cost: float
+    pre: Formula
+    binding: dict[str, str]
+    schema: Schema
+    effects: list[GroundEffect] | None = None
     fired: bool = False
+
+
+def _relaxed(formula: Formula, reached: set[Atom]) -> bool:
+    """Whether a ground NNF formula can hold in the delete relaxation (negative literals ignored)."""
+    if isinstance(formula, Atom):
+        return formula in reached
+    if isinstance(formula, And):
+        return all(_relaxed(p, reached) for p in formula.parts)
+    if isinstance(formula, Or):
+        return any(_relaxed(p, reached) for p in formula.parts)
+    return True  # a negative literal
+
+
+def _prune(formula: Formula, reached: set[Atom]) -> Formula:
+    """Unreachable atoms are false: simplify a ground NNF formula before its DNF is taken."""
+    if isinstance(formula, Atom):
+        return formula if formula in reached else FALSE
+    if isinstance(formula, Not):
+        return formula if formula.formula in reached else TRUE
+    if isinstance(formula, (And, Or)):
+        return Simplifier.combine(isinstance(formula, And), (_prune(p, reached) for p in formula.parts))
+    return formula
+
+
+def minimal_dnf(formula: Formula) -> list[Conjunction]:
+    """DNF without subsumed disjuncts (a superset of another disjunct adds no operator worth having)."""
+    disjuncts = sorted(to_dnf(formula), key=len)
+    kept: list[Conjunction] = []
+    for d in disjuncts:
+        if not any(k <= d for k in kept):
+            kept.append(d)
+    return kept
 
 
 class _TypedObjects:
@@ -120,28 +152,30 @@ def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem
     return total
 
 
-def _variants(
-    schema: Schema, binding: dict[str, str], objects: _TypedObjects, static: Callable, problem: Problem
-) -> list[_Variant]:
-    """Ground one action: DNF of its simplified precondition and its expanded effects."""
-    pre = ground_simplify(And((*schema.join, schema.residual)), binding, objects, static)
-    disjuncts = to_dnf(pre)
-    if not disjuncts:
-        return []
+def _variant(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> _Variant | None:
+    """Ground one action's precondition; None when it is statically false."""
+    pre = simplify(And((*schema.join, schema.residual)), binding)
+    if pre is FALSE:
+        return None
+    args = tuple(binding[p.name] for p in schema.params)
+    return _Variant(schema.name, args, pre, binding, schema)
+
+
+def _effects(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> list[GroundEffect]:
+    """A fired action's ground effects: (condition disjunct, atom, is_delete) triples."""
     effects: list[GroundEffect] = []
     for eff in schema.effects:
-        domains = [objects(v.types) for v in eff.params]
-        for combo in itertools.product(*domains):
-            b = dict(binding)
-            b.update(zip((v.name for v in eff.params), combo, strict=True))
-            cond = ground_simplify(eff.condition, b, objects, static)
+        # Effect variables range only over objects satisfying the condition's static atoms.
+        guards = simplify.guards(eff.condition, True) if eff.params else ()
+        for b in simplify.instances(eff.params, guards, binding):
+            cond = simplify(eff.condition, b)
+            if cond is FALSE:
+                continue
             atom = eff.literal.atom
             ground = Atom(atom.predicate, tuple(b.get(a, a) for a in atom.args))
             for conj in to_dnf(cond):
                 effects.append((conj, ground, eff.literal.negated))
-    args = tuple(binding[p.name] for p in schema.params)
-    cost = _cost(schema.costs, binding, problem)
-    return [_Variant(schema.name, args, d, effects, cost) for d in disjuncts]
+    return effects
 
 
 def ground_task(domain: Domain, problem: Problem) -> Task:
@@ -150,17 +184,13 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     schemas = [normalize_action(a) for a in domain.actions.values()]
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     init = set(problem.init)
-
-    def static(atom: Atom) -> bool | None:
-        if atom.predicate in fluent:
-            return None
-        return atom in init
+    simplify = Simplifier(objects, fluent, init)
 
     reached: set[Atom] = set(init)
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in init:
         index.setdefault(a.predicate, set()).add(a.args)
-    cache: dict[tuple, list[_Variant]] = {}
+    cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
     changed = True
     while changed:
@@ -169,16 +199,17 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             names = [p.name for p in schema.all_params]
             for binding in _bindings(schema, index, objects):
                 key = (si, *(binding[n] for n in names))
-                variants = cache.get(key)
-                if variants is None:
-                    variants = cache[key] = _variants(schema, binding, objects, static, problem)
-                for v in variants:
-                    if not v.fired and all(a in reached for a, pos in v.pre if pos):
-                        v.fired = True
-                        fired.append(v)
+                if key in cache:
+                    v = cache[key]
+                else:
+                    v = cache[key] = _variant(schema, binding, simplify)
+                if v is not None and not v.fired and _relaxed(v.pre, reached):
+                    v.fired = True
+                    v.effects = _effects(schema, binding, simplify)
+                    fired.append(v)
         # Fire the add effects of reached operators whose (positive) conditions are reached.
         for v in fired:
-            for cond, atom, is_del in v.effects:
+            for cond, atom, is_del in v.effects or ():
                 if not is_del and atom not in reached and all(a in reached for a, pos in cond if pos):
                     reached.add(atom)
                     index.setdefault(atom.predicate, set()).add(atom.args)
@@ -192,14 +223,14 @@ def _intern(
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
-    for v in fired:
-        pre = tuple(sorted(ids[a] for a, pos in v.pre if pos and a in ids))
-        neg = tuple(sorted(ids[a] for a, pos in v.pre if not pos and a in ids))
+    for v, disjunct in ((f, d) for f in fired for d in minimal_dnf(_prune(f.pre, reached))):
+        pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
+        neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
         pre_set, neg_set = set(pre), set(neg)
         add: set[int] = set()
         dele: set[int] = set()
         cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
-        for c, atom, is_del in v.effects:
+        for c, atom, is_del in v.effects or ():
             if atom not in ids or any(pos and a not in ids for a, pos in c):
                 continue  # never true / never fires
             cp = tuple(sorted(ids[a] for a, pos in c if pos and ids[a] not in pre_set))
@@ -212,7 +243,16 @@ def _intern(
             (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
         )
         ops.add(
-            GroundOp(v.name, v.args, v.cost, pre, neg, tuple(sorted(add)), tuple(sorted(dele - add)), conds)
+            GroundOp(
+                v.name,
+                v.args,
+                _cost(v.schema.costs, v.binding, problem),
+                pre,
+                neg,
+                tuple(sorted(add)),
+                tuple(sorted(dele - add)),
+                conds,
+            )
         )
     ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
     init = 0
@@ -227,16 +267,9 @@ def ground_goal(
     domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
 ) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
     """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
-    objects = _TypedObjects(domain, problem.all_objects(domain))
-    init = problem.init
-
-    def static(atom: Atom) -> bool | None:
-        if atom.predicate in fluent:
-            return None
-        return atom in init
-
+    simplify = Simplifier(_TypedObjects(domain, problem.all_objects(domain)), fluent, problem.init)
     out = []
-    for conj in to_dnf(ground_simplify(nnf(goal), {}, objects, static)):
+    for conj in to_dnf(simplify(nnf(goal), {})):
         if any(pos and a not in ids for a, pos in conj):
             continue
         pos_ids = tuple(sorted(ids[a] for a, pos in conj if pos))
