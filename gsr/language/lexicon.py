@@ -144,6 +144,8 @@ FUNCTION_WORDS: dict[str, str] = {
     ";": "COMMA",
     ".": "PERIOD",
     # sides and positions
+    "leftmost": "SIDE",
+    "rightmost": "SIDE",
     "left": "SIDE",
     "right": "SIDE",
     "top": "POS",
@@ -205,6 +207,8 @@ POSITION_SYNONYMS: dict[str, str] = {
     "low": "bottom",
     "first": "bottom",
     "mid": "middle",
+    "leftmost": "left",
+    "rightmost": "right",
     "second": "middle",
     "centre": "center",
     "rear": "back",

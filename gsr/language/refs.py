@@ -218,7 +218,8 @@ class Resolver:
             found = [e for e in found if set(d.colors) <= set(e.colors)]
         for p in d.positions:
             canon = POSITION_SYNONYMS.get(p, p)
-            found = [e for e in found if canon in e.positions]
+            named = [e for e in found if canon in e.positions]
+            found = named if named or len(found) < 2 else self._extreme(found, canon)
         for w in d.names:
             found = [e for e in found if w in e.words or w in e.region_words]
         if d.owner is not None:
@@ -231,6 +232,27 @@ class Resolver:
         for rel in d.relations:
             found = [e for e in found if e.id not in _ids(rel.targets) and self._relation_holds(e, rel)]
         return found
+
+    def _extreme(self, found: list[Entity], side: str) -> list[Entity]:
+        """``the left plate`` from relation edges: the candidate left of every other candidate."""
+        pairs = {
+            "left": ("left_of", "right_of"),
+            "right": ("right_of", "left_of"),
+            "front": ("front_of", "behind"),
+            "back": ("behind", "front_of"),
+        }.get(side)
+        if pairs is None:
+            return []
+        rel, inverse = pairs
+        return [
+            e
+            for e in found
+            if all(
+                (e.id, rel, o.id) in self.side_edges or (o.id, inverse, e.id) in self.side_edges
+                for o in found
+                if o.id != e.id
+            )
+        ]
 
     def _owned(self, found: list[Entity], owner: Ref | Place) -> list[Entity]:
         owners = owner.ids if isinstance(owner, Ref) else owner.owner

@@ -126,3 +126,31 @@ def test_goals_are_plannable() -> None:
         "put the milk in the bottom drawer",
     ):
         assert plan_graph(None, g, ground(text, g), timeout=60).solved, text
+
+
+def test_left_and_right_from_relation_edges() -> None:
+    from gsr.scene_graph import Edge, Node, SceneGraph
+
+    nodes = (
+        Node(id="table", category="table"),
+        Node(id="plate_a", category="plate"),
+        Node(id="plate_b", category="plate"),
+        Node(id="plate_c", category="plate"),
+        Node(id="mug_1", category="mug", attributes={"color": "red"}),
+    )
+    edges = [Edge(source=n.id, relation="on", target="table") for n in nodes[1:]]
+    edges += [
+        Edge(source="plate_a", relation="left_of", target="plate_b"),
+        Edge(source="plate_a", relation="left_of", target="plate_c"),
+        Edge(source="plate_c", relation="right_of", target="plate_b"),
+    ]
+    g = SceneGraph(nodes=nodes, edges=tuple(edges))
+    assert " ".join(write_formula(ground("put the red mug on the left plate", g).formula).split()) == (
+        "(and (on mug_1 plate_a))"
+    )
+    assert " ".join(write_formula(ground("put the mug on the rightmost plate", g).formula).split()) == (
+        "(and (on mug_1 plate_c))"
+    )
+    assert " ".join(write_formula(ground("put the mug on the right plate", g).formula).split()) == (
+        "(and (on mug_1 plate_c))"
+    )

@@ -11,7 +11,20 @@ from tests.gsr.language.scene_fixture import scene
 
 _SCENE = scene()
 _WORDS = sorted(
-    {*FUNCTION_WORDS, "red", "blue", "cube", "cubes", "box", "drawer", "milk", "book", "table", "blue_box", "xyzzy"}
+    {
+        *FUNCTION_WORDS,
+        "red",
+        "blue",
+        "cube",
+        "cubes",
+        "box",
+        "drawer",
+        "milk",
+        "book",
+        "table",
+        "blue_box",
+        "xyzzy",
+    }
 )
 
 
