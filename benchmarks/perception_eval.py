@@ -1,7 +1,11 @@
 """Perception evaluation harness: render random PyBullet scenes, perceive them, score against ground truth.
 
-Used by ``gsr perceive-eval`` and benchmarks/bench_perception.py. Rendering, noise and mask erosion are
-outside the timed region: ``fps`` is frames per second of :func:`perception.perceive` alone.
+Two worlds: ``skills`` (the project's simulator: random GSR-Bench-style tasks built by
+``skills.build_world``, ground truth from ``skills.scene_graph_from_sim``; scored on ``on``/``in`` and
+part states, which is what that ground truth defines) and ``procedural`` (benchmarks/perception_scenes.py:
+primitive scenes with exact ground truth for every relation perception infers, drawer openings and door
+angles). Used by ``gsr perceive-eval`` and benchmarks/bench_perception.py. Rendering, noise and mask
+erosion are outside the timed region: ``fps`` is frames per second of :func:`perception.perceive` alone.
 """
 
 from __future__ import annotations
@@ -11,8 +15,9 @@ from typing import Any
 
 import numpy as np
 
+from gsr.scene_graph import SceneGraph
 from perception.corrupt import add_depth_noise, erode_masks
-from perception.evaluate import Score
+from perception.evaluate import SCORED_RELATIONS, Score
 from perception.frame import Frame
 from perception.pipeline import PerceptionParams, perceive
 
@@ -30,6 +35,86 @@ def degrade(frame: Frame, depth_noise: float, mask_erosion: int, rng: np.random.
     )
 
 
+WORLDS = ("skills", "procedural")
+#: A truth node counts as visible when at least this many pixels (all cameras) show it.
+VISIBLE_PIXELS = 20
+
+
+def visible_nodes(frames: list[Frame]) -> set[str]:
+    """Node ids with at least VISIBLE_PIXELS labelled pixels over the frames (before any degradation)."""
+    counts: dict[str, int] = {}
+    for f in frames:
+        ids, n = np.unique(f.masks[f.masks >= 0], return_counts=True)
+        for mask_id, c in zip(ids.tolist(), n.tolist(), strict=True):
+            label = f.labels.get(mask_id)
+            if label is not None and label.id is not None:
+                counts[label.id] = counts.get(label.id, 0) + c
+    return {k for k, c in counts.items() if c >= VISIBLE_PIXELS}
+
+
+def visible_truth(truth: SceneGraph, visible: set[str]) -> SceneGraph:
+    """The truth restricted to what a camera could see: visible nodes and the edges leaving them."""
+    keep = {n.id for n in truth.nodes if n.id in visible}
+    edges = [e for e in truth.edges if e.source in keep]
+    needed = keep | {e.target for e in edges} | {n.parent for n in truth.nodes if n.id in keep and n.parent}
+    nodes = [
+        n if n.id in keep else n.model_copy(update={"states": ()}) for n in truth.nodes if n.id in needed
+    ]
+    return SceneGraph(nodes=tuple(nodes), edges=tuple(edges), metadata=truth.metadata)
+
+
+#: Views of the skills world used for 1, 2, 3 ... cameras (skills.camera.default_views names).
+SKILLS_VIEWS = ("top", "left", "right", "front")
+
+
+def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
+    """Frames and exact ground truth of one primitive scene (benchmarks/perception_scenes.py)."""
+    from benchmarks.perception_scenes import camera_specs, random_scene, render
+
+    rng = np.random.default_rng(scene_seed)
+    scene = random_scene(scene_seed)
+    try:
+        frames = [render(scene, spec) for spec in camera_specs(rng, cameras, width, height)]
+        return frames, scene.truth()
+    finally:
+        scene.close()
+
+
+def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
+    """Frames and ``scene_graph_from_sim`` truth of a random GSR-Bench-style task in the skills world."""
+    import dataclasses
+    import random
+
+    from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from skills.camera import default_views, render_frame
+    from skills.sim_graph import scene_graph_from_sim
+    from skills.world import build_world
+
+    pick = random.Random(scene_seed)
+    task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
+    world = build_world(task, seed=scene_seed)
+    try:
+        views = default_views(world)
+        names = [SKILLS_VIEWS[i % len(SKILLS_VIEWS)] for i in range(cameras)]
+        frames = [
+            render_frame(world, dataclasses.replace(views[n], width=width, height=height)) for n in names
+        ]
+        truth = scene_graph_from_sim(world)
+        # add the true openings (joint travel from closed) so opening errors can be measured
+        extra = {}
+        for node_id, (obj_id, part) in world.parts.items():
+            obj = world.objects[obj_id]
+            art = obj.model.articulations.get(part)
+            if art is not None and art.kind in ("drawer", "door"):
+                key = "open_distance" if art.kind == "drawer" else "open_angle"
+                q = abs(world.joint_position(obj, part) - art.closed)
+                node = truth.node(node_id)
+                extra[node_id] = node.model_copy(update={"attributes": {**node.attributes, key: round(q, 4)}})
+        return frames, truth.with_nodes(extra.values())
+    finally:
+        world.close()
+
+
 def evaluate(
     scenes: int,
     seed: int = 0,
@@ -39,28 +124,27 @@ def evaluate(
     width: int = 640,
     height: int = 480,
     params: PerceptionParams | None = None,
+    world: str = "skills",
 ) -> dict[str, Any]:
     """Score perception on ``scenes`` random scenes (deterministic per seed); returns the report dict."""
-    from benchmarks.perception_scenes import camera_specs, random_scene, render
-
+    if world not in WORLDS:
+        raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
+    make_scene = skills_scene if world == "skills" else procedural_scene
+    relations = ("on", "in") if world == "skills" else SCORED_RELATIONS
     if scenes < 1:
         raise ValueError("scenes must be >= 1")
     if cameras < 1:
         raise ValueError("cameras must be >= 1")
-    score = Score()
+    score, seen = Score(), Score()
     seconds = 0.0
     frames_seen = 0
     warmed = False
     seeds = np.random.SeedSequence(seed).spawn(scenes)
     for ss in seeds:
         scene_seed = int(ss.generate_state(1)[0])
-        rng = np.random.default_rng(scene_seed)
-        scene = random_scene(scene_seed)
-        try:
-            frames = [render(scene, spec) for spec in camera_specs(rng, cameras, width, height)]
-            truth = scene.truth()
-        finally:
-            scene.close()
+        frames, truth = make_scene(scene_seed, cameras, width, height)
+        rng = np.random.default_rng([scene_seed, 1])
+        visible = visible_nodes(frames)
         frames = [degrade(f, depth_noise, mask_erosion, rng) for f in frames]
         if not warmed:  # first call pays one-off imports (open3d); not a per-frame cost
             perceive(frames, params)
@@ -69,15 +153,18 @@ def evaluate(
         graph = perceive(frames, params)
         seconds += time.perf_counter() - start
         frames_seen += len(frames)
-        score.add(graph, truth)
+        score.add(graph, truth, relations)
+        seen.add(graph, visible_truth(truth, visible), relations)
     report = score.to_dict()
+    seen_report = seen.to_dict()
+    report["visible"] = {k: seen_report[k] for k in ("nodes", "relations", "states")}
     report.update(
         seed=seed,
         depth_noise=depth_noise,
         mask_erosion=mask_erosion,
         cameras=cameras,
         resolution=[width, height],
-        world="benchmarks.perception_scenes",
+        world=world,
         perception_seconds=round(seconds, 4),
         fps=round(frames_seen / seconds, 2) if seconds > 0 else None,
     )
@@ -87,7 +174,7 @@ def evaluate(
 def format_report(report: dict[str, Any]) -> str:
     """A plain-text table of the report."""
     lines = [
-        f"scenes {report['scenes']}  seed {report['seed']}  cameras {report['cameras']}  "
+        f"world {report['world']}  scenes {report['scenes']}  seed {report['seed']}  cameras {report['cameras']}  "
         f"{report['resolution'][0]}x{report['resolution'][1]}  depth noise {report['depth_noise']} m  "
         f"mask erosion {report['mask_erosion']} px",
         f"nodes: recall {report['nodes']['recall']:.3f}  precision {report['nodes']['precision']:.3f}  "
@@ -103,6 +190,13 @@ def format_report(report: dict[str, Any]) -> str:
         f"states: accuracy {st['accuracy']:.3f} ({st['correct']}/{st['total']}; "
         f"{st['observed']} observed, accuracy among observed {st['accuracy_observed']:.3f})  "
         f"drawer opening MAE {st['drawer_opening_mae_m']} m  door angle MAE {st['door_angle_mae_rad']} rad"
+    )
+    vis = report["visible"]
+    lines.append(
+        f"visible objects only ({vis['nodes']['truth']} truth nodes with >= {VISIBLE_PIXELS} px): nodes recall "
+        f"{vis['nodes']['recall']:.3f}; "
+        + "  ".join(f"{rel} f1 {s['f1']:.3f}" for rel, s in vis["relations"].items())
+        + f"; states accuracy {vis['states']['accuracy']:.3f}"
     )
     lines.append(f"perception: {report['fps']} frames/s ({report['perception_seconds']} s in perceive)")
     return "\n".join(lines)

@@ -277,7 +277,8 @@ class SceneBuilder:
             c, s = math.cos(yaw), math.sin(yaw)
             off = np.array([-openings[i] - t, 0.0])
             dc = center + np.array([c * off[0] - s * off[1], s * off[0] + c * off[1], heights[i]])
-            state = ("open",) if openings[i] > 0 else ("closed",)
+            # open = past half the travel, the travel being 70% of the depth (the skills assets' rule)
+            state = ("open",) if openings[i] > 0.35 * 2 * hd else ("closed",)
             placed = Placed(part, "drawer", dc, np.array([dd, dw, dz]), yaw, parent=node, states=state)
             placed.floor = float(dc[2] - dz + t)
             out.append(placed)
@@ -326,7 +327,7 @@ class SceneBuilder:
         self.scene.placed.append(
             Placed(node, "microwave", center, np.array([hd, hw, hh]), yaw, support=("on", "table"))
         )
-        state = ("open",) if angle > 0 else ("closed",)
+        state = ("open",) if angle > 0.8 else ("closed",)  # past half of a 1.6 rad travel
         self.scene.placed.append(
             Placed(f"{node}/door", "door", center, np.array([0.008, hw, hh]), yaw, parent=node, states=state)
         )
@@ -342,7 +343,7 @@ def random_scene(seed: int) -> Scene:
     fixtures_y = rng.permutation([-0.3, 0.3])
     if rng.random() < 0.7:  # a cabinet at the far edge, facing the robot
         levels = int(rng.integers(2, 4))
-        openings = [float(rng.uniform(0.06, 0.18)) if rng.random() < 0.5 else 0.0 for _ in range(levels)]
+        openings = [float(rng.uniform(0.03, 0.2)) if rng.random() < 0.6 else 0.0 for _ in range(levels)]
         xy = np.array([rng.uniform(0.95, 1.0), fixtures_y[0] + rng.uniform(-0.05, 0.05)])
         b._footprints.append((xy, 0.28))
         parts = b.cabinet(xy, float(rng.uniform(-0.25, 0.25)), levels, openings)
@@ -352,7 +353,7 @@ def random_scene(seed: int) -> Scene:
     if rng.random() < 0.5:
         xy = np.array([rng.uniform(0.95, 1.0), fixtures_y[1] + rng.uniform(-0.05, 0.05)])
         b._footprints.append((xy, 0.28))
-        angle = float(rng.uniform(0.35, 1.4)) if rng.random() < 0.5 else 0.0
+        angle = float(rng.uniform(0.2, 1.5)) if rng.random() < 0.7 else 0.0
         b.microwave(xy, float(rng.uniform(-0.25, 0.25)), angle)
     for _ in range(int(rng.integers(1, 3))):  # open boxes, some holding cubes
         xy = b.free_spot(0.14)

@@ -1,7 +1,7 @@
 """Articulated states and functional keypoints from geometry: drawer opening, door angle, handles.
 
-A part (label with ``parent``) is measured against its parent's *front*: the horizontal axis of the
-parent's upright box that points most towards the robot base. A drawer's opening is how far its front
+A part (label with ``parent``) is measured against its parent's *front*: the side of the parent's
+upright box on which the part sits (see :func:`front_axis`). A drawer's opening is how far its front
 face stands out of the parent's front face; a door's angle is the angle between the door panel and
 the parent's front plane.
 """
@@ -18,21 +18,32 @@ from perception.geometry import Instance
 
 @dataclass(frozen=True)
 class ArticulationThresholds:
-    """When a part counts as open, and how a handle is found without a handle mask."""
+    """When a part counts as open, and how a handle is found without a handle mask.
 
-    drawer_open: float = 0.02  # m the drawer front stands out of the parent's front
-    door_open: float = math.radians(10.0)  # door panel angle to the parent's front plane
+    "Open" follows the simulator's convention (skills assets): a part is open once it is past half of
+    its travel. A drawer travels 70% of its cabinet's depth, so it is open when pulled out by more than
+    35% of the parent's depth (and at least ``drawer_open_min``); a door travels 1.6 rad, so it is open
+    past 0.8 rad.
+    """
+
+    drawer_open_fraction: float = 0.35  # of the parent's depth along its front axis
+    drawer_open_min: float = 0.02  # m, never "open" below this however shallow the parent
+    door_open: float = 0.8  # rad between the door panel and the parent's front plane
     handle_protrusion: float = 0.008  # m beyond the drawer face that counts as a handle
     handle_min_points: int = 5
 
 
-def front_axis(parent: Instance, robot_xy: np.ndarray) -> np.ndarray:
-    """Unit horizontal axis of the parent's box that points most towards the robot."""
-    to_robot = robot_xy - parent.center[:2]
-    norm = np.linalg.norm(to_robot)
-    to_robot = to_robot / norm if norm > 1e-9 else np.array([-1.0, 0.0])
-    candidates = np.concatenate((parent.axes, -parent.axes))
-    return candidates[int(np.argmax(candidates @ to_robot))]
+def front_axis(parent: Instance, part: Instance) -> np.ndarray:
+    """Unit horizontal axis of the parent's box on whose side the part sits (the parent's front).
+
+    Drawer fronts and doors lie on (or stand out of) the parent's front face, so the box axis along
+    which the part's centre is farthest out, relative to the box's half extent, is the front. This needs
+    no robot pose and holds for closed parts too.
+    """
+    offset = (part.points[:, :2].mean(axis=0) - parent.center[:2]) @ parent.axes.T  # in box axes
+    ratio = offset / np.maximum(parent.size[:2] / 2.0, 1e-6)
+    k = int(np.argmax(np.abs(ratio)))
+    return parent.axes[k] * (1.0 if ratio[k] >= 0 else -1.0)
 
 
 def _front_level(points: np.ndarray, origin: np.ndarray, axis: np.ndarray) -> float:
@@ -40,16 +51,22 @@ def _front_level(points: np.ndarray, origin: np.ndarray, axis: np.ndarray) -> fl
     return float(np.percentile((points[:, :2] - origin) @ axis, 98.0))
 
 
-def drawer_opening(part: Instance, parent: Instance, robot_xy: np.ndarray) -> float:
+def drawer_opening(part: Instance, parent: Instance) -> float:
     """Metres the drawer's front face stands out of the parent's front face (>= 0)."""
-    axis = front_axis(parent, robot_xy)
+    axis = front_axis(parent, part)
     origin = parent.center[:2]
     return max(0.0, _front_level(part.points, origin, axis) - _front_level(parent.points, origin, axis))
 
 
-def door_angle(part: Instance, parent: Instance, robot_xy: np.ndarray) -> float:
+def parent_depth(part: Instance, parent: Instance) -> float:
+    """The parent's extent along its front axis (its depth, m)."""
+    axis = front_axis(parent, part)
+    return float(np.ptp((parent.points[:, :2] - parent.center[:2]) @ axis))
+
+
+def door_angle(part: Instance, parent: Instance) -> float:
     """Angle (rad, 0..pi/2) between the door panel and the parent's front plane."""
-    axis = front_axis(parent, robot_xy)
+    axis = front_axis(parent, part)
     xy = part.points[:, :2] - part.points[:, :2].mean(axis=0)
     # The panel's long horizontal direction is the principal axis of its footprint.
     _, vecs = np.linalg.eigh(xy.T @ xy)
@@ -58,11 +75,9 @@ def door_angle(part: Instance, parent: Instance, robot_xy: np.ndarray) -> float:
     return float(math.acos(min(1.0, abs(float(panel @ lateral)))))
 
 
-def geometric_handle(
-    part: Instance, parent: Instance, robot_xy: np.ndarray, th: ArticulationThresholds
-) -> np.ndarray | None:
+def geometric_handle(part: Instance, parent: Instance, th: ArticulationThresholds) -> np.ndarray | None:
     """Centre of the points protruding from a drawer's face (its handle), if any."""
-    axis = front_axis(parent, robot_xy)
+    axis = front_axis(parent, part)
     proj = (part.points[:, :2] - parent.center[:2]) @ axis
     face = float(np.median(proj[proj >= np.percentile(proj, 60.0)]))
     knob = proj > face + th.handle_protrusion
@@ -72,7 +87,7 @@ def geometric_handle(
 
 
 def part_states(
-    instances: list[Instance], th: ArticulationThresholds, robot_xy: np.ndarray
+    instances: list[Instance], th: ArticulationThresholds
 ) -> dict[str, tuple[tuple[str, ...], dict[str, float]]]:
     """States (``open``/``closed``) and measurements for every drawer and door with a perceived parent."""
     by_key = {i.key: i for i in instances}
@@ -82,16 +97,17 @@ def part_states(
         if parent is None:
             continue
         if inst.label.category == "drawer":
-            d = drawer_opening(inst, parent, robot_xy)
-            out[inst.key] = (("open",) if d > th.drawer_open else ("closed",), {"open_distance": round(d, 4)})
+            d = drawer_opening(inst, parent)
+            limit = max(th.drawer_open_min, th.drawer_open_fraction * parent_depth(inst, parent))
+            out[inst.key] = (("open",) if d > limit else ("closed",), {"open_distance": round(d, 4)})
         elif inst.label.category == "door":
-            a = door_angle(inst, parent, robot_xy)
+            a = door_angle(inst, parent)
             out[inst.key] = (("open",) if a > th.door_open else ("closed",), {"open_angle": round(a, 4)})
     return out
 
 
 def keypoints(
-    instances: list[Instance], segments: list[Instance], th: ArticulationThresholds, robot_xy: np.ndarray
+    instances: list[Instance], segments: list[Instance], th: ArticulationThresholds
 ) -> dict[str, list[tuple[str, np.ndarray]]]:
     """Functional keypoints by node: labelled keypoint segments, else geometric drawer handles."""
     out: dict[str, list[tuple[str, np.ndarray]]] = {}
@@ -105,7 +121,7 @@ def keypoints(
         parent = by_key.get(inst.label.parent or "")
         if parent is None:
             continue
-        handle = geometric_handle(inst, parent, robot_xy, th)
+        handle = geometric_handle(inst, parent, th)
         if handle is not None:
             out[inst.key] = [("handle", handle)]
     return out

@@ -26,7 +26,8 @@ class GeometryParams:
     voxels_across: int = 64  # large instances (the table) get coarser voxels: extent / this
     outlier_neighbors: int = 12  # statistical outlier removal: neighbours considered
     outlier_std: float = 2.5  # ... and the std-dev ratio beyond which a point is dropped
-    min_points: int = 15  # instances with fewer points (after filtering) are dropped
+    min_points: int = 8  # instances with fewer points (after filtering) are dropped
+    small_instance: int = 40  # instances with fewer strided pixels are re-read at full resolution
     plane_distance: float = 0.006  # RANSAC inlier distance for the support plane (m)
     max_depth: float = 10.0  # returns beyond this are ignored (m)
 
@@ -77,11 +78,26 @@ def back_project(depth: np.ndarray, camera: Camera, stride: int = 1) -> np.ndarr
 
 
 def instance_clouds(frame: Frame, params: GeometryParams) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-    """Raw world points and colours of every mask id in a frame (one sort, no per-pixel loop)."""
-    s = params.stride
+    """Raw world points and colours of every mask id in a frame (one sort, no per-pixel loop).
+
+    Pixels are read on the strided grid; instances that get fewer than ``small_instance`` pixels there
+    (small or mostly hidden objects) are read again at full resolution so they are not lost.
+    """
+    out = _clouds(frame, params, params.stride, None)
+    small = [i for i, (pts, _) in out.items() if len(pts) < params.small_instance]
+    if small and params.stride > 1:
+        out.update(_clouds(frame, params, 1, np.asarray(small)))
+    return out
+
+
+def _clouds(
+    frame: Frame, params: GeometryParams, s: int, only: np.ndarray | None
+) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     depth = np.asarray(frame.depth, dtype=np.float64)[::s, ::s]
     masks = frame.masks[::s, ::s]
     valid = (masks >= 0) & np.isfinite(depth) & (depth > 0) & (depth < params.max_depth)
+    if only is not None:
+        valid &= np.isin(masks, only)
     rx, ry = pixel_rays(frame.camera, s)
     z = depth[valid]
     cam = np.stack((rx[valid] * z, ry[valid] * z, z), axis=-1)

@@ -47,10 +47,9 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     instances, segments = build_instances(frame_list, params.geometry)
     plane = _ground_plane(instances, frame_list, params)
     world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
-    robot_xy = np.zeros(2) if world_to_robot is None else np.linalg.inv(world_to_robot)[:2, 3]
     support = supports(instances, plane, params.relations)
-    states = part_states(instances, params.articulation, robot_xy)
-    kps = keypoints(instances, segments, params.articulation, robot_xy)
+    states = part_states(instances, params.articulation)
+    kps = keypoints(instances, segments, params.articulation)
     edges = [(a, rel, b) for a, (rel, b) in support.items()]
     if params.descriptive:
         edges += descriptive_relations(instances, support, params.relations, world_to_robot)
