@@ -207,7 +207,7 @@ def make_mug(size: Vec | None, rgba: RGBA) -> AssetModel:
 
 def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
     """A cabinet with three drawers (prismatic, opening towards local -x) and a top surface."""
-    sx, sy, sz = _scale(size, (0.3, 0.36, 0.45))
+    sx, sy, sz = _scale(size, (0.28, 0.36, 0.32))
     plinth, h = 0.04, (sz - 0.04 - T) / 3
     shapes = [
         box((0, 0, plinth / 2), (sx, sy, plinth), rgba),
@@ -229,8 +229,11 @@ def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
         shapes = [*_open_box(dx - T, dy, dz * 0.8, rgba)]
         # the front panel and a pull bar standing 2.5 cm off it
         shapes.append(box((-dx / 2, 0, dz / 2), (T, sy - 0.006, dz), front))
-        shapes.append(box((-dx / 2 - 0.03, 0, dz / 2), (0.012, 0.1, 0.012), METAL))
-        shapes += [box((-dx / 2 - 0.017, s * 0.045, dz / 2), (0.026, 0.01, 0.01), METAL) for s in (-1, 1)]
+        # the bar stands 4.5 cm off the front so a tilted hand's rear finger clears the panel; bars are
+        # staggered sideways (bottom -y, top +y) so the hand reaching a low one passes beside the others
+        hy = (k - 1) * 0.1
+        shapes.append(box((-dx / 2 - 0.045, hy, dz / 2), (0.012, 0.06, 0.012), METAL))
+        shapes += [box((-dx / 2 - 0.024, hy + s * 0.024, dz / 2), (0.04, 0.01, 0.01), METAL) for s in (-1, 1)]
         z = plinth + k * h + 0.006
         links.append(
             Link(
@@ -242,7 +245,7 @@ def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
                 friction=0.8,
             )
         )
-        pull = GraspSite(name, (-dx / 2 - 0.03, 0, dz / 2), 0.0, approach="front", width=0.012)
+        pull = GraspSite(name, (-dx / 2 - 0.045, hy, dz / 2), 0.0, approach="front", width=0.012)
         model.articulations[name] = Articulation(name, "drawer", 0.0, dx * 0.7, handle=pull)
         model.interiors[name] = Interior(name, (0, 0, dz * 0.5), (dx - 2 * T, dy - 2 * T, dz))
         model.keypoints[f"{name}/handle"] = (name, pull.xyz)
@@ -403,17 +406,16 @@ def make_book(size: Vec | None, rgba: RGBA) -> AssetModel:
 
 
 def make_bottle(size: Vec | None, rgba: RGBA) -> AssetModel:
-    """A bottle: a cylinder body with a neck, grasped at the body's upper part."""
-    sx, _, sz = _scale(size, (0.062, 0.062, 0.22))
-    body = sz * 0.7
+    """A bottle: a cylinder with a shoulder, grasped just below its top (the palm must clear the top)."""
+    sx, _, sz = _scale(size, (0.06, 0.06, 0.2))
     shapes = (
-        cylinder((0, 0, body / 2), sx / 2, body, rgba),
-        cylinder((0, 0, body + (sz - body) / 2), 0.014, sz - body, rgba),
+        cylinder((0, 0, sz * 0.45), sx / 2, sz * 0.9, rgba),
+        cylinder((0, 0, sz * 0.95), sx / 2 - 0.008, sz * 0.1, rgba),
     )
     return AssetModel(
         "bottle",
         [Link("base", shapes, 0.3)],
-        grasps=[GraspSite("base", (0, 0, body - 0.03), 0.0, width=sx)],
+        grasps=[GraspSite("base", (0, 0, sz * 0.9 - 0.02), 0.0, width=sx)],
         extent=(sx, sx, sz),
     )
 

@@ -44,14 +44,17 @@ def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
     ]
 
 
-def transit_height(world: World, extra: float = 0.0) -> float:
-    """A safe travel height: above every object on the table plus clearance (and a held object's length)."""
+def transit_height(world: World, extra: float = 0.0, exclude: tuple[str, ...] = ()) -> float:
+    """A safe travel height: above every object on the table plus clearance (and a held object's length).
+
+    Tall fixtures (cabinets) are walls to go around, not under: they are left out.
+    """
     tops = [
         world.body_aabb(o.body)[1][2]
         for o in world.objects.values()
-        if not o.model.fixed or o.model.extent[2] < 0.3
+        if o.id not in exclude and (not o.model.fixed or o.model.extent[2] < 0.3)
     ]
-    return max([world.layout.table_height + 0.15, *tops]) + TRANSIT_CLEARANCE + extra
+    return max([world.layout.table_height + 0.1, *tops]) + TRANSIT_CLEARANCE + extra
 
 
 def _lift(m: Motion, z: float) -> None:
@@ -70,19 +73,12 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     """Grasp ``obj`` by friction and lift it to transit height; raises SkillError on failure."""
     if not obj.model.grasps or obj.model.fixed:
         raise SkillError(Failure.UNSUPPORTED, f"{obj.id} has no grasp site (a fixture)")
-    rail = world.robot.q()[0]
     sites = [s for g in obj.model.grasps for s in _rim_sites(g, obj)]
-    base = world.robot.ee_pose()[0]
-    # nearest the robot first: those are the most reachable with a top-down hand
-    sites.sort(
-        key=lambda s: float(
-            np.linalg.norm(_site_pose(world, obj, s)[0][:2] - np.array([base[0] - 0.3, rail]))
-        )
-    )
+    # the side facing the robot (smallest x) first: the base parks in front of the object
+    sites.sort(key=lambda s: float(_site_pose(world, obj, s)[0][0]))
     z_transit = transit_height(world)
     _lift(m, z_transit)
-    pos0 = _site_pose(world, obj, sites[0])[0]
-    m.move_rail(pos0[1])
+    m.park_for(world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5)
     m.ignore = {obj.body}
     errors = []
     for site in sites[:6]:
@@ -164,8 +160,7 @@ def _free_spot(
     candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 4) for y in np.linspace(ylo, yhi, 4)]
     centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
-        rail = world.robot.ee_pose()[0]
-        candidates.sort(key=lambda c: (c[0] - rail[0]) + 0.3 * abs(c[1] - centre[1]))
+        candidates.sort(key=lambda c: c[0] + 0.3 * abs(c[1] - centre[1]))
     else:
         candidates.sort(key=lambda c: float(np.linalg.norm(c - centre)))
     for c in candidates:
@@ -186,10 +181,10 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     # the grasp offset as it is now: where the hand must be for the object's bottom centre to be at spot
     offset = ee - np.array([centre[0], centre[1], lo[2]])
     goal = spot + offset + np.array([0, 0, 0.012])
-    z_transit = max(transit_height(world, extra=hi[2] - lo[2]), goal[2] + APPROACH)
+    z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
     m.ignore = {obj.body}
     _lift(m, z_transit)
-    m.move_rail(goal[1])
+    m.park_for(goal)
     m.move_line((np.array([goal[0], goal[1], z_transit]), quat))
     m.move_line((goal + np.array([0, 0, 0.04]), quat))
     m.move_line((goal, quat), check=False)

@@ -24,7 +24,7 @@ FIXTURE_SLOTS: tuple[tuple[float, float], ...] = (
 )
 TABLE = (0.9, 1.2)
 #: Where movable objects are sampled (x range, y range), in front of the fixtures.
-FREE_X, FREE_Y = (-0.22, 0.02), (-0.3, 0.3)
+FREE_X, FREE_Y = (-0.25, -0.03), (-0.35, 0.35)
 
 
 def _support(graph: SceneGraph) -> dict[str, tuple[str, str]]:
@@ -59,6 +59,9 @@ def layout_from_graph(graph: SceneGraph, seed: int = 0) -> Layout:
         slot += 1
         placed.append(PlacedObject(id=n.id, asset=asset, position=(x, y, 0.0), fixed=True, color=n.color))
         footprints.append((x, y, max(model.extent[:2]) / 2 + 0.03))
+        if any(a.kind in ("drawer", "door") for a in model.articulations.values()):
+            # keep the space drawers and doors swing into free (they open towards the robot, -x)
+            footprints.append((x - model.extent[0] / 2 - 0.12, y, 0.16))
     # named table regions (LIBERO "stove_front_region"): a rectangle in front of the named fixture, else free
     for n in graph.nodes:
         if n.parent in tables and is_a(n.category, "region"):

@@ -65,7 +65,7 @@ def _articulated(kind: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
 def _push(world: World, m: Motion, args: tuple[str, ...]) -> dict:
     from skills.articulated import push
 
-    return push(world, m, args[0], args[2])
+    return push(world, m, args[0], args[2]) or {}
 
 
 SKILLS: dict[str, Callable[[World, Motion, tuple[str, ...]], dict]] = {

@@ -14,13 +14,15 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from skills.result import Failure, SkillError
-from skills.robot import ARM_FRONT, ARM_HOME, RAIL_RANGE
+from skills.robot import ARM_FRONT, ARM_HOME
 from skills.world import World
 
 Pose = tuple[np.ndarray, tuple[float, float, float, float]]
 RESOLUTION = 0.01  # m between interpolated waypoints
 STEPS_PER_WAYPOINT = 6  # 240 Hz: about 0.4 m/s
-POS_TOL, ANG_TOL = 0.006, 0.06
+#: How far in front of a target (in x) the base parks: top-down reach is best around half a metre.
+STANDOFF = 0.5
+POS_TOL, ANG_TOL = 0.008, 0.08
 
 
 class Motion:
@@ -38,13 +40,13 @@ class Motion:
     # ------------------------------------------------------------ planning
 
     def solve(self, pos: np.ndarray, quat: Sequence[float], seed: np.ndarray | None = None) -> np.ndarray:
-        """An IK configuration for the grasp point at ``pos`` / ``quat`` with the rail where it is now."""
-        rail = float(self.robot.q()[0])
+        """An IK configuration for the grasp point at ``pos`` / ``quat`` with the base where it is now."""
+        base = self.robot.q()[:2]
         seeds = [s for s in (seed, self.robot.q()) if s is not None]
-        seeds += [np.array((rail, *ARM_HOME)), np.array((rail, *ARM_FRONT))]
+        seeds += [np.array((*base, *ARM_HOME)), np.array((*base, *ARM_FRONT))]
         _best, best_err = None, math.inf
         for s in seeds:
-            q = self.robot.ik(np.asarray(pos), quat, rail, seed=s)
+            q = self.robot.ik(np.asarray(pos), quat, base, seed=s)
             dp, da = self.robot.fk_error(q, np.asarray(pos), quat)
             if dp < POS_TOL and da < ANG_TOL:
                 return q
@@ -67,7 +69,8 @@ class Motion:
                     continue
                 for pt in p.getClosestPoints(r.body, o.body, margin, physicsClientId=w.client):
                     if (o.body, pt[4]) not in self.ignore_links:
-                        return o.id
+                        names = {v: k for k, v in o.links.items()}
+                        return f"{o.id} ({names.get(pt[4], pt[4])}, robot link {pt[3]})"
             for pt in p.getClosestPoints(r.body, w.table_body, -0.002, physicsClientId=w.client):
                 return f"table ({pt[3]})"
             return None
@@ -128,18 +131,23 @@ class Motion:
         """Move the grasp point in a straight line to ``goal``."""
         self.follow(self.line(self.pose(), goal, self.robot.q(), check=check))
 
-    def move_rail(self, y: float) -> None:
-        """Slide the rail (with the arm held still) to ``y``, clamped to its range."""
-        y = float(np.clip(y, -RAIL_RANGE, RAIL_RANGE))
-        q = self.robot.q()
-        start = float(q[0])
-        n = max(1, int(abs(y - start) / 0.01))
+    def move_base(self, x: float, y: float) -> None:
+        """Slide the base on its rails (arm held still) to ``(x, y)``, clamped to the rails' range."""
+        r = self.robot
+        goal = np.clip([x, y], r.lower[:2], r.upper[:2])
+        q = r.q()
+        start = q[:2].copy()
+        n = max(1, int(np.max(np.abs(goal - start)) / 0.01))
         qs = []
         for i in range(1, n + 1):
             qq = q.copy()
-            qq[0] = start + (y - start) * i / n
+            qq[:2] = start + (goal - start) * i / n
             qs.append(qq)
         self.follow(qs)
+
+    def park_for(self, target: np.ndarray, standoff: float = STANDOFF) -> None:
+        """Move the base so ``target`` lies about ``standoff`` in front of it (the arm's sweet spot)."""
+        self.move_base(float(target[0]) - standoff, float(target[1]))
 
     def gripper(self, width: float, force: float = 40.0, steps: int = 60) -> float:
         """Drive the fingers to ``width`` (bounded wait) and return the width reached."""

@@ -1,8 +1,10 @@
-"""The Franka Panda on a linear rail: loading, inverse kinematics, joint motion and the gripper.
+"""The Franka Panda on a two-axis base (x and y rails): loading, IK, joint motion and the gripper.
 
-The rail (a prismatic joint along world y under the arm's base) lets one arm reach tables as wide as
-GSR-Bench's 1.2 m desk; skills move it like any other joint, physically, never by teleporting.
-PyBullet's Panda (``pybullet_data/franka_panda``) is wrapped in a generated URDF that adds the rail.
+The base slides on rails beside the table (x towards the table, y along its edge), like a mobile
+manipulator parked at the table, so one arm reaches tables as wide as GSR-Bench's 1.2 m desk. Skills
+move the base like any other joint (physically, position control), never by teleporting. PyBullet's
+Panda (``pybullet_data/franka_panda``) is wrapped in a generated URDF that adds the two rails; the
+IK keeps the rails where the skill put them (huge damping) and solves the seven arm joints.
 """
 
 from __future__ import annotations
@@ -18,15 +20,13 @@ import numpy as np
 from skills.assets import cache_dir
 
 ARM_HOME = (0.0, -0.4, 0.0, -2.2, 0.0, 1.8, math.pi / 4)
-#: An IK seed for horizontal (front) approaches: PyBullet's solver does not find them from ARM_HOME.
+#: An IK seed for tilted (front) approaches.
 ARM_FRONT = (0.0, 0.2, 0.0, -2.0, 0.0, 2.2, math.pi / 4)
 FINGER_OPEN = 0.04
-RAIL_RANGE = 0.7
-#: Where the fingertips' grasp point sits below the hand's flange (the URDF's grasptarget link).
 DOWN_QUAT = (1.0, 0.0, 0.0, 0.0)  # rotation by pi about x: the gripper points down
 
 
-def _panda_with_rail() -> Path:
+def _panda_on_rails(x_range: tuple[float, float], y_range: tuple[float, float]) -> Path:
     import pybullet_data
 
     src = Path(pybullet_data.getDataPath()) / "franka_panda" / "panda.urdf"
@@ -35,15 +35,21 @@ def _panda_with_rail() -> Path:
     text = re.sub(
         r'filename="(?:package://)?(?!/)([^"]+)"', lambda m: f'filename="{src.parent / m.group(1)}"', text
     )
-    rail = (
-        '<link name="rail"><inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>'
-        "</inertial></link>"
-        '<joint name="rail_joint" type="prismatic"><parent link="rail"/><child link="panda_link0"/>'
-        f'<origin xyz="0 0 0"/><axis xyz="0 1 0"/><limit lower="{-RAIL_RANGE}" upper="{RAIL_RANGE}" '
-        'effort="500" velocity="0.5"/></joint>'
+    massless = (
+        '<inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>'
     )
-    text = text.replace('<link name="panda_link0">', rail + '<link name="panda_link0">', 1)
-    path = cache_dir() / "panda_rail.urdf"
+    rails = (
+        f'<link name="rail">{massless}</link><link name="carriage">{massless}</link>\n'
+        '<joint name="rail_x_joint" type="prismatic"><parent link="rail"/><child link="carriage"/>'
+        f'<origin xyz="0 0 0"/><axis xyz="1 0 0"/><limit lower="{x_range[0]:.4f}" upper="{x_range[1]:.4f}" '
+        'effort="2000" velocity="0.5"/></joint>\n'
+        '<joint name="rail_y_joint" type="prismatic"><parent link="carriage"/><child link="panda_link0"/>'
+        f'<origin xyz="0 0 0"/><axis xyz="0 1 0"/><limit lower="{y_range[0]:.4f}" upper="{y_range[1]:.4f}" '
+        'effort="2000" velocity="0.5"/></joint>\n'
+    )
+    text = text.replace('<link name="panda_link0">', rails + '<link name="panda_link0">', 1)
+    tag = f"{x_range[0]:.3f}_{x_range[1]:.3f}_{y_range[0]:.3f}_{y_range[1]:.3f}".replace("-", "m")
+    path = cache_dir() / f"panda_rails_{tag}.urdf"
     if not path.exists() or path.read_text(encoding="utf-8") != text:
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(text, encoding="utf-8")
@@ -53,25 +59,30 @@ def _panda_with_rail() -> Path:
 
 @dataclass
 class Robot:
-    """Indices and control of the rail-mounted Panda in one PyBullet client."""
+    """Indices and control of the Panda on its x/y base rails in one PyBullet client.
+
+    Configurations ``q`` are 9 numbers: base x, base y, then the seven arm joints.
+    """
 
     client: int
     body: int
-    rail: int = 0
-    arm: tuple[int, ...] = (1, 2, 3, 4, 5, 6, 7)
-    fingers: tuple[int, int] = (10, 11)
-    ee: int = 12
+    base: tuple[int, int] = (0, 1)
+    arm: tuple[int, ...] = (2, 3, 4, 5, 6, 7, 8)
+    fingers: tuple[int, int] = (11, 12)
+    ee: int = 13
     lower: list[float] = field(default_factory=list)
     upper: list[float] = field(default_factory=list)
 
     @classmethod
-    def load(cls, client: int, base: tuple[float, float, float]) -> Robot:
-        """Load the Panda with its rail at ``base`` (the rail's centre), arm at home, gripper open."""
+    def load(
+        cls, client: int, height: float, x_range: tuple[float, float], y_range: tuple[float, float]
+    ) -> Robot:
+        """Load the Panda at base height ``height`` with rails spanning ``x_range`` x ``y_range``, arm at home."""
         import pybullet as p
 
         body = p.loadURDF(
-            str(_panda_with_rail()),
-            base,
+            str(_panda_on_rails(x_range, y_range)),
+            (0.0, 0.0, height),
             useFixedBase=True,
             flags=p.URDF_USE_SELF_COLLISION_EXCLUDE_ALL_PARENTS,
             physicsClientId=client,
@@ -86,18 +97,18 @@ class Robot:
                 p.changeDynamics(
                     body, link, lateralFriction=1.5, spinningFriction=0.01, physicsClientId=client
                 )
-        robot.reset((0.0, *ARM_HOME), FINGER_OPEN)
+        robot.reset((x_range[0], 0.0, *ARM_HOME), FINGER_OPEN)
         return robot
 
     # ------------------------------------------------------------ state
 
     @property
     def joints(self) -> tuple[int, ...]:
-        """Rail and arm joint indices (the IK's controlled joints, in order)."""
-        return (self.rail, *self.arm)
+        """Base and arm joint indices (the IK's controlled joints, in order)."""
+        return (*self.base, *self.arm)
 
     def q(self) -> np.ndarray:
-        """Current rail + arm joint positions."""
+        """Current base + arm joint positions."""
         import pybullet as p
 
         return np.array([s[0] for s in p.getJointStates(self.body, self.joints, physicsClientId=self.client)])
@@ -130,14 +141,14 @@ class Robot:
         """Command the rail and arm to hold positions ``q``."""
         import pybullet as p
 
-        forces = [800.0] + [87.0] * 4 + [12.0] * 3
+        forces = [2000.0, 2000.0] + [87.0] * 4 + [12.0] * 3
         p.setJointMotorControlArray(
             self.body,
             list(self.joints),
             p.POSITION_CONTROL,
             targetPositions=[float(v) for v in q],
             forces=forces,
-            positionGains=[0.3] * 8,
+            positionGains=[0.3] * 9,
             physicsClientId=self.client,
         )
 
@@ -160,18 +171,18 @@ class Robot:
         self,
         pos: np.ndarray,
         quat: tuple[float, ...] | np.ndarray,
-        rail_y: float,
+        base: tuple[float, float] | np.ndarray,
         seed: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Rail + arm positions putting the grasp point at ``pos`` with orientation ``quat``, rail at ``rail_y``."""
+        """Base + arm positions putting the grasp point at ``pos`` with orientation ``quat``, base fixed at ``base``."""
         import pybullet as p
 
         saved = self.q()
-        q = np.array(seed if seed is not None else (rail_y, *ARM_HOME), dtype=float)
-        q[0] = rail_y
-        # a huge damping on the rail keeps the solver from using it: the rail is positioned by the skill
-        damping = [1000.0] + [0.1] * 9
-        for _ in range(4):  # refine from the previous solution: PyBullet's IK is one damped step at a time
+        q = np.array(seed if seed is not None else (*base, *ARM_HOME), dtype=float)
+        q[:2] = base
+        # a huge damping on the rails keeps the solver from using them: the skill positions the base
+        damping = [1000.0, 1000.0] + [0.1] * 9
+        for _ in range(10):  # refine from the previous solution: PyBullet's IK is one damped step at a time
             self.reset(q)
             sol = p.calculateInverseKinematics(
                 self.body,
@@ -183,8 +194,66 @@ class Robot:
                 residualThreshold=1e-6,
                 physicsClientId=self.client,
             )
-            q = np.clip(np.array(sol[:8]), self.lower[:8], self.upper[:8])
-            q[0] = rail_y
+            q = np.clip(np.array(sol[:9]), self.lower[:9], self.upper[:9])
+            q[:2] = base
+            self.reset(q)
+            got = self.ee_pose()[0]
+            if float(np.linalg.norm(got - np.asarray(pos))) < 1e-3:
+                break
+        self.reset(saved)
+        dp, da = self.fk_error(q, np.asarray(pos), quat)
+        if (dp > 1e-3 or da > 1e-2) and dp < 0.05:  # PyBullet's solver stalls near some orientations
+            q = self.refine(q, np.asarray(pos), quat, iters=60)
+        return q
+
+    def refine(
+        self, q0: np.ndarray, pos: np.ndarray, quat: tuple[float, ...] | np.ndarray, iters: int = 150
+    ) -> np.ndarray:
+        """Damped-least-squares IK on the 7 arm joints (base fixed) from ``q0``; pulls towards mid-range."""
+        import pybullet as p
+
+        saved = self.q()
+        q = np.array(q0, dtype=float)
+        lo, hi = np.array(self.lower[2:9]), np.array(self.upper[2:9])
+        mid = (lo + hi) / 2
+        target = np.asarray(pos, dtype=float)
+        r_tgt = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
+        for _ in range(iters):
+            self.reset(q)
+            got_p, got_q = self.ee_pose()
+            r_cur = np.array(p.getMatrixFromQuaternion(list(got_q))).reshape(3, 3)
+            r_err = r_tgt @ r_cur.T  # world-frame rotation still to go
+            cos = float(np.clip((np.trace(r_err) - 1) / 2, -1.0, 1.0))
+            angle = math.acos(cos)
+            vee = np.array([r_err[2, 1] - r_err[1, 2], r_err[0, 2] - r_err[2, 0], r_err[1, 0] - r_err[0, 1]])
+            w_err = vee / (2 * math.sin(angle)) * angle if angle > 1e-6 else vee / 2
+            if angle > math.pi - 1e-3:  # the formula degenerates at half a turn: nudge about any axis
+                w_err = np.array([0.0, 0.0, 0.5])
+            err = np.concatenate([target - got_p, w_err])
+            if np.linalg.norm(err[:3]) < 5e-4 and angle < 5e-3:
+                break
+            states = [
+                s[0]
+                for s in p.getJointStates(
+                    self.body, [*self.joints, *self.fingers], physicsClientId=self.client
+                )
+            ]
+            lin, ang = p.calculateJacobian(
+                self.body,
+                self.ee,
+                (0, 0, 0),
+                states,
+                [0.0] * len(states),
+                [0.0] * len(states),
+                physicsClientId=self.client,
+            )
+            jac = np.vstack([np.array(lin), np.array(ang)])[:, 2:9]
+            lam = 0.05
+            step = jac.T @ np.linalg.solve(jac @ jac.T + lam * lam * np.eye(6), err)
+            null = np.eye(7) - np.linalg.pinv(jac) @ jac
+            step += null @ (0.05 * (mid - q[2:9]))
+            scale = max(1.0, float(np.max(np.abs(step))) / 0.2)
+            q[2:9] = np.clip(q[2:9] + step / scale, lo + 1e-3, hi - 1e-3)
         self.reset(saved)
         return q
 
@@ -207,22 +276,36 @@ def top_down(yaw: float) -> tuple[float, float, float, float]:
     """Quaternion of a gripper pointing down whose fingers close along world direction ``yaw``."""
     import pybullet as p
 
-    # with euler (pi, 0, a) the fingers close along world (cos a, sin a); the gripper is symmetric, so
-    # fold the yaw into [-pi/2, pi/2) to keep joint 7 near the middle of its range
-    a = (yaw + math.pi / 2) % math.pi - math.pi / 2
+    # with euler (pi, 0, a) the fingers close along world (-sin a, cos a), so a = yaw - pi/2; the gripper
+    # is symmetric, so fold a into [-pi/2, pi/2) to keep joint 7 near the middle of its range
+    a = (yaw - math.pi / 2 + math.pi / 2) % math.pi - math.pi / 2
     return tuple(p.getQuaternionFromEuler((math.pi, 0.0, a)))  # type: ignore[return-value]
 
 
-def pointing(yaw: float) -> tuple[float, float, float, float]:
-    """Quaternion of a horizontal gripper pointing along world direction ``yaw`` with fingers closing vertically."""
+def angled(
+    yaw: float, pitch: float = 0.7, fingers_vertical: bool = True
+) -> tuple[float, float, float, float]:
+    """A gripper tilted forward along world direction ``yaw``: ``pitch`` rad from pointing straight down.
+
+    With ``fingers_vertical`` the fingers close in the vertical plane of the approach (round a horizontal
+    bar such as a drawer pull); otherwise they close horizontally (round a vertical bar). A fully
+    horizontal hand needs contorted Panda configurations at table height; 40 degrees reaches everywhere.
+    """
     import pybullet as p
 
-    # hand frame: z (approach) = (cos, sin, 0); y (closing) = world z; x = y cross z
-    z = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-    y = np.array([0.0, 0.0, 1.0])
-    x = np.cross(y, z)
-    m = np.column_stack([x, y, z])
-    return _quat_from_matrix(m, p)
+    base = p.getQuaternionFromEuler((math.pi, -pitch, 0.0))
+    if fingers_vertical:  # euler (pi, -pitch, 0) closes along world y: turn the hand a quarter about its axis
+        base = p.multiplyTransforms(
+            (0, 0, 0), base, (0, 0, 0), p.getQuaternionFromEuler((0, 0, math.pi / 2))
+        )[1]
+    return tuple(p.multiplyTransforms((0, 0, 0), p.getQuaternionFromEuler((0, 0, yaw)), (0, 0, 0), base)[1])  # type: ignore[return-value]
+
+
+def approach_axis(quat: tuple[float, ...]) -> np.ndarray:
+    """The direction the gripper points (its z axis) for an orientation."""
+    import pybullet as p
+
+    return np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)[:, 2]
 
 
 def _quat_from_matrix(m: np.ndarray, p: object) -> tuple[float, float, float, float]:

@@ -108,7 +108,7 @@ def _link(link: Link) -> str:
         '<spinning_friction value="0.002"/></contact>'
     )
     parts.append("</link>")
-    return "".join(parts)
+    return "\n".join(parts)
 
 
 def _joint(link: Link) -> str:
@@ -133,4 +133,5 @@ def urdf_text(name: str, links: list[Link]) -> str:
         raise ValueError(f"asset {name!r}: the first link must be the base (no parent)")
     body = [_link(link) for link in links]
     body += [_joint(link) for link in links[1:]]
-    return f'<?xml version="1.0"?>\n<robot name="{name}">' + "".join(body) + "</robot>\n"
+    # one element per line: PyBullet's XML reader fails on some very long lines
+    return f'<?xml version="1.0"?>\n<robot name="{name}">\n' + "\n".join(body) + "\n</robot>\n"

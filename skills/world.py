@@ -315,11 +315,12 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_t
         str(asset_urdf_path(table_model)), (0, 0, th), useFixedBase=True, physicsClientId=client
     )
     p.changeDynamics(table_body, -1, lateralFriction=0.8, physicsClientId=client)
-    movable_x = [o.position[0] for o in layout.objects] or [0.0]
-    rail_x = min(min(movable_x) - 0.32, -layout.table_size[0] / 2 + 0.05)
-    rail_y = float(np.clip(np.mean([o.position[1] for o in layout.objects] or [0.0]), -0.2, 0.2))
-    robot = Robot.load(client, (rail_x, 0.0, th))
-    robot.reset((rail_y, *robot.q()[1:]))
+    # the base's rails run beside the table's near edge (x) and along it (y)
+    edge = -layout.table_size[0] / 2
+    half_y = layout.table_size[1] / 2
+    robot = Robot.load(client, th, (edge - 0.6, edge + 0.05), (-half_y, half_y))
+    start_y = float(np.clip(np.mean([o.position[1] for o in layout.objects] or [0.0]), -half_y, half_y))
+    robot.reset((edge - 0.1, start_y, *robot.q()[2:]))
     world = World(
         client, robot, table_body, _table_id(graph), graph, layout, seed, debug_teleport=debug_teleport
     )

@@ -1,0 +1,202 @@
+"""Skills on articulated parts and pushing: open/close drawers and lids, turn knobs, press buttons, push.
+
+Drawers are pulled by their bar handle with the hand horizontal (fingers closing vertically round the
+bar); sliding lids by their tab from above; knobs are grasped from above and turned with the wrist;
+buttons are pressed with closed fingers. Every motion is a friction contact, checked afterwards against
+the joint positions (and the button latch).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from skills.asset_model import Articulation
+from skills.grasping import APPROACH, _lift, transit_height
+from skills.motion import Motion
+from skills.result import Failure, SkillError
+from skills.robot import angled, approach_axis, top_down
+from skills.sim_graph import support_of
+from skills.world import SimObject, World
+
+
+def _axis_world(world: World, obj: SimObject, art: Articulation) -> np.ndarray:
+    """The joint axis of a prismatic part in world coordinates (unit, pointing towards 'open')."""
+    import pybullet as p
+
+    link = obj.links[art.link]
+    info = p.getJointInfo(obj.body, link, physicsClientId=world.client)
+    axis_local = np.array(info[13])
+    parent = info[16]
+    _, orn = world.link_pose(obj.body, parent)
+    rot = np.array(p.getMatrixFromQuaternion(orn)).reshape(3, 3)
+    a = rot @ axis_local
+    return a / np.linalg.norm(a) * (1 if art.open > art.closed else -1)
+
+
+def _handle(world: World, obj: SimObject, art: Articulation) -> tuple[np.ndarray, float]:
+    assert art.handle is not None
+    link = obj.links[art.handle.link]
+    return world.to_world(obj.body, link, art.handle.xyz), world.yaw_of(obj.body, link) + art.handle.yaw
+
+
+def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
+    """Grasp a prismatic part's handle and move it along its axis to joint position ``target``."""
+    axis = _axis_world(world, obj, art)
+    handle, yaw = _handle(world, obj, art)
+    assert art.handle is not None
+    front = art.handle.approach == "front"
+    quat = angled(math.atan2(-axis[1], -axis[0])) if front else top_down(yaw)
+    back = -approach_axis(quat) * 0.1 if front else np.array([0, 0, APPROACH])
+    _lift(m, transit_height(world))
+    m.park_for(handle)
+    m.gripper(art.handle.width + 0.04)
+    m.ignore = set()
+    m.move_line((handle + back, quat))
+    m.ignore_links = {(obj.body, obj.links[art.link])}
+    m.move_line((handle, quat))
+    m.ignore_links = set()
+    width = m.gripper(0.0, force=60.0, steps=90)
+    if width < 0.002:
+        raise SkillError(Failure.GRASP_MISSED, f"missed the handle of {obj.id}:{part}")
+    q0 = world.joint_position(obj, part)
+    dist = (target - q0) * (1 if art.open > art.closed else -1) * (1 if target >= q0 else -1)
+    travel = axis * (target - q0) * (1 if art.open > art.closed else -1)
+    m.ignore = {obj.body}
+    m.move_line((handle + travel, quat), check=True)
+    m.step(30)
+    m.gripper(0.08, steps=48)
+    pos, _ = m.pose()
+    retreat = pos + (back * 0.8 if front else np.array([0, 0, APPROACH]))
+    m.move_line((retreat, quat), check=False)
+    m.ignore = set()
+    del dist
+
+
+def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
+    """Grasp a knob from above and turn it (with the wrist) to joint position ``target``."""
+    handle, yaw = _handle(world, obj, art)
+    quat = top_down(yaw)
+    _lift(m, transit_height(world))
+    m.park_for(handle)
+    m.gripper(0.06)
+    m.move_line((handle + np.array([0, 0, APPROACH]), quat))
+    m.ignore_links = {(obj.body, obj.links[art.link])}
+    m.move_line((handle, quat))
+    width = m.gripper(0.0, force=60.0, steps=90)
+    if width < 0.002:
+        raise SkillError(Failure.GRASP_MISSED, f"missed the knob of {obj.id}")
+    delta = target - world.joint_position(obj, part)
+    import pybullet as p
+
+    # the symmetric top-down hand folds yaw into half a turn; turn about z from the actual hand pose
+    _, cur = m.pose()
+    turn = p.getQuaternionFromEuler((0, 0, delta))
+    goal = p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), cur)[1]
+    m.ignore = {obj.body}
+    m.move_line((handle, tuple(goal)), check=False)
+    m.step(20)
+    m.gripper(0.06, steps=48)
+    m.move_line((handle + np.array([0, 0, APPROACH]), tuple(goal)), check=False)
+    m.ignore = set()
+    m.ignore_links = set()
+
+
+def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation) -> None:
+    """Press a button with the closed fingers and let it spring back."""
+    top, _ = _handle(world, obj, art)
+    quat = top_down(0.0)
+    _lift(m, transit_height(world))
+    m.park_for(top)
+    m.gripper(0.0, steps=30)
+    m.move_line((top + np.array([0, 0, APPROACH]), quat))
+    m.ignore = {obj.body}
+    m.move_line((top - np.array([0, 0, abs(art.open - art.closed) + 0.004]), quat), check=False)
+    m.step(30)
+    m.move_line((top + np.array([0, 0, APPROACH]), quat), check=False)
+    m.ignore = set()
+    m.step(30)
+
+
+def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
+    """Open, close, turn on/off or press the part behind ``node_id``; checks the resulting joint state."""
+    role = "open" if kind in ("open", "close") else "switch"
+    found = world.articulation(node_id, role)
+    if found is None:
+        raise SkillError(Failure.UNSUPPORTED, f"{node_id} has no part to {kind.replace('_', ' ')}")
+    obj, part, art = found
+    if art.handle is None:
+        raise SkillError(Failure.UNSUPPORTED, f"{node_id}: {part} has no handle")
+    if kind in ("open", "close"):
+        goal = art.open if kind == "open" else art.closed - 0.01 * np.sign(art.open - art.closed)
+        if art.kind in ("drawer", "lid"):
+            _slide(world, m, obj, part, art, float(goal))
+        else:
+            raise SkillError(Failure.UNSUPPORTED, f"opening a {art.kind} ({node_id}) is not implemented")
+        m.step(30)
+        now = art.is_open(world.joint_position(obj, part))
+        if now != (kind == "open"):
+            raise SkillError(Failure.NOT_ACHIEVED, f"{node_id} is still {'open' if now else 'closed'}")
+        return {"joint": round(world.joint_position(obj, part), 4)}
+    want = {"turn_on": True, "turn_off": False}.get(kind)
+    if art.kind == "button":
+        before = world.is_on(obj.id)
+        if want is None or before != want:
+            _press(world, m, obj, part, art)
+        now = world.is_on(obj.id)
+        if (want is not None and now != want) or (want is None and now == before):
+            raise SkillError(Failure.NOT_ACHIEVED, f"pressing {node_id} did not switch it")
+        return {"on": now}
+    if art.kind == "knob" and want is not None:
+        _turn(world, m, obj, part, art, art.open if want else art.closed)
+        m.step(20)
+        if world.is_on(obj.id) != want:
+            raise SkillError(Failure.NOT_ACHIEVED, f"{node_id} is still {'on' if not want else 'off'}")
+        return {"on": want, "joint": round(world.joint_position(obj, part), 4)}
+    raise SkillError(Failure.UNSUPPORTED, f"cannot {kind} {node_id} ({art.kind})")
+
+
+def push(world: World, m: Motion, node_id: str, to: str) -> dict | None:
+    """Slide an object along the table into region ``to`` (or out of its region onto the table)."""
+    if node_id not in world.objects:
+        raise SkillError(Failure.UNSUPPORTED, f"{node_id} is not a movable object")
+    obj = world.objects[node_id]
+    lo, hi = world.body_aabb(obj.body)
+    centre = (lo + hi) / 2
+    if to in world.regions:
+        r = world.regions[to]
+        goal = np.array([(r.bounds[0] + r.bounds[2]) / 2, (r.bounds[1] + r.bounds[3]) / 2])
+    elif to == world.table_id:
+        # out of the current region: towards the robot, past the region's near edge
+        region = next(
+            (reg for nid, reg in world.regions.items() if support_of(world, node_id) == ("on", nid)), None
+        )
+        if region is None:
+            raise SkillError(Failure.UNSUPPORTED, f"{node_id} is not in a region to push it out of")
+        goal = np.array([region.bounds[0] - (hi[0] - lo[0]) / 2 - 0.03, centre[1]])
+    else:
+        raise SkillError(Failure.UNSUPPORTED, f"cannot push onto {to}: not a region of the table")
+    d = goal - centre[:2]
+    dist = float(np.linalg.norm(d))
+    u = d / max(dist, 1e-6)
+    radius = float(abs(u[0]) * (hi[0] - lo[0]) / 2 + abs(u[1]) * (hi[1] - lo[1]) / 2)
+    z = lo[2] + min(0.02, (hi[2] - lo[2]) * 0.5)
+    start = np.array([*(centre[:2] - u * (radius + 0.03)), z])
+    quat = top_down(math.atan2(u[1], u[0]) + math.pi / 2)  # fingers side by side across the push direction
+    _lift(m, transit_height(world))
+    m.park_for(start + np.array([*(u * dist / 2), 0.0]))
+    m.gripper(0.0, steps=30)
+    m.move_line((start + np.array([0, 0, 0.12]), quat))
+    m.move_line((start, quat))
+    m.ignore = {obj.body}
+    m.move_line((start + np.array([*(u * (dist + 0.012)), 0.0]), quat), check=False)
+    m.step(20)
+    pos, _ = m.pose()
+    m.move_line((pos - np.array([*(u * 0.03), -0.1]), quat), check=False)
+    m.ignore = set()
+    m.step(60)
+    got = support_of(world, node_id)
+    if got != ("on", to):
+        raise SkillError(Failure.NOT_ACHIEVED, f"{node_id} ended {got}, not on {to}")
+    return {"support": f"on {to}"}
