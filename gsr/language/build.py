@@ -227,6 +227,8 @@ class Interpreter:
                         d.entity = tok.value
             elif c.data == "part_of":
                 d.owner = self.target(c.children[-1])
+            elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
+                d.names.append(_tok(c.children[-1]).text)
             elif c.data == "same_color":
                 d.same_color_as = self.np(c.children[-1], lenient=True)
             elif c.data.startswith("rel_"):

@@ -301,16 +301,21 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
         words |= set(DRAWER_WORDS)
     if cat == "cabinet_top":
         positions.add("top")
+    kinds = {cat, *ancestors(cat)}
+    affs = node_affordances(node)
+    if "box" in kinds and "openable" in affs:  # GSR-Bench ``red_lid_box``: a box with a lid is a lidded box
+        kinds.add("lidded_box")
+        words |= {"lidded", "lid"}
     return Entity(
         id=node.id,
         category=cat,
-        kinds=frozenset((cat, *ancestors(cat))),
+        kinds=frozenset(kinds),
         colors=node_colors(node),
         words=frozenset(words),
         positions=frozenset(positions),
         region_words=frozenset(region_words),
         parent=node.parent,
-        affordances=node_affordances(node),
+        affordances=affs,
         is_part=node.parent is not None or is_part_category(cat),
     )
 

@@ -222,8 +222,15 @@ class Resolver:
             found = named if named or len(found) < 2 else self._extreme(found, canon)
         for w in d.names:
             found = [e for e in found if w in e.words or w in e.region_words]
+        lid = category == "door" and not found  # no door nodes: a lid/door is its owner's open state
+        if lid:
+            found = [e for e in self.entities.values() if "openable" in e.affordances and "lid" in e.words]
         if d.owner is not None:
-            found = self._owned(found, d.owner)
+            owners = d.owner.ids if isinstance(d.owner, Ref) else d.owner.owner
+            if lid:  # "the lid of the box", "the door of the microwave"
+                found = [self.entities[o] for o in owners if "openable" in self.entities[o].affordances]
+            else:
+                found = self._owned(found, d.owner)
         if d.same_color_as is not None:
             ref_colors = {self._primary(i) for i in d.same_color_as.ids} - {None}
             found = [

@@ -154,3 +154,44 @@ def test_left_and_right_from_relation_edges() -> None:
     assert " ".join(write_formula(ground("put the mug on the right plate", g).formula).split()) == (
         "(and (on mug_1 plate_c))"
     )
+
+
+def _lidded_scene():
+    from gsr.gsr_bench_format import graph_from_gsr_bench
+
+    g = graph_from_gsr_bench(
+        {
+            "nodes": ["table", "red_lid_box(closed)", "blue_box", "red_cube1", "red_cube2", "blue_cube1"],
+            "edges": [
+                "red_lid_box(on)table",
+                "blue_box(on)table",
+                "red_cube1(on)table",
+                "red_cube2(on)table",
+                "blue_cube1(on)table",
+            ],
+        }
+    )
+    lidded = g.node("red_lid_box").model_copy(update={"attributes": {"color": "red", "lid": True}})
+    return g.with_nodes([lidded])
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        (
+            "put all red cubes into the lidded box and close it",
+            "(and (forall (?x - cube) (imply (has_color ?x red) (in ?x red_lid_box))) (not (open red_lid_box)))",
+        ),
+        ("put the blue cube in the box with a lid", "(and (in blue_cube1 red_lid_box))"),
+        (
+            "put the red cubes in the red box and close the lid",
+            "(and (in red_cube1 red_lid_box) (in red_cube2 red_lid_box) (not (open red_lid_box)))",
+        ),
+        ("open the lid of the red box", "(and (open red_lid_box))"),
+    ],
+)
+def test_lidded_boxes(text: str, expected: str) -> None:
+    g = _lidded_scene()
+    goal = ground(text, g)
+    assert " ".join(write_formula(goal.formula).split()) == expected
+    assert plan_graph(None, g, goal, timeout=60).solved
