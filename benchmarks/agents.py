@@ -178,30 +178,36 @@ def _backend(spec: Any) -> Any:
 
 
 class RandomAgent:
-    """The floor: a uniformly random applicable step each time; done as soon as the goal holds."""
+    """The floor: uniformly random applicable steps, blind to the goal; says done with ``stop`` chance per step.
+
+    The expected episode length is ``1 / stop`` steps (20 by default); success only happens when the
+    random walk ends in a goal state.
+    """
 
     name = "random"
 
-    def __init__(self) -> None:
+    def __init__(self, stop: float = 0.05) -> None:
+        if not 0.0 < float(stop) <= 1.0:
+            raise GSRError(f"random agent: stop must be in (0, 1], got {stop}")
+        self.stop = float(stop)
         self.rng = random.Random(0)
         self.task: Any = None
         self.state = 0
 
     def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
-        """Ground the task (for applicability) and seed the choice."""
+        """Ground the scene's actions (the goal is not used) and seed the choices."""
         from gsr.facts import problem_from_graph
+        from gsr.pddl.model import TRUE
         from gsr.plan.ground import ground_task
 
         self.rng = random.Random(seed)
-        self.task = ground_task(domain, problem_from_graph(task.initial, any_goal(task), domain=domain))
+        self.task = ground_task(domain, problem_from_graph(task.initial, TRUE, domain=domain))
         self.state = self.task.init
 
     def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
-        """A random applicable ground action (None once the goal holds or nothing applies)."""
-        if self.task.is_goal(self.state):
-            return None
+        """A random applicable ground action, or None (done) with probability ``stop``."""
         ops = self.task.applicable(self.state)
-        if not ops:
+        if not ops or self.rng.random() < self.stop:
             return None
         op = self.rng.choice(ops)
         self.state = self.task.apply(self.state, op)
