@@ -18,14 +18,14 @@ def hand_scene() -> tuple[Scene, dict[str, np.ndarray]]:
     a = b.box_object("cube", "red", np.full(3, 0.025), np.array([0.5, 0.2]), 0.0, 0.3, ("on", "table"))
     b.box_object("block", "blue", np.full(3, 0.02), np.array([0.5, 0.2]), 0.05, 0.0, ("on", a.node))
     b.box_object("cube", "green", np.full(3, 0.02), np.array([0.5, 0.27]), 0.0, 0.0, ("on", "table"))
-    box = b.open_box("purple", np.array([0.58, -0.25]), 0.4)
+    box = b.open_box("purple", np.array([0.56, -0.1]), 0.4)
     b.box_object("cube", "orange", np.full(3, 0.02), box.center[:2], box.floor, 0.4, ("in", box.node))
     plate = b.box_object(
         "plate", "yellow", np.array([0.09, 0.09, 0.008]), np.array([0.4, 0.0]), 0.0, 0.0, ("on", "table")
     )
     b.box_object("cube", "cyan", np.full(3, 0.02), np.array([0.4, 0.0]), 0.016, 0.2, ("on", plate.node))
     b.cabinet(np.array([0.95, 0.3]), 0.15, 2, [0.12, 0.0])
-    b.microwave(np.array([0.95, -0.3]), -0.1, 0.8)
+    b.microwave(np.array([0.97, -0.5]), -0.1, 1.1)
     import pybullet as pb
 
     cab = next(
