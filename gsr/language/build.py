@@ -108,6 +108,12 @@ class Interpreter:
         for ref in objs:
             self._check_affordance(verb, ref)
         self.intents.append(Intent(verb, objs, dest))
+        for gap in (c for c in trees if c.data == "gapped"):  # the verb is elided: same verb, new objects
+            parts = [c for c in gap.children if isinstance(c, Tree) and c.data != "comma"]
+            gap_objs = self.objects(parts[0], need)
+            for ref in gap_objs:
+                self._check_affordance(verb, ref)
+            self.intents.append(Intent(verb, gap_objs, self.dest(parts[1], gap_objs)))
 
     def _check_affordance(self, verb: str, ref: Ref) -> None:
         need = {
@@ -164,7 +170,15 @@ class Interpreter:
             d.relations.append(Relation("from", (self.target(source.children[-1]),)))
         if lenient:
             return self.lenient(d)
-        ref = self.resolver.resolve(d)
+        try:
+            ref = self.resolver.resolve(d)
+        except GroundingError as exc:
+            # "put the cheese in the top drawer and shut the drawer": a definite phrase that fits several
+            # objects refers to the one of them already mentioned, if exactly one was (anaphora)
+            mentioned = [c for c in exc.candidates if any(m.ids == (c,) for m in self.mentions)]
+            if "ambiguous" not in exc.message or len(mentioned) != 1:
+                raise
+            ref = Ref((mentioned[0],), d.text)
         self.mentions.append(ref)
         return ref
 
@@ -331,6 +345,19 @@ class Interpreter:
             raise GroundingError(
                 "'inside' does not refer to a container mentioned before it", phrase="inside"
             )
+        if kind == "dest_near":
+            owner = self.target(kids[-1])
+            ids = owner.ids if isinstance(owner, Ref) else owner.owner
+            found = self.resolver.regions(ids, "next")
+            text = " ".join(x.text for x in _tokens(kids[-1]))
+            if len(found) != 1:
+                raise GroundingError(
+                    f"the scene graph has {'no' if not found else 'more than one'} region next to {text!r}; the "
+                    "tabletop domain has no 'next to' predicate, so such a goal needs a region part to put things on",
+                    candidates=tuple(found),
+                    phrase=text,
+                )
+            return Dest("at", "on", found[0])
         if kind == "dest_side":
             word, owner = self._side(kids[0])
             ids = owner.ids if isinstance(owner, Ref) else owner.owner

@@ -224,7 +224,7 @@ class Resolver:
             found = [e for e in found if w in e.words or w in e.region_words]
         lid = category == "door" and not found  # no door nodes: a lid/door is its owner's open state
         if lid:
-            found = [e for e in self.entities.values() if "openable" in e.affordances and "lid" in e.words]
+            found = [e for e in self.entities.values() if "openable" in e.affordances and not e.is_part]
         if d.owner is not None:
             owners = d.owner.ids if isinstance(d.owner, Ref) else d.owner.owner
             if lid:  # "the lid of the box", "the door of the microwave"

@@ -125,6 +125,21 @@ def test_libero_scene8_is_the_goal_without_the_unstated_stove(libero_files: list
         ),
         ("turn_on_the_stove", "turn the stove on", "(and (turned_on flat_stove_1))"),
         (
+            "put_the_bowl_on_the_plate",
+            "put the bowl on the plate and the cream cheese on the stove",
+            "(and (on akita_black_bowl_1 plate_1) (on cream_cheese_1 flat_stove_1))",
+        ),
+        (
+            "put_the_bowl_on_the_plate",
+            "move the cream cheese into the top drawer and shut the drawer",
+            "(and (in cream_cheese_1 wooden_cabinet_1/top_drawer) (not (open wooden_cabinet_1/top_drawer)))",
+        ),
+        (
+            "put_the_bowl_on_the_plate",
+            "open the top drawer, put the bowl in it and close it",
+            "(and (in akita_black_bowl_1 wooden_cabinet_1/top_drawer) (not (open wooden_cabinet_1/top_drawer)))",
+        ),
+        (
             "pick_up_the_black_bowl_on_the_ramekin",
             "pick up the black bowl that is on the cookie box and put it on the stove",
             "(and (on akita_black_bowl_2 flat_stove_1))",
