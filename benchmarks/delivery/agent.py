@@ -13,10 +13,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from benchmarks.delivery.belief import Belief
 from benchmarks.delivery.parser import InstructionParser
 from benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from benchmarks.delivery.world import DeliveryWorld, Observation
 from gsr.building.catalog import OBJECTS
+from gsr.building.graph import building_graph
 from gsr.building.model import Building, Person, Place
 from gsr.building.navigation import BuildingMap
 from gsr.errors import GSRError
@@ -68,19 +70,13 @@ class BaselineAgent:
         searches for people without their published routines (home room and nearest rooms only)."""
         self.building, self.bmap, self.parser = building, bmap, parser
         self.use_routines = use_routines
-        self.rec_place: dict[str, Place] = {
-            r.id: (building.room(r.room).floor, *r.access) for r in building.receptacles
-        }
-        self.rec_room = {r.id: r.room for r in building.receptacles}
-        self.rec_cat = {r.id: r.category for r in building.receptacles}
-        self.room_kind = {r.id: r.kind for r in building.rooms}
+        self.map_graph = building_graph(building, items=False, room_of_place=bmap.room_at)
+        self.belief = Belief(self.map_graph, building.cell_size)
         self.lookout: dict[str, Place] = {}
-        for room in building.rooms:
-            r0, c0, r1, c1 = room.rect
-            cr, cc = (r0 + r1 - 1) / 2, (c0 + c1 - 1) / 2
-            cells = bmap.free_cells(room.id)
-            r, c = min(cells, key=lambda rc: (rc[0] - cr) ** 2 + (rc[1] - cc) ** 2)
-            self.lookout[room.id] = (room.floor, r, c)
+        for room, (floor, cr, cc) in Belief(self.map_graph, building.cell_size).room_center.items():
+            cells = bmap.free_cells(room)
+            r, c = min(cells, key=lambda rc: ((rc[0] - cr) ** 2 + (rc[1] - cc) ** 2, rc))
+            self.lookout[room] = (floor, r, c)
 
     # ------------------------------------------------------------ episode
 
@@ -97,7 +93,7 @@ class BaselineAgent:
             trace.notes.append("no person matches the description")
             return trace
         trace.person = people[0]
-        self.sightings: dict[str, tuple[float, Place]] = {}
+        self.belief = Belief(self.map_graph, self.building.cell_size)  # fresh knowledge per episode
         item = self._fetch(world, trace.parsed.object, trace)
         if item is None:
             return trace
@@ -105,50 +101,37 @@ class BaselineAgent:
         self._deliver(world, trace.person, trace.parsed.person, trace)
         return trace
 
-    def _observe(self, world: DeliveryWorld, seen: dict[str, tuple[str, str, str]]) -> Observation:
+    def _observe(self, world: DeliveryWorld) -> Observation:
         obs = world.look()
-        seen.update(obs.items)
-        for pid, place in obs.people.items():
-            self.sightings[pid] = (obs.time, place)
+        self.belief.observe(obs)
         return obs
 
-    # ------------------------------------------------------------ object
-
-    def _matches(self, obs: tuple[str, str, str], ref: ObjectRef) -> bool:
-        category, color, rec = obs
-        return (
-            category == ref.category
-            and (ref.color is None or color == ref.color)
-            and (ref.receptacle is None or self.rec_cat[rec] == ref.receptacle)
-            and (ref.room is None or self.rec_room[rec] == ref.room)
-        )
-
     def _candidates(self, ref: ObjectRef, widen: bool) -> list[str]:
-        recs = self.building.receptacles
+        recs = self.belief.receptacles.values()
         if widen:
             return [r.id for r in recs]
         hinted = [
-            r.id
+            r
             for r in recs
             if (ref.room is None or r.room == ref.room)
             and (ref.receptacle is None or r.category == ref.receptacle)
         ]
         if ref.room or ref.receptacle:
-            return hinted
+            return [r.id for r in hinted]
         kinds = set(OBJECTS[ref.category].rooms) if ref.category in OBJECTS else set()
-        return [r for r in hinted if self.room_kind[self.rec_room[r]] in kinds] or hinted
+        kind = self.belief.room_kind
+        return [r.id for r in hinted if kind[r.room] in kinds] or [r.id for r in hinted]
 
     def _fetch(self, world: DeliveryWorld, ref: ObjectRef, trace: AgentTrace) -> str | None:
-        seen: dict[str, tuple[str, str, str]] = {}
+        recs = self.belief.receptacles
         checked: set[str] = set()
         looked_rooms: set[str] = set()
         widen = False
         while not world.done:
-            found = [i for i, o in seen.items() if self._matches(o, ref)]
+            found = self.belief.items_matching(ref)
             if found:
-                iid = found[0]
-                rec = seen[iid][2]
-                if not world.navigate(self.rec_place[rec]):
+                iid, rec = found[0]
+                if not world.navigate(recs[rec].place):
                     return None
                 for _ in range(PICK_TRIES):
                     if world.pick(iid):
@@ -156,7 +139,7 @@ class BaselineAgent:
                     if world.done:
                         return None
                 trace.notes.append(f"could not grasp {iid}")
-                del seen[iid]
+                self.belief.forget(iid)
                 continue
             todo = [r for r in self._candidates(ref, widen) if r not in checked]
             if not todo:
@@ -167,23 +150,20 @@ class BaselineAgent:
                 trace.notes.append("hinted places exhausted; searching everywhere")
                 continue
             # nearest unchecked receptacle first
-            rec = min(todo, key=lambda r: (world.travel_seconds(self.rec_place[r]), r))
-            if math.isinf(world.travel_seconds(self.rec_place[rec])) or not world.navigate(
-                self.rec_place[rec]
-            ):
+            rec = min(todo, key=lambda r: (world.travel_seconds(recs[r].place), r))
+            if math.isinf(world.travel_seconds(recs[rec].place)) or not world.navigate(recs[rec].place):
                 checked.add(rec)
                 if world.done:
                     return None
                 continue
-            receptacle = self.building.receptacle(rec)
-            if receptacle.closed and not world.open(rec):
+            if recs[rec].closed and not world.open(rec):
                 return None
-            room = self.rec_room[rec]
-            if room not in looked_rooms or receptacle.closed:
-                self._observe(world, seen)
+            room = recs[rec].room
+            if room not in looked_rooms or recs[rec].closed:
+                self._observe(world)
                 looked_rooms.add(room)
             # one look covers every open receptacle of the room
-            checked.update(r.id for r in self.building.receptacles if r.room == room and not r.closed)
+            checked.update(r.id for r in recs.values() if r.room == room and not r.closed)
             checked.add(rec)
         return None
 
@@ -192,7 +172,7 @@ class BaselineAgent:
     def _room_order(self, world: DeliveryWorld, pid: str, ref: PersonRef, visited: set[str]) -> list[str]:
         person = self.building.person(pid)
         order: list[str] = []
-        sighting = self.sightings.get(pid)
+        sighting = self.belief.sighting(pid)
         if sighting and world.time - sighting[0] <= SIGHTING_FRESH:
             room = self.bmap.room_at(sighting[1])
             if room:
@@ -221,7 +201,7 @@ class BaselineAgent:
     def _deliver(self, world: DeliveryWorld, pid: str, ref: PersonRef, trace: AgentTrace) -> None:
         visited: set[str] = set()
         while not world.done:
-            sighting = self.sightings.get(pid)
+            sighting = self.belief.sighting(pid)
             if sighting and world.time - sighting[0] <= 1.0:
                 # just seen: approach and hand over, re-looking if they moved meanwhile
                 for _ in range(APPROACH_TRIES):
@@ -230,12 +210,12 @@ class BaselineAgent:
                         break
                     if world.handover(pid) or world.done:
                         return
-                    obs = self._observe(world, {})
+                    obs = self._observe(world)
                     if pid not in obs.people:
                         break
-                    sighting = self.sightings[pid]
+                    sighting = self.belief.sighting(pid)
                 visited.discard(self.bmap.room_at(sighting[1]) or "")
-                self.sightings.pop(pid, None)
+                self.belief.forget(pid)
             order = self._room_order(world, pid, ref, visited)
             if not order:
                 visited.clear()  # searched everywhere: start another round
@@ -248,7 +228,7 @@ class BaselineAgent:
                 if world.done:
                     return
                 continue
-            self._observe(world, {})
+            self._observe(world)
 
     def _beside(self, world: DeliveryWorld, place: Place) -> Place | None:
         """A free cell next to a person (they stand on a free cell themselves), nearest the robot."""

@@ -38,3 +38,26 @@ def test_map_only_graph_has_no_objects(shipped: Building) -> None:
     ids = {n.id for n in g.nodes}
     assert not ids & {it.id for it in shipped.items}
     assert {rec.id for rec in shipped.receptacles} <= ids
+
+
+def test_geometry_round_trips_to_grid_places(shipped: Building) -> None:
+    from gsr.building.graph import place_of_point, point_of_place
+
+    g = building_graph(shipped, items=False)
+    nodes = g.node_map()
+    for rec in shipped.receptacles:
+        floor = shipped.room(rec.room).floor
+        (kp,) = nodes[rec.id].keypoints
+        assert kp.name == "access"
+        assert place_of_point(kp.position, shipped.cell_size) == (floor, *rec.access)
+        box = nodes[rec.id].bbox
+        assert box.min.x == rec.rect[1] * shipped.cell_size and box.max.y == rec.rect[2] * shipped.cell_size
+    for room in shipped.rooms:
+        box = nodes[room.id].bbox
+        r0, c0, r1, c1 = room.rect
+        assert place_of_point(box.min, shipped.cell_size) == (room.floor, r0, c0)
+        assert (box.max.x - box.min.x, box.max.y - box.min.y) == (
+            (c1 - c0) * shipped.cell_size,
+            (r1 - r0) * shipped.cell_size,
+        )
+    assert place_of_point(point_of_place((2, 7, 9), 0.5), 0.5) == (2, 7, 9)
