@@ -79,6 +79,21 @@ def test_libero_scene8_is_the_goal_without_the_unstated_stove(libero_files: list
             "(and (forall (?x - moka_pot) (on ?x flat_stove_1)))",
         ),
         (
+            "KITCHEN_SCENE6_put_the_yellow",
+            "put both mugs inside the microwave and close the door",
+            "(and (in porcelain_mug_1 microwave_1) (in white_yellow_mug_1 microwave_1) (not (open microwave_1)))",
+        ),
+        (
+            "LIVING_ROOM_SCENE6_put_the_white_mug",
+            "put the porcelain mug on the right of the plate",
+            "(and (on porcelain_mug_1 living_room_table/plate_right_region))",
+        ),
+        (
+            "LIVING_ROOM_SCENE6_put_the_white_mug",
+            "pick up the pudding and put it on the plate",
+            "(and (on chocolate_pudding_1 plate_1))",
+        ),
+        (
             "LIVING_ROOM_SCENE5_put_the_white_mug",
             "put the yellow and white mug on the right plate",
             "(and (on white_yellow_mug_1 plate_2))",
