@@ -346,6 +346,19 @@ def delivery_schedule(
     raise typer.Exit(schedule_command(person, seed, building))
 
 
+@delivery_app.command("map")
+def delivery_map(
+    floor: Annotated[int, typer.Option(help="Floor level (0 = ground).")] = 0,
+    at: Annotated[str, typer.Option("--time", help="Time of day, HH:MM.")] = "12:00",
+    seed: Annotated[int, typer.Option(help="World seed of the day.")] = 0,
+    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
+) -> None:
+    """Print a floor's occupancy grid with the people on it at a time of day."""
+    from benchmarks.delivery.cli import map_command
+
+    raise typer.Exit(map_command(floor, at, seed, building))
+
+
 bench_app = typer.Typer(
     help="Benchmark suites: list them, run an agent on one (reports), export tasks.", no_args_is_help=True
 )
@@ -453,6 +466,30 @@ def ground_cmd(
     from gsr.language.cli import ground_command
 
     raise typer.Exit(ground_command(scene, instruction, as_json))
+
+
+@app.command("train")
+def train_cmd(
+    data: Annotated[Path, typer.Option(help="A dataset folder written by gsr datagen.")],
+    model: Annotated[str, typer.Option(help="'tiny' (train a small Llama from scratch) or a local checkpoint folder.")],
+    out: Annotated[Path, typer.Option(help="Output folder (loads with --backend transformers:OUT).")],
+    lora: Annotated[bool, typer.Option(help="Train LoRA adapters (peft) and merge them.")] = False,
+    max_steps: Annotated[int, typer.Option(help="Optimizer steps.")] = 300,
+    batch_size: Annotated[int, typer.Option(help="Examples per step.")] = 8,
+    lr: Annotated[float | None, typer.Option(help="Learning rate (default by mode).")] = None,
+    train_rows: Annotated[int, typer.Option(help="Training rows read from the train split.")] = 20000,
+    eval_rows: Annotated[int, typer.Option(help="Validation rows for the reported loss.")] = 200,
+    types: Annotated[str, typer.Option(help="Comma-separated sample types to train on.")] = (
+        "next_action,goal_interpretation,forward_prediction"
+    ),
+    seed: Annotated[int, typer.Option(help="Random seed.")] = 0,
+) -> None:
+    """Supervised fine-tuning on the reasoner's prompt/step format (see docs/training.md)."""
+    from gsr.train.cli import train_command
+
+    raise typer.Exit(
+        train_command(data, model, out, lora, max_steps, batch_size, lr, train_rows, eval_rows, types, seed)
+    )
 
 
 def main() -> None:

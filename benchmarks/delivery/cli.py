@@ -149,3 +149,40 @@ def schedule_command(person: str, seed: int, building_path: Path | None) -> int:
     for s in clock.schedule(p.id):
         print(f"  {hhmm(s.start)}-{hhmm(s.end)}  {building.room(s.room).name:<18} {s.activity}")
     return 0
+
+
+def parse_clock(text: str) -> int:
+    """``HH:MM`` (or plain seconds) to seconds since midnight; ValueError with the accepted forms."""
+    if text.isdigit():
+        return int(text)
+    hh, sep, mm = text.partition(":")
+    if not sep or not (hh.isdigit() and mm.isdigit()) or int(hh) > 23 or int(mm) > 59:
+        raise ValueError(f"bad time {text!r}: expected HH:MM (e.g. 12:30) or seconds since midnight")
+    return int(hh) * 3600 + int(mm) * 60
+
+
+def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> int:
+    """Print a floor's grid with everyone on it at a time of day (first letter of their name)."""
+    from gsr.building.navigation import BuildingMap
+    from gsr.building.people import PeopleClock
+
+    try:
+        t = parse_clock(at)
+        building = _building(building_path)
+        grid = [list(row) for row in building.floor(floor).grid]
+    except (GSRError, KeyError, ValueError) as exc:
+        return _err(str(exc).strip("'\""))
+    clock = PeopleClock(building, seed, BuildingMap(building))
+    legend = []
+    for p in building.people:
+        where = clock.location(p.id, t)
+        if where is None or where[0] != floor:
+            continue
+        grid[where[1]][where[2]] = p.name[0]
+        room = clock.bmap.room_at(where)
+        place = building.room(room).name if room else "a doorway"
+        legend.append(f"{p.name[0]} = {p.name} ({p.role}) in {place}")
+    print(f"{building.floor(floor).name} at {t // 3600:02d}:{t % 3600 // 60:02d}, world seed {seed}")
+    print("\n".join("".join(row) for row in grid))
+    print("\n".join(legend) if legend else "nobody on this floor")
+    return 0

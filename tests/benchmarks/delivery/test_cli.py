@@ -55,3 +55,14 @@ def test_errors() -> None:
     assert res.exit_code == 1 and "no person" in res.output
     res = runner.invoke(app, ["delivery", "schedule", "Imani", "--seed", "4"])
     assert res.exit_code == 0 and "routine:" in res.output and "actual day" in res.output
+
+
+def test_map() -> None:
+    res = runner.invoke(app, ["delivery", "map", "--floor", "0", "--time", "12:20", "--seed", "3"])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert lines[0] == "ground floor at 12:20, world seed 3"
+    assert len(lines[1]) == 76 and lines[1] == "#" * 76
+    assert any(" = " in line and "(" in line for line in lines[31:])
+    res = runner.invoke(app, ["delivery", "map", "--time", "7pm"])
+    assert res.exit_code == 1 and "expected HH:MM" in res.output
