@@ -397,7 +397,7 @@ class Interpreter:
         aff = self.entities[target].affordances
         order = {
             "in": ("container", "supporter"),
-            "on": ("supporter", "container"),
+            "on": ("supporter", "stackable", "container"),  # blocks and cups stack on each other
             "to": ("container", "supporter"),
         }[prep]
         for a in order:

@@ -195,3 +195,27 @@ def test_lidded_boxes(text: str, expected: str) -> None:
     goal = ground(text, g)
     assert " ".join(write_formula(goal.formula).split()) == expected
     assert plan_graph(None, g, goal, timeout=60).solved
+
+
+def test_stacking_blocks_and_one_anaphora() -> None:
+    from gsr.scene_graph import Edge, Node, SceneGraph
+
+    blocks = ("red_block", "blue_block", "green_block")
+    g = SceneGraph(
+        nodes=(
+            Node(id="table", category="table"),
+            *(Node(id=b, category="block", attributes={"color": b.split("_")[0]}) for b in blocks),
+        ),
+        edges=tuple(Edge(source=b, relation="on", target="table") for b in blocks),
+    )
+    cases = {
+        "stack the red block on the blue block": "(and (on red_block blue_block))",
+        "put the red block on the blue block and the green block on the red block": (
+            "(and (on red_block blue_block) (on green_block red_block))"
+        ),
+        "put the red block on the green one": "(and (on red_block green_block))",
+    }
+    for text, expected in cases.items():
+        goal = ground(text, g)
+        assert " ".join(write_formula(goal.formula).split()) == expected
+        assert plan_graph(None, g, goal, timeout=60).solved, text
