@@ -23,16 +23,13 @@ from skills.world import SimObject, World
 
 def _axis_world(world: World, obj: SimObject, art: Articulation) -> np.ndarray:
     """The joint axis of a prismatic part in world coordinates (unit, pointing towards 'open')."""
-    import pybullet as p
+    part = next(k for k, v in obj.model.articulations.items() if v is art)
+    return world.joint_axis(obj, part)
 
-    link = obj.links[art.link]
-    info = p.getJointInfo(obj.body, link, physicsClientId=world.client)
-    axis_local = np.array(info[13])
-    parent = info[16]
-    _, orn = world.link_pose(obj.body, parent)
-    rot = np.array(p.getMatrixFromQuaternion(orn)).reshape(3, 3)
-    a = rot @ axis_local
-    return a / np.linalg.norm(a) * (1 if art.open > art.closed else -1)
+
+def _node_of(world: World, obj: SimObject, part: str) -> str:
+    """The graph node id of an object's part (the object itself when no part node names it)."""
+    return next((nid for nid, (oid, pt) in world.parts.items() if oid == obj.id and pt == part), obj.id)
 
 
 def _handle(world: World, obj: SimObject, art: Articulation) -> tuple[np.ndarray, float]:
@@ -42,44 +39,86 @@ def _handle(world: World, obj: SimObject, art: Articulation) -> tuple[np.ndarray
 
 
 def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
-    """Grasp a prismatic part's handle and move it along its axis to joint position ``target``."""
+    """Move a prismatic part along its axis to joint position ``target``.
+
+    Opening grasps the handle and pulls; closing pushes the handle with closed fingers (grasping it
+    could catch whatever now sits in the open drawer).
+    """
     axis = _axis_world(world, obj, art)
     handle, yaw = _handle(world, obj, art)
     assert art.handle is not None
     front = art.handle.approach == "front"
-    quat = angled(math.atan2(-axis[1], -axis[0])) if front else top_down(yaw)
-    back = -approach_axis(quat) * 0.1 if front else np.array([0, 0, APPROACH])
-    _lift(m, transit_height(world))
-    m.park_for(handle)
-    m.gripper(art.handle.width + 0.04)
-    m.ignore = set()
-    m.move_line((handle + back, quat))
-    m.ignore_links = {(obj.body, obj.links[art.link])}
-    m.move_line((handle, quat))
-    m.ignore_links = set()
-    width = m.gripper(0.0, force=60.0, steps=90)
-    if width < 0.002:
-        raise SkillError(Failure.GRASP_MISSED, f"missed the handle of {obj.id}:{part}")
     q0 = world.joint_position(obj, part)
-    dist = (target - q0) * (1 if art.open > art.closed else -1) * (1 if target >= q0 else -1)
-    travel = axis * (target - q0) * (1 if art.open > art.closed else -1)
-    m.ignore = {obj.body}
-    m.move_line((handle + travel, quat), check=True)
+    sign = 1 if art.open > art.closed else -1
+    travel = axis * (target - q0) * sign
+    pushing = float(np.dot(travel, axis)) < 0 and front
+    # front handles are vertical bars: tilt the hand towards the part, fingers closing sideways
+    quat = angled(math.atan2(-axis[1], -axis[0]), fingers_vertical=False) if front else top_down(yaw)
+    back = -approach_axis(quat) * 0.1 if front else np.array([0, 0, APPROACH])
+    contact = handle + axis * (0.02 if pushing else 0.0)  # pushing: the fingertips meet the bar's front
+    _lift(m, transit_height(world))
+    # the arm works best in the middle of the stroke; a tilted hand keeps its wrist 6 cm further back
+    overshoot = axis * 0.01 * (-1 if pushing else 1)
+    m.park_for(
+        contact + travel / 2,
+        standoff=0.58 if front else 0.5,
+        poses=[(contact + back, quat), (contact, quat), (contact + travel + overshoot, quat)],
+    )
+    if pushing:
+        m.gripper(0.0, steps=30)
+    else:
+        m.gripper(art.handle.width + 0.04)
+    m.ignore = set()
+    m.move_line((contact + back, quat))
+    m.ignore_links = {(obj.body, obj.links[art.link])}
+    m.move_line((contact, quat))
+    m.ignore_links = set()
+    if not pushing:
+        width = m.gripper(0.0, force=60.0, steps=90)
+        if width < 0.002:
+            raise SkillError(Failure.GRASP_MISSED, f"missed the handle of {obj.id}:{part}")
+    # what rides in the part moves with it: not an obstacle for the stroke
+    riders = {
+        o.body
+        for o in world.objects.values()
+        if (support_of(world, o.id) or ("", ""))[1] == _node_of(world, obj, part)
+    }
+    m.ignore = {obj.body} | riders
+    m.move_line((contact + travel + overshoot, quat), check=True)
     m.step(30)
-    m.gripper(0.08, steps=48)
+    if not pushing:
+        m.gripper(0.08, steps=48)
     pos, _ = m.pose()
-    retreat = pos + (back * 0.8 if front else np.array([0, 0, APPROACH]))
+    retreat = pos + (back * 0.4 + np.array([0, 0, 0.05]) if front else np.array([0, 0, APPROACH]))
     m.move_line((retreat, quat), check=False)
     m.ignore = set()
-    del dist
 
 
 def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
     """Grasp a knob from above and turn it (with the wrist) to joint position ``target``."""
+    import pybullet as p
+
     handle, yaw = _handle(world, obj, art)
-    quat = top_down(yaw)
+    delta = target - world.joint_position(obj, part)
     _lift(m, transit_height(world))
-    m.park_for(handle)
+    m.park_for(handle, poses=[(handle, top_down(yaw))])
+    # the hand is symmetric: of the grasp yaws a and a + pi, take one whose turned pose the wrist reaches
+    quat = goal = None
+    for k in (0, -1, 1):
+        a = yaw - math.pi / 2 + k * math.pi
+        q_start = p.getQuaternionFromEuler((math.pi, 0, a))
+        q_end = p.getQuaternionFromEuler((math.pi, 0, a + delta))
+        try:
+            m.solve(handle, q_start)
+            m.solve(handle, q_end)
+        except SkillError:
+            continue
+        quat, goal = q_start, q_end
+        break
+    if quat is None or goal is None:
+        raise SkillError(
+            Failure.UNREACHABLE, f"the wrist cannot turn the knob of {obj.id} by {delta:.2f} rad"
+        )
     m.gripper(0.06)
     m.move_line((handle + np.array([0, 0, APPROACH]), quat))
     m.ignore_links = {(obj.body, obj.links[art.link])}
@@ -87,18 +126,11 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
     width = m.gripper(0.0, force=60.0, steps=90)
     if width < 0.002:
         raise SkillError(Failure.GRASP_MISSED, f"missed the knob of {obj.id}")
-    delta = target - world.joint_position(obj, part)
-    import pybullet as p
-
-    # the symmetric top-down hand folds yaw into half a turn; turn about z from the actual hand pose
-    _, cur = m.pose()
-    turn = p.getQuaternionFromEuler((0, 0, delta))
-    goal = p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), cur)[1]
     m.ignore = {obj.body}
-    m.move_line((handle, tuple(goal)), check=False)
+    m.move_line((handle, goal), check=False)
     m.step(20)
     m.gripper(0.06, steps=48)
-    m.move_line((handle + np.array([0, 0, APPROACH]), tuple(goal)), check=False)
+    m.move_line((handle + np.array([0, 0, APPROACH]), goal), check=False)
     m.ignore = set()
     m.ignore_links = set()
 
@@ -108,7 +140,7 @@ def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     top, _ = _handle(world, obj, art)
     quat = top_down(0.0)
     _lift(m, transit_height(world))
-    m.park_for(top)
+    m.park_for(top, poses=[(top, quat), (top - np.array([0, 0, abs(art.open - art.closed) + 0.004]), quat)])
     m.gripper(0.0, steps=30)
     m.move_line((top + np.array([0, 0, APPROACH]), quat))
     m.ignore = {obj.body}
@@ -185,7 +217,8 @@ def push(world: World, m: Motion, node_id: str, to: str) -> dict | None:
     start = np.array([*(centre[:2] - u * (radius + 0.03)), z])
     quat = top_down(math.atan2(u[1], u[0]) + math.pi / 2)  # fingers side by side across the push direction
     _lift(m, transit_height(world))
-    m.park_for(start + np.array([*(u * dist / 2), 0.0]))
+    end = start + np.array([*(u * (dist + 0.012)), 0.0])
+    m.park_for((start + end) / 2, poses=[(start, quat), (end, quat), (start + np.array([0, 0, 0.12]), quat)])
     m.gripper(0.0, steps=30)
     m.move_line((start + np.array([0, 0, 0.12]), quat))
     m.move_line((start, quat))

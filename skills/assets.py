@@ -229,11 +229,14 @@ def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
         shapes = [*_open_box(dx - T, dy, dz * 0.8, rgba)]
         # the front panel and a pull bar standing 2.5 cm off it
         shapes.append(box((-dx / 2, 0, dz / 2), (T, sy - 0.006, dz), front))
-        # the bar stands 4.5 cm off the front so a tilted hand's rear finger clears the panel; bars are
-        # staggered sideways (bottom -y, top +y) so the hand reaching a low one passes beside the others
-        hy = (k - 1) * 0.1
-        shapes.append(box((-dx / 2 - 0.045, hy, dz / 2), (0.012, 0.06, 0.012), METAL))
-        shapes += [box((-dx / 2 - 0.024, hy + s * 0.024, dz / 2), (0.04, 0.01, 0.01), METAL) for s in (-1, 1)]
+        # a vertical bar 4.5 cm off the front: a tilted hand closing sideways round it stays clear of the
+        # panel and of the drawers above (its long axis runs along y, not up the cabinet)
+        hy, bar = 0.0, dz * 0.6
+        shapes.append(box((-dx / 2 - 0.045, hy, dz / 2), (0.012, 0.012, bar), METAL))
+        shapes += [
+            box((-dx / 2 - 0.024, hy, dz / 2 + s * (bar / 2 - 0.005)), (0.04, 0.01, 0.01), METAL)
+            for s in (-1, 1)
+        ]
         z = plinth + k * h + 0.006
         links.append(
             Link(

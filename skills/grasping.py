@@ -78,13 +78,14 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     sites.sort(key=lambda s: float(_site_pose(world, obj, s)[0][0]))
     z_transit = transit_height(world)
     _lift(m, z_transit)
-    m.park_for(world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5)
+    centre = world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5
     m.ignore = {obj.body}
     errors = []
     for site in sites[:6]:
         pos, yaw = _site_pose(world, obj, site)
         quat = top_down(yaw)
         try:
+            m.park_for(centre, poses=[(pos, quat), (np.array([pos[0], pos[1], z_transit]), quat)])
             grasp_q = m.solve(pos, quat)
             if m.collision(grasp_q, margin=0.0) is not None:
                 m.ignore = set()
@@ -123,8 +124,8 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
     if relation == "in":
         for node_id, lo, hi, _ in interior_boxes(world):
             if node_id == target:
-                floor = lo[2] if node_id in world.parts else lo[2] + 0.25 * (hi[2] - lo[2]) / 1.5 * 0
-                return _free_spot(world, obj, lo, hi, floor)
+                lo, hi = _exposed(world, target, lo.copy(), hi.copy())
+                return _free_spot(world, obj, lo, hi, lo[2])
         raise SkillError(Failure.UNSUPPORTED, f"{target} has no interior to put things in")
     if target in world.regions:
         r = world.regions[target]
@@ -136,6 +137,27 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         raise SkillError(Failure.UNSUPPORTED, "placing on the bare table needs a spot; use a region")
     lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
     return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
+
+
+def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The part of a drawer's interior that is out of its cabinet (the rest is under the carcass)."""
+    if target not in world.parts:
+        return lo, hi
+    obj_id, part = world.parts[target]
+    obj = world.objects[obj_id]
+    art = obj.model.articulations.get(part)
+    if art is None or art.kind != "drawer":
+        return lo, hi
+    axis = world.joint_axis(obj, part)
+    clo, chi = world.aabb(obj.body, -1)
+    k = int(np.argmax(np.abs(axis[:2])))
+    if axis[k] < 0:
+        hi[k] = min(hi[k], clo[k])
+    else:
+        lo[k] = max(lo[k], chi[k])
+    if lo[k] >= hi[k]:
+        raise SkillError(Failure.BLOCKED, f"{target} is not open far enough to put anything in")
+    return lo, hi
 
 
 def _free_spot(
@@ -184,7 +206,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
     m.ignore = {obj.body}
     _lift(m, z_transit)
-    m.park_for(goal)
+    m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     m.move_line((np.array([goal[0], goal[1], z_transit]), quat))
     m.move_line((goal + np.array([0, 0, 0.04]), quat))
     m.move_line((goal, quat), check=False)

@@ -145,9 +145,37 @@ class Motion:
             qs.append(qq)
         self.follow(qs)
 
-    def park_for(self, target: np.ndarray, standoff: float = STANDOFF) -> None:
-        """Move the base so ``target`` lies about ``standoff`` in front of it (the arm's sweet spot)."""
-        self.move_base(float(target[0]) - standoff, float(target[1]))
+    def park_for(
+        self, target: np.ndarray, standoff: float = STANDOFF, poses: list[Pose] | None = None
+    ) -> None:
+        """Move the base so ``target`` lies about ``standoff`` in front of it (the arm's sweet spot).
+
+        With ``poses``, the first base spot near there from which every pose has an IK solution wins
+        (tried before anything moves); UNREACHABLE if none does.
+        """
+        if not poses:
+            self.move_base(float(target[0]) - standoff, float(target[1]))
+            return
+        r = self.robot
+        for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15):
+            for dy in (0.0, -0.08, 0.08):
+                base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
+                if all(self._reachable(pose, base) for pose in poses):
+                    self.move_base(float(base[0]), float(base[1]))
+                    return
+        raise SkillError(
+            Failure.UNREACHABLE, f"no base position reaches the poses around {np.round(target, 3).tolist()}"
+        )
+
+    def _reachable(self, pose: Pose, base: np.ndarray) -> bool:
+        from skills.robot import ARM_FRONT, ARM_HOME
+
+        for seed in (ARM_HOME, ARM_FRONT):
+            q = self.robot.ik(np.asarray(pose[0]), pose[1], base, seed=np.array((*base, *seed)))
+            dp, da = self.robot.fk_error(q, np.asarray(pose[0]), pose[1])
+            if dp < POS_TOL and da < ANG_TOL:
+                return True
+        return False
 
     def gripper(self, width: float, force: float = 40.0, steps: int = 60) -> float:
         """Drive the fingers to ``width`` (bounded wait) and return the width reached."""

@@ -111,6 +111,17 @@ class World:
         link = obj.links[obj.model.articulations[part].link]
         return float(p.getJointState(obj.body, link, physicsClientId=self.client)[0])
 
+    def joint_axis(self, obj: SimObject, part: str) -> np.ndarray:
+        """Unit world direction in which an articulated part's joint opens (prismatic parts)."""
+        import pybullet as p
+
+        art = obj.model.articulations[part]
+        info = p.getJointInfo(obj.body, obj.links[art.link], physicsClientId=self.client)
+        _, orn = self.link_pose(obj.body, info[16])
+        rot = np.array(p.getMatrixFromQuaternion(orn)).reshape(3, 3)
+        a = rot @ np.array(info[13])
+        return a / np.linalg.norm(a) * (1 if art.open > art.closed else -1)
+
     def link_pose(self, body: int, link: int) -> tuple[np.ndarray, np.ndarray]:
         """World position and quaternion of a link frame (the base for -1)."""
         import pybullet as p
