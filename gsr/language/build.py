@@ -100,11 +100,12 @@ class Interpreter:
             "press": "pressable",
         }[verb]
         source = next((c for c in trees if c.data == "source"), None)
-        objs = self.objects(trees[0], need, source=source)
-        dest = None
+        objs_tree = next(c for c in trees if c.data in ("objects", "both_list", "np_list"))
         dest_tree = next((c for c in trees if c.data.startswith("dest_")), None)
-        if dest_tree is not None:
-            dest = self.dest(dest_tree, objs)
+        objs = self.objects(
+            objs_tree, need, source=source
+        )  # objects first, also when the destination is fronted
+        dest = self.dest(dest_tree, objs) if dest_tree is not None else None
         for ref in objs:
             self._check_affordance(verb, ref)
         self.intents.append(Intent(verb, objs, dest))
@@ -245,6 +246,8 @@ class Interpreter:
                 d.names.append(_tok(c.children[-1]).text)
             elif c.data == "same_color":
                 d.same_color_as = self.np(c.children[-1], lenient=True)
+            elif c.data == "rel_state":  # "the drawer that is open"
+                d.states.append("open" if _tok(c.children[-1]).cls == "OPENED" else "closed")
             elif c.data.startswith("rel_"):
                 self._relation(c, d)
         if d.heads and any(k == "thing" for k, _ in d.heads) and d.colors and len(d.heads) == 1:
@@ -260,6 +263,8 @@ class Interpreter:
             tok = _tok(c)
             if tok.cls in ("POS", "SIDE"):
                 d.positions.append(tok.text)
+            elif tok.cls in ("OPENED", "CLOSED"):
+                d.states.append("open" if tok.cls == "OPENED" else "closed")
             else:
                 d.names.append(tok.value)
 

@@ -45,6 +45,8 @@ FUNCTION_WORDS: dict[str, str] = {
     "fetch": "PICK",
     "retrieve": "PICK",
     "open": "OPEN",
+    "opened": "OPEN",
+    "closed": "CLOSED",
     "close": "CLOSE",
     "shut": "CLOSE",
     "turn": "TURN",

@@ -18,6 +18,29 @@ _PUNCT = re.compile(r"[—–;:!?]")
 _SPLIT = re.compile(r"\s+|(?=[,.])|(?<=[,.])")
 #: Classes after which "switch" is a verb ("switch on the lamp"), elsewhere the noun ("press the switch").
 _CLAUSE_START = {None, "AND", "THEN", "COMMA", "ALSO"}
+#: Classes after which "open" is the adjective (the state), not the verb.
+_ADJECTIVE_CONTEXT = {
+    "DET",
+    "POSS",
+    "ALL",
+    "EACH",
+    "BOTH",
+    "COLOR",
+    "POS",
+    "SIDE",
+    "NAME",
+    "BE",
+    "IN",
+    "ON",
+    "TO",
+    "FROM",
+    "OF",
+    "INSIDE",
+    "AT",
+    "NEAR",
+    "BETWEEN",
+    "WITH",
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,6 +117,8 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
                 prev = toks[-1].cls if toks else None
                 if span == ("switch",) and prev not in _CLAUSE_START:
                     cls, value = "NOUN", "switch"
+                if cls == "OPEN" and prev in _ADJECTIVE_CONTEXT:  # "the open drawer", "that is open"
+                    cls = "OPENED"
                 plural = value.endswith("#pl")
                 toks.append(Tok(cls, value.removesuffix("#pl"), " ".join(span), plural))
                 i += n

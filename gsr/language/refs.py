@@ -40,6 +40,7 @@ class Description:
     positions: list[str] = field(default_factory=list)
     names: list[str] = field(default_factory=list)
     noun_mods: list[str] = field(default_factory=list)
+    states: list[str] = field(default_factory=list)  # "open" / "closed"
     quant: str | None = None  # "all", "each", "both"
     owner: Ref | Place | None = None  # "of the cabinet"
     relations: list[Relation] = field(default_factory=list)
@@ -220,6 +221,11 @@ class Resolver:
             canon = POSITION_SYNONYMS.get(p, p)
             named = [e for e in found if canon in e.positions]
             found = named if named or len(found) < 2 else self._extreme(found, canon)
+        for state in d.states:
+            is_open = {n.id for n in self.graph.nodes if "open" in n.states}
+            found = [
+                e for e in found if "openable" in e.affordances and ((e.id in is_open) == (state == "open"))
+            ]
         for w in d.names:
             found = [e for e in found if w in e.words or w in e.region_words]
         lid = category == "door" and not found  # no door nodes: a lid/door is its owner's open state
@@ -319,7 +325,9 @@ class Resolver:
         from gsr.resources import load_builtin_domain
 
         return (
-            not (d.positions or d.names or d.noun_mods or d.owner or d.relations or d.same_color_as)
+            not (
+                d.positions or d.names or d.noun_mods or d.owner or d.relations or d.same_color_as or d.states
+            )
             and category != "thing"
             and category in load_builtin_domain("tabletop").types
         )

@@ -26,6 +26,8 @@ def _goal(text: str) -> str:
         "move each red cube to the blue box",
         "Please put all red cubes inside of the blue box.",
         "transfer all of the red cubes into blue_box",
+        "put into the blue box all the red cubes",
+        "into the blue box, put all red cubes",
     ],
 )
 def test_quantified_paraphrases(text: str) -> None:
@@ -46,6 +48,16 @@ def test_quantified_paraphrases(text: str) -> None:
             "(and (in popcorn short_cabinet/drawer_low) (not (open short_cabinet/drawer_low)))",
         ),
         ("put milk in top drawer", "(and (in milk short_cabinet/drawer_high))"),
+        ("put the milk in the open drawer", "(and (in milk short_cabinet/drawer_high))"),
+        ("put the popcorn in the drawer that is open", "(and (in popcorn short_cabinet/drawer_high))"),
+        (
+            "open the closed drawers",
+            "(and (open short_cabinet/drawer_low) (open short_cabinet/drawer_middle))",
+        ),
+        (
+            "move the cube that has the same color as the yellow box into the yellow box",
+            "(and (in yellow_cube1 yellow_box))",
+        ),
         ("take the book out of the top drawer and put it on the table", "(and (on yellow_book table))"),
         ("open the bottom drawer", "(and (open short_cabinet/drawer_low))"),
         ("shut the upper drawer", "(and (not (open short_cabinet/drawer_high)))"),
