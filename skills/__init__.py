@@ -27,6 +27,8 @@ _EXPORTS = {
     "execute_plan": "skills.executor",
     "ExecutionResult": "skills.executor",
     "PhysicalExecutor": "skills.executor",
+    "symbolic_view": "skills.executor",
+    "make_env": "skills.gym_env",
 }
 
 __all__ = sorted(_EXPORTS)
