@@ -9,7 +9,7 @@ terminated), 0 otherwise; an invalid or failed step also terminates (``info["dia
 from __future__ import annotations
 
 import string
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -52,7 +52,7 @@ def _env_class() -> type:
     class SkillEnv(gym.Env):  # type: ignore[misc, name-defined]
         """Gymnasium env: observation {rgb, depth, graph (JSON)}, action = one step (text or Step)."""
 
-        metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
+        metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array"], "render_fps": 4}
 
         def __init__(
             self,
