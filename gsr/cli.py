@@ -327,11 +327,12 @@ def delivery_run(
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
     agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
+    by_kind: Annotated[bool, typer.Option("--breakdown", help="Also break SR down by instruction kind.")] = False,
 ) -> None:
     """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
     from benchmarks.delivery.cli import run_command
 
-    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent))
+    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent, by_kind))
 
 
 @delivery_app.command("schedule")

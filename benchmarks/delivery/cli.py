@@ -87,9 +87,10 @@ def run_command(
     as_json: bool,
     out: Path | None,
     agent: str = "baseline",
+    by_kind: bool = False,
 ) -> int:
     """Run the baseline on a split (or a tasks file) and print the PRS-style table or JSON summary."""
-    from benchmarks.delivery.metrics import summary_table
+    from benchmarks.delivery.metrics import breakdown, breakdown_table, summary_table
     from benchmarks.delivery.run import run_split, run_tasks
     from benchmarks.delivery.tasks import load_tasks
 
@@ -104,11 +105,13 @@ def run_command(
             result = run_split(building, split, limit, agent)
     except (GSRError, ValueError) as exc:
         return _err(str(exc))
+    rows = breakdown(result.tasks, result.results)
     if out is not None:
         body = json.dumps(
             {
                 "agent": agent,
                 "summary": result.summary.model_dump(),
+                "breakdown": rows,
                 "episodes": [r.model_dump() for r in result.results],
             },
             indent=1,
@@ -118,9 +121,14 @@ def run_command(
         except OSError as exc:
             return _err(f"{out}: cannot write: {exc.strerror}")
     if as_json:
-        print(json.dumps(result.summary.model_dump(), indent=2))
+        data = result.summary.model_dump()
+        if by_kind:
+            data["breakdown"] = rows
+        print(json.dumps(data, indent=2))
     else:
         print(summary_table(result.summary), end="")
+        if by_kind:
+            print("\n" + breakdown_table(rows), end="")
     return 0
 
 

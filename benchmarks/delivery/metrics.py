@@ -108,3 +108,58 @@ def summary_table(s: Summary) -> str:
         ("Simulated seconds per wall second", f"{s.sim_seconds_per_wall_second:.0f}"),
     ]
     return "| metric | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
+
+
+def _object_facet(task: DeliveryTask) -> str:
+    o = task.reference.object
+    parts = [name for name, v in (("colour", o.color), ("receptacle", o.receptacle), ("room", o.room)) if v]
+    return "+".join(parts) or "category only"
+
+
+def _person_facet(task: DeliveryTask) -> str:
+    p = task.reference.person
+    parts = [
+        name
+        for name, v in (("name", p.name), ("role", p.role), ("clothes", p.garment), ("hair", p.hair))
+        if v is not None
+    ]
+    return "+".join(parts) or "gender only"
+
+
+def breakdown(tasks: list[DeliveryTask], results: list[EpisodeResult]) -> list[dict[str, object]]:
+    """Task SR and human-search SR per kind of instruction (how object and person are referred to)."""
+    if [t.id for t in tasks] != [r.task for r in results]:
+        raise ValueError("tasks and results are not the same episodes in the same order")
+    facets = {
+        "object described by": _object_facet,
+        "recipient referred to by": _person_facet,
+        "recipient's room given": lambda t: "yes" if t.reference.person.room else "no",
+    }
+    rows: list[dict[str, object]] = []
+    for facet, key in facets.items():
+        groups: dict[str, list[EpisodeResult]] = {}
+        for t, r in zip(tasks, results, strict=True):
+            groups.setdefault(key(t), []).append(r)
+        for value, rs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
+            rows.append(
+                {
+                    "facet": facet,
+                    "value": value,
+                    "episodes": len(rs),
+                    "task_sr": round(100.0 * sum(r.success for r in rs) / len(rs), 1),
+                    "human_search_sr": round(100.0 * sum(r.person_within_3m for r in rs) / len(rs), 1),
+                    "mean_time": round(sum(r.time for r in rs) / len(rs), 1),
+                }
+            )
+    return rows
+
+
+def breakdown_table(rows: list[dict[str, object]]) -> str:
+    """The breakdown as a Markdown table."""
+    out = "| facet | value | episodes | Task SR | Human-search SR | mean time |\n|---|---|---:|---:|---:|---:|\n"
+    for r in rows:
+        out += (
+            f"| {r['facet']} | {r['value']} | {r['episodes']} | {r['task_sr']:.1f}% "
+            f"| {r['human_search_sr']:.1f}% | {r['mean_time']:.1f} s |\n"
+        )
+    return out

@@ -25,6 +25,7 @@ def parser_for(building: Building) -> InstructionParser:
 class RunOutput:
     """Per-episode results and their summary."""
 
+    tasks: list[DeliveryTask]
     results: list[EpisodeResult]
     summary: Summary
 
@@ -50,7 +51,7 @@ def run_tasks(
         trace = agent.run(world)
         results.append(score_episode(task, world, trace))
     wall = time.perf_counter() - start
-    return RunOutput(results, summarize(split, results, wall))
+    return RunOutput(tasks, results, summarize(split, results, wall))
 
 
 def run_split(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from benchmarks.delivery.metrics import EpisodeResult, summarize, summary_table
 from benchmarks.delivery.run import run_split
 from benchmarks.delivery.tasks import generate_tasks
@@ -53,3 +55,17 @@ def test_summary_numbers() -> None:
     assert s.mean_time == 315.0 and s.mean_time_success == 150.0
     assert s.sim_seconds_per_wall_second == 630.0
     assert "| Task SR | 50.0% |" in summary_table(s)
+
+
+def test_breakdown_groups_every_episode(shipped) -> None:
+    from benchmarks.delivery.metrics import breakdown, breakdown_table
+
+    out = run_split(shipped, "val", limit=12)
+    rows = breakdown(out.tasks, out.results)
+    facets = {r["facet"] for r in rows}
+    assert facets == {"object described by", "recipient referred to by", "recipient's room given"}
+    for facet in facets:
+        assert sum(r["episodes"] for r in rows if r["facet"] == facet) == 12
+    assert "| recipient's room given |" in breakdown_table(rows)
+    with pytest.raises(ValueError, match="same episodes"):
+        breakdown(out.tasks[1:], out.results[:-1])
