@@ -53,7 +53,17 @@ def place_receptacles(
     return out
 
 
-def _place_one(grid, bounds, size, rng, reserved):
+Rect = tuple[int, int, int, int]
+
+
+def _place_one(
+    grid: np.ndarray,
+    bounds: Rect,
+    size: tuple[int, int],
+    rng: np.random.Generator,
+    reserved: set[tuple[int, int]],
+) -> tuple[Rect, tuple[int, int]] | None:
+    """Footprint and access cell for one piece against a wall of ``bounds`` (None if it cannot fit)."""
     r0, c0, r1, c1 = bounds
     candidates = []
     for h, w in {size, size[::-1]}:
@@ -65,7 +75,7 @@ def _place_one(grid, bounds, size, rng, reserved):
     order = rng.permutation(len(candidates))
     for i in order:
         r, c, h, w = candidates[int(i)]
-        if not _fits(grid, bounds, (r, c, r + h, c + w), reserved):
+        if not _fits(grid, (r, c, r + h, c + w), reserved):
             continue
         trial = grid.copy()
         trial[r : r + h, c : c + w] = "f"
@@ -81,7 +91,7 @@ def _place_one(grid, bounds, size, rng, reserved):
     return None
 
 
-def _fits(grid, bounds, rect, reserved) -> bool:
+def _fits(grid: np.ndarray, rect: Rect, reserved: set[tuple[int, int]]) -> bool:
     a0, b0, a1, b1 = rect
     # the footprint must be free floor (and no reserved access cell); its one-cell ring holds no
     # furniture or door, so pieces never touch and a passage always remains around them
@@ -101,7 +111,9 @@ def _fits(grid, bounds, rect, reserved) -> bool:
     return True
 
 
-def _access_cell(grid, bounds, rect, reserved):
+def _access_cell(
+    grid: np.ndarray, bounds: Rect, rect: Rect, reserved: set[tuple[int, int]]
+) -> tuple[int, int] | None:
     """The free in-room cell next to the piece that is closest to the room centre."""
     r0, c0, r1, c1 = bounds
     a0, b0, a1, b1 = rect
