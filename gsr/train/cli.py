@@ -1,0 +1,52 @@
+"""``gsr train``: the command behind the thin typer function in gsr/cli.py."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gsr.errors import GSRError
+
+
+def train_command(
+    data: Path,
+    model: str,
+    out: Path,
+    lora: bool,
+    max_steps: int,
+    batch_size: int,
+    learning_rate: float | None,
+    train_rows: int,
+    eval_rows: int,
+    types: str,
+    seed: int,
+) -> int:
+    """Validate the options, train, print the metrics (JSON line); exit code 0."""
+    from gsr.datagen.schema import SAMPLE_TYPES
+
+    if not (data / "data" / "train").is_dir():
+        raise GSRError(f"--data {data}: no data/train folder (generate one with gsr datagen)")
+    wanted = tuple(t.strip() for t in types.split(",") if t.strip())
+    unknown = [t for t in wanted if t not in SAMPLE_TYPES]
+    if unknown or not wanted:
+        raise GSRError(f"--types: unknown {unknown or types!r}; choose from {', '.join(SAMPLE_TYPES)}")
+    if batch_size < 1 or train_rows < 1 or eval_rows < 0:
+        raise GSRError("--batch-size and --train-rows must be >= 1, --eval-rows >= 0")
+    try:
+        from gsr.train.sft import TrainConfig, train
+    except ImportError as exc:  # pragma: no cover - depends on the installed extras
+        raise GSRError(f"training needs the 'llm' extra (pip install 'gsr[llm]'): {exc}") from None
+    cfg = TrainConfig(
+        data=data,
+        model=model,
+        out=out,
+        lora=lora,
+        max_steps=max_steps,
+        batch_size=batch_size,
+        learning_rate=learning_rate,
+        train_rows=train_rows,
+        eval_rows=eval_rows,
+        types=wanted,
+        seed=seed,
+    )
+    train(cfg)
+    return 0
