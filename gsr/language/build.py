@@ -21,6 +21,8 @@ from gsr.language.parse import Tok
 from gsr.language.refs import Description, Place, Ref, Relation, Resolver
 from gsr.pddl.model import And, Atom, Equals, Forall, Formula, Imply, Not, Or, TypedVar
 
+#: Mass nouns: "the rubbish" means all of it, not one piece.
+MASS_NOUNS = frozenset({"rubbish", "trash", "garbage", "litter", "waste", "debris", "cutlery", "laundry"})
 #: Most assignments a "different drawers" / "one colour per drawer" goal may enumerate.
 ASSIGNMENT_LIMIT = 512
 
@@ -71,6 +73,34 @@ class Interpreter:
         """Interpret one clause."""
         kind = t.data
         trees = [c for c in t.children if isinstance(c, Tree)]
+        if kind == "empty_cmd":  # everything now in (or on) the container goes to the destination
+            source = self.np(trees[0])
+            inside = tuple(
+                x
+                for x, (_, where) in self.resolver.support.items()
+                if where in self.resolver.with_parts(source.ids)
+            )
+            if not inside:
+                raise GroundingError(
+                    f"{source.text!r} is already empty", candidates=source.ids, phrase=source.text
+                )
+            objs = [Ref(inside, f"what is in {source.text}", plural=True)]
+            self.mentions.append(objs[0])
+            self.intents.append(Intent("place", objs, self.dest(trees[1], objs)))
+            return
+        if kind == "stack_cmd":
+            objs = self.objects(trees[0], "movable")
+            for ref in objs:
+                self._check_affordance("place", ref)
+            dest = self.dest(trees[1], objs) if len(trees) > 1 else None
+            ids = [x for r in objs for x in r.ids if dest is None or x != dest.target]
+            if len(ids) == 1:
+                if dest is None:
+                    raise GroundingError(f"stack {ids[0]} on what?", candidates=tuple(ids))
+                self.intents.append(Intent("place", objs, dest))
+            else:
+                self.intents.append(Intent("tower", [Ref(tuple(ids), "the stack", plural=True)], dest))
+            return
         if kind == "pick_place_cmd":
             objs_trees = [c for c in trees if c.data in ("objects", "both_list", "np_list")]
             source = next((c for c in trees if c.data == "source"), None)
@@ -226,6 +256,9 @@ class Interpreter:
                 tok = _tok(c)
                 if tok.cls == "ONE":
                     d.heads.append(("thing", tok.plural))
+                elif tok.cls == "NAME":  # a name word as the head: any node with that word
+                    d.names.append(tok.value)
+                    d.heads.append(("*", tok.plural or tok.value in MASS_NOUNS))
                 continue
             if c.data == "quant":
                 d.quant = {"ALL": "all", "EACH": "each", "BOTH": "both"}[c.children[0].type]
@@ -451,6 +484,8 @@ def goal_formula(intents: list[Intent], resolver: Resolver, types: dict[str, str
         elif intent.verb == "place":
             assert intent.dest is not None
             parts.extend(_place(intent, resolver, types))
+        elif intent.verb == "tower":
+            parts.append(_tower(ids, intent.dest.target if intent.dest else None))
     del placed_into, placed_objs
     flat: list[Formula] = []
     for p in parts:
@@ -458,6 +493,21 @@ def goal_formula(intents: list[Intent], resolver: Resolver, types: dict[str, str
             if q not in flat:
                 flat.append(q)
     return And(tuple(flat))
+
+
+def _tower(ids: list[str], base: str | None) -> Formula:
+    """``stack the cups (on the green cup)``: one tower of all of them, in any order (an ``or`` of orders)."""
+    count = 1
+    for i in range(2, len(ids) + 1):
+        count *= i
+    if count > ASSIGNMENT_LIMIT:
+        raise GroundingError(f"too many orders ({count}) to stack {len(ids)} objects", candidates=tuple(ids))
+    options: list[Formula] = []
+    for order in itertools.permutations(ids):
+        below = [base, *order[:-1]] if base else list(order[:-1])
+        above = order if base else order[1:]
+        options.append(And(tuple(Atom("on", (a, b)) for a, b in zip(above, below, strict=True))))
+    return options[0] if len(options) == 1 else Or(tuple(options))
 
 
 def _press(x: str, resolver: Resolver) -> Formula:

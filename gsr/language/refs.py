@@ -135,6 +135,8 @@ class Resolver:
     # ------------------------------------------------------------ matching
 
     def _head_matches(self, category: str) -> list[Entity]:
+        if category == "*":  # a bare name word is the head: the name filter does the work
+            return list(self.entities.values())
         strong = [e for e in self.entities.values() if category in e.kinds]
         if category == "thing":  # "items", "objects": what can be moved
             return [e for e in self.entities.values() if "movable" in e.affordances]

@@ -231,3 +231,60 @@ def test_stacking_blocks_and_one_anaphora() -> None:
         goal = ground(text, g)
         assert " ".join(write_formula(goal.formula).split()) == expected
         assert plan_graph(None, g, goal, timeout=60).solved, text
+
+
+def _rlbench_like_scene():
+    from gsr.scene_graph import Edge, Node, SceneGraph
+
+    nodes = (
+        Node(id="table", category="table"),
+        Node(id="basket", category="basket"),
+        Node(id="tray", category="tray"),
+        Node(id="popcorn", category="popcorn"),
+        Node(id="butter", category="butter"),
+        Node(id="rubbish_1", category="thing"),
+        Node(id="rubbish_2", category="thing"),
+        Node(id="panel", category="thing", attributes={"movable": False}),
+        Node(id="panel/green_button", category="button", parent="panel", attributes={"color": "green"}),
+        Node(id="panel/red_button", category="button", parent="panel", attributes={"color": "red"}),
+        *(Node(id=f"{c}_cup", category="cup", attributes={"color": c}) for c in ("green", "red", "blue")),
+    )
+    edges = [
+        Edge(source=n, relation="on", target="table")
+        for n in ("basket", "tray", "rubbish_1", "rubbish_2", "panel")
+    ]
+    edges += [
+        Edge(source="popcorn", relation="in", target="basket"),
+        Edge(source="butter", relation="in", target="basket"),
+    ]
+    edges += [Edge(source=f"{c}_cup", relation="on", target="table") for c in ("green", "red", "blue")]
+    return SceneGraph(nodes=nodes, edges=tuple(edges))
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("empty the basket into the tray", "(and (in popcorn tray) (in butter tray))"),
+        ("push the green button", "(and (turned_on panel/green_button))"),
+        ("press the red button", "(and (turned_on panel/red_button))"),
+        ("put the rubbish in the basket", "(and (in rubbish_1 basket) (in rubbish_2 basket))"),
+        (
+            "put the popcorn and the butter and the red cup in the tray",
+            "(and (in popcorn tray) (in butter tray) (in red_cup tray))",
+        ),
+        ("place the popcorn, the butter in the tray", "(and (in popcorn tray) (in butter tray))"),
+    ],
+)
+def test_unseen_verbs_and_lists(text: str, expected: str) -> None:
+    assert " ".join(write_formula(ground(text, _rlbench_like_scene()).formula).split()) == expected
+
+
+def test_stacking_a_tower_in_any_order() -> None:
+    g = _rlbench_like_scene()
+    goal = ground("stack the cups on the green cup", g)
+    dnf = ground_dnf(goal.formula, g)
+    assert len(dnf) == 2  # red on green and blue on red, or blue on green and red on blue
+    for conj in dnf:
+        below = {a.args[0]: a.args[1] for a, _ in conj}
+        assert sorted(below) == ["blue_cup", "red_cup"] and "green_cup" in below.values()
+    assert plan_graph(None, g, goal, timeout=60).solved
