@@ -31,3 +31,13 @@ class Scripted:
                 step, self.retry_with = self.retry_with, None
                 return step
         return self.queue.pop(0) if self.queue else None
+
+
+def always_done(prompt_text: str) -> str:
+    """A 'model' that always answers (done): the reasoner stops at once."""
+    return "(done)"
+
+
+def bad_step(prompt_text: str) -> str:
+    """A 'model' that always proposes an impossible step."""
+    return "(place_in red_cube box)"

@@ -141,3 +141,24 @@ def test_reports_are_written_atomically(task, tmp_path, monkeypatch) -> None:
         "report.md",
         "results.json",
     ]
+
+
+def test_reasoner_agent_with_backends(task, domain) -> None:
+    # the instruction names only the red cube while the task wants both: the grounder's goal is wrong
+    wrong = run_episode(task, make_agent("reasoner", {"backend": "grounder"}), domain)
+    assert wrong.outcome == "goal_error" and wrong.score == 0.5
+    right = task.model_copy(update={"goal": "(in red_cube box)", "goal_alternatives": ()})
+    ok = run_episode(right, make_agent("reasoner", {"backend": "grounder"}), domain)
+    assert ok.success, ok.reason
+    done = run_episode(
+        task, make_agent("reasoner", {"backend": "tests.benchmarks.scripted_agents:always_done"}), domain
+    )
+    assert not done.success and done.outcome in ("false_positive", "planning_error")
+    bad = run_episode(
+        task,
+        make_agent("reasoner", {"backend": "tests.benchmarks.scripted_agents:bad_step", "max_repairs": 2}),
+        domain,
+    )
+    assert not bad.success and bad.proposed >= 3 and bad.executability < 1.0
+    with pytest.raises(GSRError, match="cannot import"):
+        make_agent("reasoner", {"backend": "nowhere:fn"})
