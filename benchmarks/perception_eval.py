@@ -10,6 +10,7 @@ erosion are outside the timed region: ``fps`` is frames per second of :func:`per
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Any
 
@@ -82,7 +83,6 @@ def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> 
 
 def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
     """Frames and ``scene_graph_from_sim`` truth of a random GSR-Bench-style task in the skills world."""
-    import dataclasses
     import random
 
     from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
@@ -99,6 +99,7 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
         frames = [
             render_frame(world, dataclasses.replace(views[n], width=width, height=height)) for n in names
         ]
+        frames = [_with_graph_attributes(f, world.graph) for f in frames]
         truth = scene_graph_from_sim(world)
         # add the true openings (joint travel from closed) so opening errors can be measured
         extra = {}
@@ -113,6 +114,16 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
         return frames, truth.with_nodes(extra.values())
     finally:
         world.close()
+
+
+def _with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
+    """Labels carrying the task graph's node attributes (e.g. ``lid``: a box that can be opened)."""
+    labels = {}
+    for k, lab in frame.labels.items():
+        node = graph.node_map().get(lab.id or "")
+        attrs = {**node.attributes, **lab.attributes} if node is not None else lab.attributes
+        labels[k] = dataclasses.replace(lab, attributes=attrs)
+    return dataclasses.replace(frame, labels=labels)
 
 
 def evaluate(

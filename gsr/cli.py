@@ -202,6 +202,9 @@ def perceive_eval_cmd(
     depth_noise: Annotated[float, typer.Option(help="Gaussian depth noise sigma (m).")] = 0.0,
     mask_erosion: Annotated[int, typer.Option(help="Erode every instance mask by this many pixels.")] = 0,
     cameras: Annotated[int, typer.Option(help="Cameras per scene (fused).")] = 1,
+    world: Annotated[
+        str, typer.Option(help="skills (simulator tasks, scene_graph_from_sim truth) or procedural.")
+    ] = "skills",
     as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
 ) -> None:
     """Render random PyBullet scenes, perceive them, score against ground truth (rendering not timed)."""
@@ -209,9 +212,11 @@ def perceive_eval_cmd(
         raise _fail("--scenes and --cameras must be >= 1")
     if depth_noise < 0 or mask_erosion < 0:
         raise _fail("--depth-noise and --mask-erosion must be >= 0")
+    if world not in ("skills", "procedural"):
+        raise _fail(f"--world must be 'skills' or 'procedural', got {world!r}")
     from benchmarks.perception_eval import evaluate, format_report
 
-    report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras)
+    report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras, world=world)
     typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
 
 

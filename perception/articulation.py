@@ -13,7 +13,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gsr.facts import node_affordances
+from gsr.scene_graph import Node
 from perception.geometry import Instance
+
+
+def label_affordances(inst: Instance) -> frozenset[str]:
+    """Affordances of an instance as the core defines them (category, plus attributes such as ``lid``)."""
+    attrs = {k: v for k, v in inst.label.attributes.items() if isinstance(v, str | int | float | bool)}
+    return node_affordances(Node(id=inst.key, category=inst.label.category, attributes=attrs))
 
 
 @dataclass(frozen=True)
@@ -31,6 +39,9 @@ class ArticulationThresholds:
     door_open: float = 0.8  # rad between the door panel and the parent's front plane
     handle_protrusion: float = 0.008  # m beyond the drawer face that counts as a handle
     handle_min_points: int = 5
+    lid_cell: float = 0.01  # m, grid cell for the top-surface test of lidded objects
+    lid_depth: float = 0.02  # m below the object's top that counts as looking into a cavity
+    lid_open_fraction: float = 0.15  # share of cavity cells above which a lidded object is open
 
 
 def front_axis(parent: Instance, part: Instance) -> np.ndarray:
@@ -86,10 +97,23 @@ def geometric_handle(part: Instance, parent: Instance, th: ArticulationThreshold
     return part.points[knob].mean(axis=0)
 
 
+def cavity_fraction(inst: Instance, th: ArticulationThresholds) -> float:
+    """Share of the object's footprint cells whose highest point lies well below its top (an open cavity)."""
+    cells = np.floor(inst.points[:, :2] / th.lid_cell).astype(np.int64)
+    cells -= cells.min(axis=0)
+    key = cells[:, 0] * (int(cells[:, 1].max()) + 1) + cells[:, 1]
+    order = np.argsort(key, kind="stable")
+    key, z = key[order], inst.points[order, 2]
+    starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
+    top_per_cell = np.maximum.reduceat(z, starts)
+    top = float(np.percentile(top_per_cell, 90.0))
+    return float(np.mean(top_per_cell < top - th.lid_depth))
+
+
 def part_states(
     instances: list[Instance], th: ArticulationThresholds
 ) -> dict[str, tuple[tuple[str, ...], dict[str, float]]]:
-    """States (``open``/``closed``) and measurements for every drawer and door with a perceived parent."""
+    """States (``open``/``closed``) and measurements of drawers, doors and openable objects."""
     by_key = {i.key: i for i in instances}
     out: dict[str, tuple[tuple[str, ...], dict[str, float]]] = {}
     for inst in instances:
@@ -103,6 +127,17 @@ def part_states(
         elif inst.label.category == "door":
             a = door_angle(inst, parent)
             out[inst.key] = (("open",) if a > th.door_open else ("closed",), {"open_angle": round(a, 4)})
+    # Openable objects: the state of their perceived door/lid part, else the top-surface test (a lid
+    # covering the object leaves a flat top; an open one shows the cavity below the rim).
+    for inst in instances:
+        if inst.label.parent is not None or "openable" not in label_affordances(inst):
+            continue
+        part_state = [out[p.key][0] for p in instances if p.label.parent == inst.key and p.key in out]
+        if part_state:
+            out[inst.key] = (("open",) if ("open",) in part_state else ("closed",), {})
+        else:
+            c = cavity_fraction(inst, th)
+            out[inst.key] = (("open",) if c > th.lid_open_fraction else ("closed",), {"cavity": round(c, 3)})
     return out
 
 

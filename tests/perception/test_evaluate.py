@@ -67,25 +67,36 @@ def test_mask_erosion_shrinks_each_instance_by_its_border():
     assert np.array_equal(erode_masks(m, 0), m)
 
 
-@pytest.mark.physics
-def test_eval_harness_on_a_few_scenes():
+def test_eval_harness_on_a_few_procedural_scenes():
     pytest.importorskip("pybullet")
     from benchmarks.perception_eval import evaluate, format_report
 
-    report = evaluate(3, seed=5)
+    report = evaluate(3, seed=5, world="procedural")
     assert report["scenes"] == 3 and report["fps"] > 0
     assert set(report["relations"]) >= {"on", "in", "adjacent", "left_of", "right_of", "front_of", "behind"}
     assert report["relations"]["on"]["f1"] >= 0.9
     assert report["nodes"]["recall"] >= 0.9
     assert "frames/s" in format_report(report)
-    noisy = evaluate(1, seed=5, depth_noise=0.01, mask_erosion=2)
+    assert report["visible"]["nodes"]["truth"] <= report["nodes"]["truth"]
+    noisy = evaluate(1, seed=5, depth_noise=0.01, mask_erosion=2, world="procedural")
     assert noisy["depth_noise"] == 0.01 and noisy["mask_erosion"] == 2
+
+
+@pytest.mark.physics
+def test_eval_harness_on_the_skills_world():
+    pytest.importorskip("pybullet")
+    from benchmarks.perception_eval import evaluate
+
+    report = evaluate(2, seed=3, world="skills")
+    assert report["world"] == "skills" and set(report["relations"]) == {"on", "in"}
+    assert report["visible"]["relations"]["on"]["f1"] >= 0.8
+    assert report["fps"] > 0
 
 
 def test_eval_harness_single_scene_is_deterministic():
     pytest.importorskip("pybullet")
     from benchmarks.perception_eval import evaluate
 
-    a, b = evaluate(1, seed=11), evaluate(1, seed=11)
+    a, b = evaluate(1, seed=11, world="procedural"), evaluate(1, seed=11, world="procedural")
     for key in ("nodes", "relations", "states"):
         assert a[key] == b[key]

@@ -132,3 +132,32 @@ def test_detector_plug_in_and_anonymous_fusion(rendered):
     assert all(n.attributes["views"] == 2 for n in fused.nodes if n.category == "cube")
     colours = sorted(n.attributes["color"] for n in single.nodes if n.category == "cube")
     assert colours == ["cyan", "green", "orange", "red"]  # named from the pixels, no label gave them
+
+
+@pytest.mark.physics
+def test_lidded_box_state_from_its_top_surface_in_the_skills_world():
+    """A box whose lid is slid off shows its cavity from above; a closed one shows a flat top."""
+    import dataclasses
+
+    import pybullet as pb
+
+    from benchmarks.perception_eval import _with_graph_attributes
+    from gsr.task_spec import Layout, PlacedObject
+    from skills.camera import default_views, render_frame
+    from skills.world import build_world
+
+    layout = Layout(
+        objects=(PlacedObject(id="red_lid_box", asset="box_with_lid", position=(-0.1, 0.1, 0.0)),)
+    )
+    world = build_world(layout, seed=0)
+    try:
+        box = world.objects["red_lid_box"]
+        seen = {}
+        for q in (0.0, 0.17):
+            pb.resetJointState(box.body, box.links["lid"], q, physicsClientId=world.client)
+            spec = dataclasses.replace(default_views(world)["top"], width=640, height=480)
+            frame = _with_graph_attributes(render_frame(world, spec), world.graph)
+            seen[q] = perceive(frame).node("red_lid_box").states
+    finally:
+        world.close()
+    assert seen == {0.0: ("closed",), 0.17: ("open",)}
