@@ -20,6 +20,7 @@ import argparse
 import json
 import os
 import random
+import resource
 import shutil
 import statistics
 import subprocess
@@ -47,6 +48,7 @@ TABLETOP_SETS = ("libero", "tabletop-long")
 SETS = IPC_SETS + TABLETOP_SETS
 STRIPS_SETS = frozenset({"blocks", "gripper"})  # pyperplan handles STRIPS (+ typing) only
 LONG = 10  # "long" tabletop task: a plan of at least this many steps
+FD_MEMORY = "4G"  # the machine is shared; lama-first on the ADL tabletop tasks can grow past 7 GB
 
 
 def problems(domain_set: str) -> list[Path]:
@@ -56,10 +58,18 @@ def problems(domain_set: str) -> list[Path]:
     return sorted(files, key=lambda p: (len(p.stem), p.stem))
 
 
-def _gsr_row(domain: Domain, problem: Problem, timeout: float, planner: str, t0: float) -> dict:
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _gsr_row(
+    domain: Domain, problem: Problem, timeout: float, planner: str, t0: float, cpu0: float | None = None
+) -> dict:
+    cpu0 = time.process_time() if cpu0 is None else cpu0
     result = plan(domain, problem, planner=planner, timeout=timeout)
-    elapsed = time.perf_counter() - t0
-    row = {"status": result.status, "time": elapsed, "plan_time": result.time, "length": None}
+    elapsed, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+    row = {"status": result.status, "time": elapsed, "cpu": cpu, "plan_time": result.time, "length": None}
     if result.plan is not None:
         report = validate_plan(domain, problem, result.plan)
         if not report.valid:  # never count a wrong plan as solved
@@ -70,13 +80,20 @@ def _gsr_row(domain: Domain, problem: Problem, timeout: float, planner: str, t0:
 
 def run_gsr_files(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
     """Parse, ground and search in-process; ``time`` is the wall time of all three."""
-    start = time.perf_counter()
+    start, cpu0 = time.perf_counter(), time.process_time()
     try:
         domain = load_domain(domain_file)
         problem = load_problem(problem_file, domain)
-        return _gsr_row(domain, problem, timeout, planner, start)
+        return _gsr_row(domain, problem, timeout, planner, start, cpu0)
     except GSRError as err:
-        return {"status": "error", "time": time.perf_counter() - start, "length": None, "message": str(err)}
+        t = time.perf_counter() - start
+        return {
+            "status": "error",
+            "time": t,
+            "cpu": time.process_time() - cpu0,
+            "length": None,
+            "message": str(err),
+        }
 
 
 def run_pyperplan(domain_file: Path, problem_file: Path, timeout: float) -> dict:
@@ -88,28 +105,30 @@ def run_pyperplan(domain_file: Path, problem_file: Path, timeout: float) -> dict
         shutil.copy(problem_file, prob)
         cmd = [sys.executable, "-m", "pyperplan", "-s", "gbf", "-H", "hff", str(dom), str(prob)]
         env = dict(os.environ, PYTHONHASHSEED="0")
-        start = time.perf_counter()
+        start, cpu0 = time.perf_counter(), _children_cpu()
         try:
             subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=tmp)
         except subprocess.TimeoutExpired:
-            return {"status": "timeout", "time": timeout, "length": None}
-        elapsed = time.perf_counter() - start
+            return {"status": "timeout", "time": timeout, "cpu": timeout, "length": None}
+        elapsed, cpu = time.perf_counter() - start, _children_cpu() - cpu0
         soln = prob.with_suffix(".pddl.soln")
         if not soln.is_file():
-            return {"status": "unsolved", "time": elapsed, "length": None}
+            return {"status": "unsolved", "time": elapsed, "cpu": cpu, "length": None}
         steps = [ln for ln in soln.read_text().splitlines() if ln.strip().startswith("(")]
-        return {"status": "solved", "time": elapsed, "length": len(steps)}
+        return {"status": "solved", "time": elapsed, "cpu": cpu, "length": len(steps)}
 
 
 def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
     """Fast Downward --alias lama-first (driver, translator and search) as a subprocess."""
-    start = time.perf_counter()
+    start, cpu0 = time.perf_counter(), _children_cpu()
     try:
-        status, found, message = run_fast_downward(domain_file, problem_file, timeout)
+        status, found, message = run_fast_downward(domain_file, problem_file, timeout, memory_limit=FD_MEMORY)
     except GSRError as err:
-        return {"status": "n/a", "time": 0.0, "length": None, "message": str(err)}
-    elapsed = time.perf_counter() - start
-    row = {"status": status, "time": min(elapsed, timeout), "length": len(found) if found else None}
+        return {"status": "n/a", "time": 0.0, "cpu": 0.0, "length": None, "message": str(err)}
+    elapsed, cpu = time.perf_counter() - start, _children_cpu() - cpu0
+    if status == "timeout":  # killed processes are not all reaped into RUSAGE_CHILDREN
+        elapsed = cpu = timeout
+    row = {"status": status, "time": min(elapsed, timeout), "cpu": cpu, "length": None}
     if found is not None:
         row["length"] = len(found)
     elif status == "error":
@@ -234,19 +253,20 @@ def bench_set(
                     if isinstance(dom, Path):
                         row[system] = run_gsr_files(dom_file, prob_file, timeout, planner)
                     else:
-                        row[system] = _gsr_row(dom, prob, timeout, planner, time.perf_counter())
+                        row[system] = _gsr_row(dom, prob, timeout, planner, time.perf_counter(), None)
                 elif system == "pyperplan":
                     if domain_set in STRIPS_SETS:
                         row[system] = run_pyperplan(dom_file, prob_file, timeout)
                     else:
-                        row[system] = {"status": "n/a", "time": 0.0, "length": None}
+                        row[system] = {"status": "n/a", "time": 0.0, "cpu": 0.0, "length": None}
                 elif system == "fd":
                     row[system] = run_fd(dom_file, prob_file, timeout)
                 else:
                     raise SystemExit(f"unknown system {system!r}; choose from gsr, pyperplan, fd")
         if verbose:
             cells = "  ".join(
-                f"{s}:{row[s]['status']}/{row[s]['time']:.3f}s/{row[s]['length']}" for s in systems
+                f"{s}:{row[s]['status']}/{row[s]['time']:.3f}s/{row[s].get('cpu', 0):.3f}cpu/{row[s]['length']}"
+                for s in systems
             )
             print(f"{domain_set}/{name}: {cells}", file=sys.stderr, flush=True)
         rows.append(row)
@@ -254,87 +274,105 @@ def bench_set(
 
 
 def summarize(result: dict, system: str) -> dict:
-    """Coverage, total time (unsolved tasks count their time, timeouts the full limit), lengths."""
+    """Coverage, total wall/CPU time (unsolved tasks count their time, timeouts the limit), lengths."""
     cells = [r[system] for r in result["rows"] if system in r]
     if not cells or all(c["status"] == "n/a" for c in cells):
         return {"coverage": None}
     solved = [c for c in cells if c["status"] == "solved"]
-    out = {
+    long = [c for c in solved if c["length"] >= LONG]
+    return {
         "coverage": len(solved),
         "tasks": len(cells),
         "total_time": sum(c["time"] for c in cells),
+        "total_cpu": sum(c.get("cpu", c["time"]) for c in cells),
         "total_length": sum(c["length"] for c in solved),
         "median_time": statistics.median(c["time"] for c in cells),
+        "median_cpu": statistics.median(c.get("cpu", c["time"]) for c in cells),
+        "long_tasks": len(long),
+        "median_time_long": statistics.median(c["time"] for c in long) if long else None,
+        "median_cpu_long": statistics.median(c.get("cpu", c["time"]) for c in long) if long else None,
     }
-    long_times = [c.get("plan_time", c["time"]) for c in solved if c["length"] >= LONG]
-    out["long_tasks"] = len(long_times)
-    out["median_time_long"] = statistics.median(long_times) if long_times else None
-    return out
 
 
-def _systems(results: list[dict]) -> list[str]:
+def _systems(result: dict) -> list[str]:
     seen: list[str] = []
-    for res in results:
-        for row in res["rows"]:
-            seen += [k for k in row if k != "problem" and k not in seen]
+    for row in result["rows"]:
+        seen += [k for k in row if k != "problem" and k not in seen]
     return seen
 
 
-def print_table(results: list[dict], markdown: bool) -> None:
-    """Coverage, total time, total plan length (solved tasks), time ratio vs FD, median times."""
-    head = ["set", "system", "coverage", "total time (s)", "plan length", "time / FD", "median (ms)"]
-    lines = [head]
+HEAD = [
+    "set",
+    "system",
+    "coverage",
+    "wall (s)",
+    "CPU (s)",
+    "plan length",
+    "wall / FD",
+    "CPU / FD",
+    "median wall / CPU (ms)",
+]
+
+
+def table_lines(results: list[dict]) -> list[list[str]]:
+    """One row per set and system: coverage, totals, ratios to Fast Downward, medians."""
+    lines = []
     for res in results:
-        fd = summarize(res, "fd") if any("fd" in r for r in res["rows"]) else {"coverage": None}
-        for system in _systems([res]):
+        fd = summarize(res, "fd")
+        for system in _systems(res):
             s = summarize(res, system)
             if s["coverage"] is None:
-                lines.append([res["set"], system, "n/a", "", "", "", ""])
+                lines.append([res["set"], system, "n/a"] + [""] * (len(HEAD) - 3))
                 continue
-            ratio = f"{s['total_time'] / fd['total_time']:.2f}" if fd["coverage"] is not None else ""
+            ok = fd["coverage"] is not None
+            median = f"{s['median_time'] * 1000:.1f} / {s['median_cpu'] * 1000:.1f}"
+            if s["long_tasks"] and res["set"] in TABLETOP_SETS:
+                median += (
+                    f"; {s['long_tasks']} solved with >= {LONG} steps: "
+                    f"{s['median_time_long'] * 1000:.1f} / {s['median_cpu_long'] * 1000:.1f}"
+                )
             lines.append(
                 [
-                    res["set"],
+                    f"{res['set']} ({s['tasks']})",
                     system,
-                    f"{s['coverage']}/{s['tasks']}",
+                    str(s["coverage"]),
                     f"{s['total_time']:.2f}",
+                    f"{s['total_cpu']:.2f}",
                     str(s["total_length"]),
-                    ratio,
-                    f"{s['median_time'] * 1000:.1f}",
+                    f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
+                    f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
+                    median,
                 ]
             )
-            if res["set"] in TABLETOP_SETS and system == "gsr" and s["median_time_long"] is not None:
-                lines[-1][0] += (
-                    f" ({s['long_tasks']} tasks >= {LONG} steps: median {s['median_time_long'] * 1000:.1f} ms)"
-                )
+    return lines
+
+
+def print_table(results: list[dict], markdown: bool) -> None:
+    """Print the summary table, aligned text or Markdown."""
+    lines = table_lines(results)
     if markdown:
-        print("| " + " | ".join(head) + " |")
-        print("|" + "|".join("---" if i < 2 else "---:" for i in range(len(head))) + "|")
-        for line in lines[1:]:
+        print("| " + " | ".join(HEAD) + " |")
+        print("|" + "|".join("---" if i < 2 else "---:" for i in range(len(HEAD))) + "|")
+        for line in lines:
             print("| " + " | ".join(line) + " |")
         return
-    widths = [max(len(line[i]) for line in lines) for i in range(len(head))]
-    for line in lines:
-        print(
-            "  ".join(
-                cell.ljust(w) if i < 2 else cell.rjust(w) for i, (cell, w) in enumerate(zip(line, widths))
-            )
-        )
+    widths = [max(len(x[i]) for x in [HEAD, *lines]) for i in range(len(HEAD))]
+    for line in [HEAD, *lines]:
+        cells = zip(line, widths, strict=True)
+        print("  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(cells)))
 
 
 def merge(results: list[dict]) -> list[dict]:
-    """Combine runs of the same set (e.g. peers run separately): per-task rows are joined by name."""
+    """Combine saved runs (e.g. peers run set by set): rows of the same set are joined by task name."""
     by_set: dict[str, dict] = {}
     for res in results:
-        cur = by_set.setdefault(res["set"], {**res, "rows": [dict(r) for r in res["rows"]]})
-        if cur is res or cur["rows"] is res["rows"]:
-            continue
+        cur = by_set.setdefault(res["set"], {"set": res["set"], "rows": []})
         index = {r["problem"]: r for r in cur["rows"]}
         for row in res["rows"]:
-            index.setdefault(row["problem"], {"problem": row["problem"]})
-            if row["problem"] not in {r["problem"] for r in cur["rows"]}:
+            if row["problem"] not in index:
+                index[row["problem"]] = {"problem": row["problem"]}
                 cur["rows"].append(index[row["problem"]])
-            index[row["problem"]].update({k: v for k, v in row.items() if k != "problem"})
+            index[row["problem"]].update(row)
     order = {s: i for i, s in enumerate(SETS)}
     return sorted(by_set.values(), key=lambda r: order.get(r["set"], len(order)))
 

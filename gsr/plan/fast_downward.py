@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -44,8 +45,14 @@ def run_fast_downward(
     *,
     alias: str | None = "lama-first",
     search: str | None = None,
+    memory_limit: str | None = None,
 ) -> tuple[str, Plan | None, str]:
-    """Run FD on two files; returns (status, plan, message) with status solved/unsolvable/timeout/error."""
+    """Run FD on two files; returns (status, plan, message) with status solved/unsolvable/timeout/error.
+
+    FD runs in its own session so that a timeout kills the translator and search processes too (the
+    driver alone would leave an orphaned search running); ``memory_limit`` (e.g. "4G") is passed to
+    the driver's --overall-memory-limit.
+    """
     cmd = find_fast_downward()
     if cmd is None:
         raise GSRError(
@@ -54,6 +61,8 @@ def run_fast_downward(
     with tempfile.TemporaryDirectory(prefix="gsr-fd-") as tmp:
         plan_file = Path(tmp) / "sas_plan"
         args = [*cmd, "--plan-file", str(plan_file)]
+        if memory_limit is not None:
+            args += ["--overall-memory-limit", memory_limit]
         if search is not None:
             args += [str(Path(domain_file).resolve()), str(Path(problem_file).resolve()), "--search", search]
         else:
@@ -64,16 +73,33 @@ def run_fast_downward(
                 str(Path(problem_file).resolve()),
             ]
         env = dict(os.environ, PYTHONHASHSEED="0")
+        proc = subprocess.Popen(
+            args,
+            cwd=tmp,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=env,
+            start_new_session=True,
+        )
         try:
-            proc = subprocess.run(args, cwd=tmp, capture_output=True, text=True, timeout=timeout, env=env)
+            stdout, stderr = proc.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
             return "timeout", None, f"Fast Downward exceeded {timeout:.1f} s"
+        finally:
+            if proc.poll() is None:  # interrupted (e.g. Ctrl-C): never leave FD running
+                os.killpg(proc.pid, signal.SIGKILL)
         if plan_file.is_file():
             return "solved", parse_sas_plan(plan_file.read_text()), "fast downward"
-        # Exit codes 11/12: proven unsolvable (https://www.fast-downward.org/ExitCodes); 23/21: limits.
+        # Exit codes (https://www.fast-downward.org/ExitCodes): 11/12 proven unsolvable; 21/23 out of
+        # time; 20/22/24 out of memory.
         if proc.returncode in (11, 12):
             return "unsolvable", None, "Fast Downward proved the task unsolvable"
-        if proc.returncode in (21, 23, 24):
-            return "timeout", None, f"Fast Downward hit a limit (exit {proc.returncode})"
-        tail = (proc.stdout + proc.stderr).strip().splitlines()[-3:]
+        if proc.returncode in (21, 23):
+            return "timeout", None, f"Fast Downward ran out of time (exit {proc.returncode})"
+        if proc.returncode in (20, 22, 24):
+            return "error", None, f"Fast Downward ran out of memory (exit {proc.returncode})"
+        tail = (stdout + stderr).strip().splitlines()[-3:]
         return "error", None, f"Fast Downward failed (exit {proc.returncode}): {' | '.join(tail)}"

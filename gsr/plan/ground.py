@@ -167,13 +167,16 @@ def _effects(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> l
     for eff in schema.effects:
         # Effect variables range only over objects satisfying the condition's static atoms.
         guards = simplify.guards(eff.condition, True) if eff.params else ()
+        literals = simplify.literals(eff.condition)
+        atom = eff.literal.atom
         for b in simplify.instances(eff.params, guards, binding):
-            cond = simplify(eff.condition, b)
-            if cond is FALSE:
-                continue
-            atom = eff.literal.atom
             ground = Atom(atom.predicate, tuple(b.get(a, a) for a in atom.args))
-            for conj in to_dnf(cond):
+            if literals is not None:  # the common case: a conjunction of literals
+                conj = simplify.ground_literals(literals, b)
+                if conj is not None:
+                    effects.append((conj, ground, eff.literal.negated))
+                continue
+            for conj in to_dnf(simplify(eff.condition, b)):
                 effects.append((conj, ground, eff.literal.negated))
     return effects
 

@@ -5,7 +5,7 @@ one per conditional effect with the condition added to the precondition); a goal
 zero-cost unary operator reaching the auxiliary fact ``G``; an always-true fact ``T`` is the
 precondition of operators without one, so that the counter-based Dijkstra (as in FF / Fast
 Downward's relaxation heuristics) needs no special cases. Negative preconditions and goals are
-ignored by the relaxation, which keeps h_max and LM-cut admissible.
+compiled into complement facts (see Relaxation), which keeps h_max and LM-cut admissible.
 """
 
 from __future__ import annotations
@@ -25,21 +25,38 @@ class Relaxation:
         self.task = task
         self.goal_fact = n
         self.true_fact = n + 1
-        self.n_facts = n + 2
+        # Negative preconditions, effect conditions and goals become complement facts "not a" (true
+        # in a state without a, achieved by deleting a), so that the relaxation sees that a drawer
+        # must be closed or a blocker moved; the compiled task is equivalent, so h_max and LM-cut
+        # stay admissible.
+        negated = sorted(
+            {a for o in task.ops for a in o.neg}
+            | {a for o in task.ops for _cp, cn, _ca, _cd in o.cond for a in cn}
+            | {a for _p, ng in task.goals for a in ng}
+        )
+        self.comp = {a: n + 2 + k for k, a in enumerate(negated)}
+        self.comp_pairs = [(1 << a, c) for a, c in self.comp.items()]
+        self.n_facts = n + 2 + len(negated)
+        comp = self.comp
         pre: list[tuple[int, ...]] = []
         add: list[tuple[int, ...]] = []
         cost: list[float] = []
         owner: list[int] = []
         for i, o in enumerate(task.ops):
-            groups = [(o.pre, o.add)] if o.add else []
-            groups += [(tuple(sorted(set(o.pre) | set(cp))), ca) for cp, _cn, ca, _cd in o.cond if ca]
-            for p, a in groups:
-                pre.append(p or (self.true_fact,))
-                add.append(a)
-                cost.append(o.cost)
-                owner.append(i)
-        for p, _n in task.goals:
-            pre.append(p or (self.true_fact,))
+            base_pre = (*o.pre, *(comp[a] for a in o.neg))
+            groups = [(base_pre, (*o.add, *(comp[d] for d in o.delete if d in comp)))]
+            for cp, cn, ca, cd in o.cond:
+                gp = tuple(sorted({*base_pre, *cp, *(comp[a] for a in cn)}))
+                groups.append((gp, (*ca, *(comp[d] for d in cd if d in comp))))
+            for gp, ga in groups:
+                if ga:
+                    pre.append(gp or (self.true_fact,))
+                    add.append(ga)
+                    cost.append(o.cost)
+                    owner.append(i)
+        for p, ng in task.goals:
+            gp = (*p, *(comp[a] for a in ng))
+            pre.append(gp or (self.true_fact,))
             add.append((self.goal_fact,))
             cost.append(0)
             owner.append(-1)
@@ -68,6 +85,7 @@ class Relaxation:
             s ^= low
             heap.append((0, low.bit_length() - 1))
         heap.append((0, self.true_fact))
+        heap += [(0, c) for bit, c in self.comp_pairs if not state & bit]
         return heap
 
     def hadd(self, state: int) -> tuple[list[float], list[int]]:
@@ -213,13 +231,7 @@ class Relaxation:
             for u, p in enumerate(pcf):
                 if p >= 0:
                     by_pcf.setdefault(p, []).append(u)
-            reached = set()
-            s = state
-            while s:
-                low = s & -s
-                s ^= low
-                reached.add(low.bit_length() - 1)
-            reached.add(self.true_fact)
+            reached = {f for _, f in self._start(state)}
             stack = list(reached)
             cut: set[int] = set()
             while stack:

@@ -59,6 +59,40 @@ class Simplifier:
         # Keyed by id(); the formula is kept in the value so that the id stays valid.
         self._quant: dict[int, tuple[Formula, tuple[str, ...], tuple[Atom, ...]]] = {}
         self._memo: dict[tuple, Formula] = {}
+        self._lits: dict[int, tuple[Formula, tuple[tuple[Atom, bool], ...] | None]] = {}
+
+    def literals(self, formula: Formula) -> tuple[tuple[Atom, bool], ...] | None:
+        """The literals of a conjunction of literals (cached), or None for any other formula."""
+        entry = self._lits.get(id(formula))
+        if entry is None:
+            out: list[tuple[Atom, bool]] | None = []
+            for p in _flatten(formula, And):
+                if isinstance(p, Atom):
+                    out.append((p, True))
+                elif isinstance(p, Not) and isinstance(p.formula, Atom):
+                    out.append((p.formula, False))
+                else:
+                    out = None
+                    break
+            entry = self._lits[id(formula)] = (formula, tuple(out) if out is not None else None)
+        return entry[1]
+
+    def ground_literals(
+        self, literals: tuple[tuple[Atom, bool], ...], binding: Mapping[str, str]
+    ) -> frozenset[tuple[Atom, bool]] | None:
+        """Fast path of __call__ + DNF for a conjunction of literals: its fluent literals, None if false."""
+        out = []
+        fluent, init = self.fluent, self.init
+        for atom, pos in literals:
+            g = Atom(atom.predicate, tuple(binding.get(a, a) for a in atom.args))
+            if atom.predicate in fluent:
+                out.append((g, pos))
+            elif (g in init) != pos:
+                return None
+        conj = frozenset(out)
+        if any((a, not p) in conj for a, p in out):
+            return None
+        return conj
 
     def static(self, atom: Atom) -> bool | None:
         """True/False for a ground static atom, None for a fluent one."""
@@ -85,6 +119,9 @@ class Simplifier:
         names = {p.name for p in params}
         ptypes = {p.name: p.types for p in params}
         useful = [g for g in guards if names.intersection(g.args)]
+        for g in guards:  # a guard without quantified variables is checked once, up front
+            if g not in useful and Atom(g.predicate, tuple(binding.get(a, a) for a in g.args)) not in self.init:
+                return
         index, has, objects = self.index, self.objects.has, self.objects
 
         def rec(k: int, b: dict[str, str]) -> Iterator[dict[str, str]]:
