@@ -19,9 +19,18 @@ def _err(message: str) -> int:
 
 
 def _building(path: Path | None) -> Building:
+    """The shipped building, or a user's file checked against the building invariants."""
+    from gsr.building.checks import building_problems
     from gsr.building.shipped import load_shipped_building
 
-    return load_shipped_building() if path is None else load_building(path)
+    if path is None:
+        return load_shipped_building()
+    building = load_building(path)
+    problems = building_problems(building)
+    if problems:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise GSRError(f"{path}: unusable building: {problems[0]}{more}")
+    return building
 
 
 def generate_building_command(seed: int, out: Path, floors: int, people: int, name: str | None) -> int:

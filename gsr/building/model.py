@@ -202,9 +202,12 @@ class Building(BaseModel):
         _unique("receptacle", [r.id for r in self.receptacles])
         _unique("item", [i.id for i in self.items])
         _unique("person", [p.id for p in self.people])
+        shapes = {f.level: f.shape for f in self.floors}
         for r in self.rooms:
             if r.floor not in levels:
                 raise ValueError(f"room {r.id}: floor {r.floor} does not exist")
+            if r.rect[2] > shapes[r.floor][0] or r.rect[3] > shapes[r.floor][1]:
+                raise ValueError(f"room {r.id}: rect {r.rect} extends past the floor grid {shapes[r.floor]}")
         for d in self.doors:
             for rid in d.rooms:
                 if rid not in rooms:
@@ -213,12 +216,17 @@ class Building(BaseModel):
         for rec in self.receptacles:
             if rec.room not in rooms:
                 raise ValueError(f"receptacle {rec.id}: unknown room {rec.room!r}")
+            if not rooms[rec.room].contains(*rec.access):
+                raise ValueError(f"receptacle {rec.id}: access cell {rec.access} is outside room {rec.room}")
         for it in self.items:
             if it.receptacle not in recs:
                 raise ValueError(f"item {it.id}: unknown receptacle {it.receptacle!r}")
         for c in self.connectors:
             if set(c.access) - levels:
                 raise ValueError(f"connector {c.id}: unknown floors {sorted(set(c.access) - levels)}")
+            for level, (row, col) in c.access.items():
+                if not (0 <= row < shapes[level][0] and 0 <= col < shapes[level][1]):
+                    raise ValueError(f"connector {c.id}: access cell {(row, col)} is off floor {level}")
         for p in self.people:
             for rid in (p.home_room, *(s.room for s in p.routine)):
                 if rid not in rooms:

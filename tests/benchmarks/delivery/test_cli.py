@@ -66,3 +66,18 @@ def test_map() -> None:
     assert any(" = " in line and "(" in line for line in lines[31:])
     res = runner.invoke(app, ["delivery", "map", "--time", "7pm"])
     assert res.exit_code == 1 and "expected HH:MM" in res.output
+
+
+def test_unsound_building_is_refused(tmp_path: Path) -> None:
+    from gsr.building.shipped import shipped_building_path
+
+    data = json.loads(shipped_building_path().read_text())
+    rec = data["receptacles"][0]
+    floor = next(r["floor"] for r in data["rooms"] if r["id"] == rec["room"])
+    row, col = rec["access"]
+    grid = data["floors"][floor]["grid"]
+    grid[row] = grid[row][:col] + "#" + grid[row][col + 1 :]  # wall up the access cell
+    p = tmp_path / "b.json"
+    p.write_text(json.dumps(data))
+    res = runner.invoke(app, ["delivery", "run", "--building", str(p), "--limit", "1"])
+    assert res.exit_code == 1 and "unusable building" in res.output and rec["id"] in res.output

@@ -57,3 +57,12 @@ def test_save_is_atomic(tmp_path: Path, shipped) -> None:
     save_building(shipped, out)
     assert load_building(out) == shipped
     assert [p.name for p in out.parent.iterdir()] == ["b.json"]  # no temp file left behind
+
+
+def test_room_past_the_grid_is_named(tmp_path: Path) -> None:
+    data = _data()
+    data["rooms"][3]["rect"][3] = 500
+    p = tmp_path / "b.json"
+    p.write_text(json.dumps(data))
+    with pytest.raises(GSRError, match="extends past the floor grid"):
+        load_building(p)
