@@ -39,6 +39,12 @@ def _w(word: str) -> str:
     return word.replace("_", " ")
 
 
+def _listing(items: list[str]) -> str:
+    """``the milk, the butter and the popcorn``."""
+    words = [f"the {_w(i)}" for i in items]
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
 # ----------------------------------------------------------------- Kitchen Operations
 def open_microwave(rng: random.Random, v: int, b: SceneBuilder) -> tuple[str, str]:
     b.add("microwave", "microwave", states=("closed", "off"))
@@ -101,7 +107,7 @@ def put_groceries_in_cupboard(rng: random.Random, v: int, b: SceneBuilder) -> tu
     for f in items:
         b.add(f, f)
     goal = " ".join(f"(in {f} cupboard/interior)" for f in items)
-    return f"put the {' and the '.join(_w(f) for f in items)} in the cupboard", f"(and {goal})"
+    return f"put {_listing(items)} in the cupboard", f"(and {goal})"
 
 
 def turn_off_stove(rng: random.Random, v: int, b: SceneBuilder) -> tuple[str, str]:
@@ -153,7 +159,7 @@ def place_items_in_tray(rng: random.Random, v: int, b: SceneBuilder) -> tuple[st
     for f in items:
         b.add(f, f)
     goal = " ".join(f"(in {f} tray)" for f in items)
-    return f"place the {', the '.join(_w(f) for f in items)} in the tray", f"(and {goal})"
+    return f"place {_listing(items)} in the tray", f"(and {goal})"
 
 
 def empty_container(rng: random.Random, v: int, b: SceneBuilder) -> tuple[str, str]:
@@ -304,7 +310,10 @@ def stack_blocks(rng: random.Random, v: int, b: SceneBuilder) -> tuple[str, str]
         b.add(f"{c}_block", "block", color=c)
     tower = colors[:n]
     goal = " ".join(f"(on {a}_block {b_}_block)" for a, b_ in zip(tower[1:], tower[:-1], strict=True))
-    return f"stack the {', '.join(tower)} blocks, {tower[0]} at the bottom", f"(and {goal})"
+    phrase = " and ".join(
+        f"the {a} block on the {b_} block" for a, b_ in zip(tower[1:], tower[:-1], strict=True)
+    )
+    return f"stack {phrase}", f"(and {goal})"
 
 
 def stack_cups(rng: random.Random, v: int, b: SceneBuilder) -> tuple[str, str]:
