@@ -1,0 +1,134 @@
+"""Perception speed and accuracy: frames/s of ``perceive`` alone, and F1 against depth noise / mask erosion.
+
+Run: ``python benchmarks/bench_perception.py [--frames 30] [--scenes 30] [--seed 0] [--json]``
+(``--only fps`` or ``--only noise`` for one part). Frames are 640x480 renders of random scenes (both
+worlds, see benchmarks/perception_eval.py); they are rendered first, then each is perceived
+``--repeats`` times and the median time per frame is kept, so rendering never enters the timing. The
+machine's load average is printed with the figures because the development machine is shared.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np
+
+from benchmarks.perception_eval import evaluate, procedural_scene, skills_scene
+from perception.pipeline import perceive
+
+NOISE = (0.0, 0.002, 0.005, 0.01, 0.02)
+EROSION = (0, 2, 4)
+
+
+def bench_fps(frames: int, seed: int, repeats: int, world: str) -> dict[str, Any]:
+    """Median seconds per 640x480 frame of ``perceive`` over ``frames`` rendered scenes."""
+    make = procedural_scene if world == "procedural" else skills_scene
+    seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(frames)]
+    rendered = [make(s, 1, 640, 480)[0][0] for s in seeds]
+    perceive(rendered[0])  # one-off imports (open3d) are not a per-frame cost
+    load_before = os.getloadavg()[0]
+    per_frame, cpu_per_frame = [], []
+    for frame in rendered:
+        times, cpu = [], []
+        for _ in range(repeats):
+            start, start_cpu = time.perf_counter(), time.process_time()
+            perceive(frame)
+            times.append(time.perf_counter() - start)
+            cpu.append(time.process_time() - start_cpu)
+        per_frame.append(statistics.median(times))
+        cpu_per_frame.append(statistics.median(cpu))
+    mean = sum(per_frame) / len(per_frame)
+    cpu_mean = sum(cpu_per_frame) / len(cpu_per_frame)
+    return {
+        "world": world,
+        "frames": frames,
+        "resolution": [640, 480],
+        "ms_per_frame_mean": round(1000 * mean, 1),
+        "ms_per_frame_p90": round(1000 * float(np.percentile(per_frame, 90)), 1),
+        "fps": round(1.0 / mean, 1),
+        # CPU seconds of this process (all its threads): what a frame costs without other users' load
+        "cpu_ms_per_frame_mean": round(1000 * cpu_mean, 1),
+        "fps_cpu": round(1.0 / cpu_mean, 1),
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
+        "cpus": os.cpu_count(),
+    }
+
+
+def bench_noise(scenes: int, seed: int, world: str) -> list[dict[str, Any]]:
+    """Relation F1 and state accuracy for each depth-noise level and mask erosion."""
+    rows = []
+    settings = [(n, 0) for n in NOISE] + [(0.0, e) for e in EROSION if e]
+    for noise, erosion in settings:
+        r = evaluate(scenes, seed, depth_noise=noise, mask_erosion=erosion, world=world)
+        rows.append(
+            {
+                "world": world,
+                "depth_noise": noise,
+                "mask_erosion": erosion,
+                "f1": {rel: s["f1"] for rel, s in r["relations"].items()},
+                "visible_f1": {rel: s["f1"] for rel, s in r["visible"]["relations"].items()},
+                "node_recall": r["nodes"]["recall"],
+                "states": r["states"]["accuracy"],
+                "visible_states": r["visible"]["states"]["accuracy"],
+                "drawer_opening_mae_m": r["states"]["drawer_opening_mae_m"],
+                "door_angle_mae_rad": r["states"]["door_angle_mae_rad"],
+            }
+        )
+    return rows
+
+
+def markdown(rows: list[dict[str, Any]]) -> str:
+    """The noise table as Markdown."""
+    rels = list(rows[0]["f1"])
+    head = "| world | depth noise (m) | mask erosion (px) | " + " | ".join(f"F1 {r}" for r in rels)
+    head += " | node recall | state acc. |"
+    lines = [head, "|" + "---|" * (5 + len(rels))]
+    for row in rows:
+        cells = [row["world"], f"{row['depth_noise']:g}", str(row["mask_erosion"])]
+        cells += [f"{row['f1'][r]:.3f}" for r in rels]
+        cells += [f"{row['node_recall']:.3f}", f"{row['states']:.3f}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    """Command-line entry point."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--frames", type=int, default=30)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--scenes", type=int, default=30)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--only", choices=("fps", "noise"), default=None)
+    ap.add_argument("--json", action="store_true")
+    args = ap.parse_args()
+    out: dict[str, Any] = {}
+    if args.only in (None, "fps"):
+        out["fps"] = [bench_fps(args.frames, args.seed, args.repeats, w) for w in ("procedural", "skills")]
+    if args.only in (None, "noise"):
+        out["noise"] = [
+            row for w in ("procedural", "skills") for row in bench_noise(args.scenes, args.seed, w)
+        ]
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return
+    for f in out.get("fps", []):
+        print(
+            f"{f['world']:>10}: {f['fps']} frames/s wall ({f['ms_per_frame_mean']} ms mean, {f['ms_per_frame_p90']} ms "
+            f"p90), {f['fps_cpu']} frames per CPU-second ({f['cpu_ms_per_frame_mean']} ms CPU) over {f['frames']} "
+            f"frames at 640x480; load average {f['load_average']} on {f['cpus']} CPUs"
+        )
+    if "noise" in out:
+        print(markdown(out["noise"]))
+
+
+if __name__ == "__main__":
+    main()
