@@ -6,8 +6,9 @@ from lark import Tree
 from lark.visitors import CollapseAmbiguities
 
 from gsr.facts import graph_objects
-from gsr.language.build import Interpreter, goal_formula
+from gsr.language.build import Interpreter
 from gsr.language.errors import GroundingError
+from gsr.language.goals import goal_formula
 from gsr.language.lexicon import build_lexicon
 from gsr.language.parse import parse_tokens, tokenize
 from gsr.language.refs import Resolver
