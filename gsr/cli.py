@@ -498,6 +498,20 @@ def train_cmd(
     )
 
 
+@app.command("datagen-tasks")
+def datagen_tasks_cmd(
+    data: Annotated[Path, typer.Option(help="A dataset folder written by gsr datagen.")],
+    out: Annotated[Path, typer.Option(help="Folder for one TaskSpec JSON per task (run with gsr bench run tasks).")],
+    split: Annotated[str, typer.Option(help="train, val or test.")] = "test",
+    heldout: Annotated[str | None, typer.Option(help="Only one held-out kind: pair, color or horizon.")] = None,
+    limit: Annotated[int | None, typer.Option(help="At most this many tasks.")] = None,
+) -> None:
+    """Export a generated dataset's tasks as TaskSpec files for the suites runner."""
+    from gsr.datagen.tasks import export_tasks
+
+    typer.echo(f"wrote {export_tasks(data, out, split, heldout, limit)} task(s) to {out}")
+
+
 def main() -> None:
     """Console entry point: turn GSR errors into one-line messages and exit code 1."""
     try:

@@ -17,13 +17,13 @@ PAD = "<|pad|>"
 
 @dataclass(frozen=True)
 class TinySpec:
-    """Size of the tiny model (defaults: ~3.4M parameters, 640-token context)."""
+    """Size of the tiny model (defaults: ~1.7M parameters, 640-token context)."""
 
-    vocab_size: int = 4096
-    hidden: int = 256
-    layers: int = 4
+    vocab_size: int = 2048
+    hidden: int = 192
+    layers: int = 3
     heads: int = 4
-    intermediate: int = 704
+    intermediate: int = 512
     context: int = 640
 
 
