@@ -4,6 +4,9 @@ Event-driven simulated time: every action advances the clock by its duration (tr
 length and speed, elevator waits, grasp attempts), so an 8-minute episode runs in milliseconds. People
 are wherever ``PeopleClock`` puts them at the current second. The robot holds at most one object.
 
+Success is a state condition (as in PRS): the episode ends successfully as soon as, after any action,
+the robot holds the target object within 3 m (walking distance) of the recipient.
+
 Perception model: looking around a room shows the objects on its open receptacles (and inside the ones
 the robot opened) and the people in it, identified (the robot knows the residents' faces).
 """
@@ -100,12 +103,16 @@ class DeliveryWorld:
         return True
 
     def _note_person(self) -> None:
+        """Update the partial scores; the task succeeds once the target is held within 3 m of the recipient."""
         where = self.clock.location(self.task.person, self.time)
         if where is None or self.bmap.euclidean(self.robot, where) > NEAR_RADIUS:
             return  # walking distance is never shorter than the straight line
         d = self.bmap.distance(self.robot, where)
         self.log.person_within_5m |= d <= NEAR_RADIUS
         self.log.person_within_3m |= d <= SUCCESS_RADIUS
+        if d <= SUCCESS_RADIUS and self.held == self.task.item and not self.done:
+            self.log.delivered = self.done = True
+            self.log.events.append(f"delivered {self.held} to {self.task.person} at {self.elapsed:.0f} s")
 
     # ------------------------------------------------------------ actions
 
@@ -201,16 +208,18 @@ class DeliveryWorld:
         return True
 
     def handover(self, person_id: str) -> bool:
-        """Hand the held object to a person; the episode ends if they are within reach."""
+        """Hand the held object to a person within reach; handing it to anyone but the recipient ends the
+        episode as a failure (the right object to the recipient already succeeded in ``_note_person``)."""
         if self.held is None or not self._spend(HANDOVER_SECONDS):
             return False
+        self._note_person()
+        if self.done:
+            return self.log.delivered
         where = self.clock.location(person_id, self.time)
         if where is None or self.bmap.euclidean(self.robot, where) > SUCCESS_RADIUS:
             return False
         if self.bmap.distance(self.robot, where) > SUCCESS_RADIUS:
             return False
-        self._note_person()
         self.done = True
-        self.log.delivered = person_id == self.task.person and self.held == self.task.item
-        self.log.events.append(f"handed {self.held} to {person_id}")
+        self.log.events.append(f"handed {self.held} to {person_id}: wrong object or person")
         return True

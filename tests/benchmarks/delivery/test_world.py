@@ -92,3 +92,17 @@ def test_look_shows_only_open_receptacles(world, shipped) -> None:
     assert not inside & set(world.look().items)
     world.open(rec.id)
     assert inside <= set(world.look().items)
+
+
+def test_success_is_a_state_condition(world) -> None:
+    _hold_target(world)
+    world.robot = _cell_at_distance(world, 0.5, 2.5)
+    world._note_person()  # what every action does when it ends: no handover needed
+    assert world.done and world.log.delivered
+    assert not world.look().items  # the episode is over: actions do nothing
+
+
+def test_being_near_without_the_object_is_not_success(world) -> None:
+    world.robot = _cell_at_distance(world, 0.0, 2.0)
+    world._note_person()
+    assert world.log.person_within_3m and not world.done and not world.log.delivered
