@@ -68,3 +68,80 @@ def test_bad_files_exit_1_with_one_line(tmp_path: Path, capsys) -> None:
     assert "bad.pddl" in err and err.count("\n") == 1
     assert plan_command(None, tmp_path / "p.pddl", "lazy-ff", 1.0, None) == 1
     assert plan_command(tmp_path / "bad.pddl", tmp_path / "p.pddl", "no-such", 1.0, None) == 1
+
+
+LIBERO = DATA.parent / "libero"
+BOWL_IN_DRAWER = (
+    "libero_10/KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
+)
+
+
+def _libero_problem(bddl: Path):
+    from gsr.libero import libero_task
+    from gsr.pddl.bddl import load_bddl
+    from gsr.resources import load_builtin_domain
+
+    domain = load_builtin_domain("tabletop")
+    return domain, libero_task(load_bddl(bddl), domain)[1]
+
+
+@pytest.mark.parametrize("with_domain", [False, True])
+def test_bddl_problem_plans_against_tabletop_domain(with_domain: bool, tmp_path: Path, capsys) -> None:
+    from gsr.resources import domain_path
+    from gsr.validate import validate_plan
+
+    bddl = LIBERO / BOWL_IN_DRAWER
+    if not bddl.is_file():
+        pytest.skip(f"reference data not found at {bddl}")
+    out = tmp_path / "plan.txt"
+    domain = domain_path("tabletop") if with_domain else None
+    assert plan_command(domain, bddl, "lazy-ff", 30.0, out) == 0
+    found = parse_plan(out.read_text())
+    assert [s.action for s in found] == ["pick", "place_in", "close"]
+    assert validate_plan(*_libero_problem(bddl), found).valid
+    assert "lazy-ff: solved" in capsys.readouterr().err
+
+
+def test_bad_bddl_is_exit_1(tmp_path: Path, capsys) -> None:
+    bad = tmp_path / "broken.bddl"
+    bad.write_text("(define (problem x) (:domain robosuite) (:objects a - ")
+    assert plan_command(None, bad, "lazy-ff", 5.0, None) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error:") and "broken.bddl" in err and err.count("\n") == 1
+
+
+def test_planner_fd_delegates_to_fast_downward(blocks: tuple[Path, Path], capsys) -> None:
+    from gsr.plan.fast_downward import find_fast_downward
+
+    if find_fast_downward() is None:
+        pytest.skip("Fast Downward (up-fast-downward) is not installed")
+    assert plan_command(blocks[0], blocks[1], "fd", 60.0, None) == 0
+    captured = capsys.readouterr()
+    assert len(parse_plan(captured.out)) >= 12
+    assert "fd: solved" in captured.err
+
+
+def test_gsr_plan_typer_exit_codes(blocks: tuple[Path, Path], tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from gsr.cli import app
+
+    runner = CliRunner()
+    solved = runner.invoke(app, ["plan", str(blocks[0]), str(blocks[1]), "--planner", "astar-lmcut"])
+    assert solved.exit_code == 0, solved.output
+    assert "(unstack" in solved.output or "(pick-up" in solved.output
+    (tmp_path / "d.pddl").write_text(TOY_DOMAIN)
+    (tmp_path / "p.pddl").write_text(TOY_UNSOLVABLE)
+    assert runner.invoke(app, ["plan", str(tmp_path / "d.pddl"), str(tmp_path / "p.pddl")]).exit_code == 2
+    gripper = DATA / "gripper"
+    args = [
+        "plan",
+        str(gripper / "domain.pddl"),
+        str(gripper / "prob10.pddl"),
+        "--planner",
+        "bfs",
+        "--timeout",
+        "0",
+    ]
+    assert runner.invoke(app, args).exit_code == 3
+    assert runner.invoke(app, ["plan", str(tmp_path / "missing.pddl")]).exit_code == 1
