@@ -12,7 +12,7 @@ import itertools
 from gsr.language.errors import GroundingError
 from gsr.language.intents import Dest, Intent
 from gsr.language.refs import Ref, Resolver
-from gsr.pddl.model import And, Atom, Equals, Forall, Formula, Imply, Not, Or, TypedVar
+from gsr.pddl.model import And, Atom, Domain, Equals, Forall, Formula, Imply, Not, Or, TypedVar
 
 #: Most assignments a "different drawers" / "one colour per drawer" / tower goal may enumerate.
 ASSIGNMENT_LIMIT = 512
@@ -85,7 +85,7 @@ def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Fo
         out: list[Formula] = []
         for ref in intent.objects:
             if ref.forall:
-                out.extend(_forall(ref, dest, types))
+                out.extend(_forall(ref, dest, types, resolver.domain))
             else:
                 ids = [x for x in ref.ids if x != dest.target]
                 if (
@@ -125,25 +125,19 @@ def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Fo
     return [_assignments(objects, slots, lambda x: colors[x], groups)]
 
 
-def _forall(ref: Ref, dest: Dest, types: dict[str, str]) -> list[Formula]:
+def _forall(ref: Ref, dest: Dest, types: dict[str, str], domain: Domain) -> list[Formula]:
     out: list[Formula] = []
     assert ref.forall is not None and dest.target is not None
     for category, colors in ref.forall:
         var = "?x"
         conds: list[Formula] = [Atom("has_color", (var, c)) for c in colors]
-        if types.get(dest.target) and _is_subtype(types[dest.target], category):
+        if types.get(dest.target) and domain.is_subtype(types[dest.target], (category,)):
             conds.append(Not(Equals(var, dest.target)))
         body: Formula = Atom(dest.predicate, (var, dest.target))
         if conds:
             body = Imply(conds[0] if len(conds) == 1 else And(tuple(conds)), body)
         out.append(Forall((TypedVar(var, (category,)),), body))
     return out
-
-
-def _is_subtype(t: str, of: str) -> bool:
-    from gsr.resources import load_builtin_domain
-
-    return load_builtin_domain("tabletop").is_subtype(t, (of,))
 
 
 def _corresponding(x: str, dest: Dest, resolver: Resolver) -> Formula:

@@ -46,7 +46,7 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
     goals: list[Formula] = []
     errors: list[GroundingError] = []
     for reading in _readings(tree):
-        interp = Interpreter(Resolver(graph, lex.entities))
+        interp = Interpreter(Resolver(graph, lex.entities, domain))
         try:
             formula = goal_formula(interp.run(reading), interp.resolver, types)
         except GroundingError as exc:

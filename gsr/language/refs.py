@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from gsr.categories import is_a
 from gsr.language.errors import GroundingError
 from gsr.language.lexicon import POSITION_SYNONYMS, Entity
+from gsr.pddl.model import Domain
 from gsr.scene_graph import SceneGraph
 
 #: Graph relations that count as "next to" (either direction).
@@ -76,8 +77,9 @@ class Place:
 class Resolver:
     """Filters the graph's entities by descriptions."""
 
-    def __init__(self, graph: SceneGraph, entities: dict[str, Entity]) -> None:
+    def __init__(self, graph: SceneGraph, entities: dict[str, Entity], domain: Domain) -> None:
         self.graph = graph
+        self.domain = domain
         self.entities = entities
         self.support: dict[str, tuple[str, str]] = {}
         self.near: set[tuple[str, str]] = set()
@@ -324,14 +326,12 @@ class Resolver:
 
     def _quantifiable(self, d: Description, category: str) -> bool:
         """A quantifier over static properties only (category, colour) becomes a PDDL forall."""
-        from gsr.resources import load_builtin_domain
-
         return (
             not (
                 d.positions or d.names or d.noun_mods or d.owner or d.relations or d.same_color_as or d.states
             )
             and category != "thing"
-            and category in load_builtin_domain("tabletop").types
+            and category in self.domain.types
         )
 
     def _near_misses(self, category: str) -> tuple[str, ...]:
