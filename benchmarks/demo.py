@@ -10,6 +10,7 @@ It lives in ``benchmarks`` because it uses every layer (skills, perception, gsr)
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -53,7 +54,7 @@ def run_demo(
     from gsr.reason import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
-    from skills import build_world, default_views, render_frame, run_step, scene_graph_from_sim
+    from skills import build_world, default_views, render, render_frame, run_step, scene_graph_from_sim
 
     path = task_path or default_task_path()
     if not path.is_file():
@@ -70,7 +71,10 @@ def run_demo(
 
         def observe(label: str) -> Any:
             frames = [render_frame(world, views[v]) for v in VIEWS]
-            rec.images[f"rgb_{label}"] = frames[0].rgb
+            picture = dataclasses.replace(
+                views["front"], width=640, height=480
+            )  # larger, for the report only
+            rec.images[f"rgb_{label}"] = render(world, picture).rgb
             if not use_perception:
                 return scene_graph_from_sim(world)
             from perception import perceive

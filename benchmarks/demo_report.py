@@ -91,6 +91,7 @@ def write_report(rec: DemoRecord, out: Path) -> Path:
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}-", dir=out.parent))
+    tmp.chmod(0o755)  # mkdtemp makes it private; the report is meant to be shared
     try:
         for name, rgb in rec.images.items():
             _png(rgb, tmp / f"{name}.png")
