@@ -101,16 +101,16 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
     handle, yaw = _handle(world, obj, art)
     delta = target - world.joint_position(obj, part)
     _lift(m, transit_height(world))
-    m.park_for(handle, poses=[(handle, top_down(yaw))])
     # the hand is symmetric: of the grasp yaws a and a + pi, take one whose turned pose the wrist reaches
+    # from some base position (parking is planned before anything moves)
     quat = goal = None
     for k in (0, -1, 1):
         a = yaw - math.pi / 2 + k * math.pi
         q_start = p.getQuaternionFromEuler((math.pi, 0, a))
         q_end = p.getQuaternionFromEuler((math.pi, 0, a + delta))
+        above = handle + np.array([0, 0, APPROACH])
         try:
-            m.solve(handle, q_start)
-            m.solve(handle, q_end)
+            m.park_for(handle, poses=[(handle, q_start), (handle, q_end), (above, q_start)])
         except SkillError:
             continue
         quat, goal = q_start, q_end
@@ -138,7 +138,10 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
 def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation) -> None:
     """Press a button with the closed fingers and let it spring back."""
     top, _ = _handle(world, obj, art)
-    quat = top_down(0.0)
+    # fingers side by side across the line to the object's centre: the hand stays clear of poles and walls
+    lo, hi = world.body_aabb(obj.body)
+    to_centre = (lo[:2] + hi[:2]) / 2 - top[:2]
+    quat = top_down(math.atan2(to_centre[1], to_centre[0]) + math.pi / 2)
     _lift(m, transit_height(world))
     m.park_for(top, poses=[(top, quat), (top - np.array([0, 0, abs(art.open - art.closed) + 0.004]), quat)])
     m.gripper(0.0, steps=30)

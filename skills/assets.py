@@ -334,7 +334,7 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
         [
             Link("base", tuple(shapes), 8.0),
             door,
-            _button_link("button", (sx / 2 - 0.05, sy / 2 - 0.05, sz), (0.1, 0.7, 0.2, 1)),
+            _button_link("button", (-sx / 2 + 0.04, sy / 2 - 0.05, sz), (0.1, 0.7, 0.2, 1)),
         ],
         articulations={
             "door": Articulation("door", "door", 0.0, 1.6, handle=handle),
@@ -349,16 +349,16 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
 
 
 def make_lamp(size: Vec | None, rgba: RGBA) -> AssetModel:
-    """A desk lamp: a base with a push switch, a pole and a shade."""
-    sx, sy, sz = _scale(size, (0.14, 0.14, 0.3))
+    """A desk lamp: a long base with a push switch at the front, the pole and a small shade at the back."""
+    sx, sy, sz = _scale(size, (0.18, 0.12, 0.3))
     shapes = (
         box((0, 0, 0.015), (sx, sy, 0.03), rgba),
-        cylinder((sx / 4, 0, sz / 2), 0.01, sz, METAL),
-        cylinder((sx / 4, 0, sz - 0.03), 0.06, 0.06, (0.95, 0.9, 0.6, 1)),
+        cylinder((sx / 2 - 0.025, 0, sz / 2), 0.01, sz, METAL),
+        cylinder((sx / 2 - 0.025, 0, sz - 0.03), 0.04, 0.06, (0.95, 0.9, 0.6, 1)),
     )
     return AssetModel(
         "lamp",
-        [Link("base", shapes, 3.0), _button_link("switch", (-sx / 4, 0, 0.03), (0.9, 0.9, 0.9, 1))],
+        [Link("base", shapes, 3.0), _button_link("switch", (-sx / 2 + 0.03, 0, 0.03), (0.9, 0.9, 0.9, 1))],
         articulations={"switch": _button_art("switch")},
         switch_part="switch",
         fixed=True,

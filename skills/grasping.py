@@ -209,6 +209,13 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     m.move_line((np.array([goal[0], goal[1], z_transit]), quat))
     m.move_line((goal + np.array([0, 0, 0.04]), quat))
+    # the object may have shifted in the fingers on the way: re-measure and correct before lowering it
+    m.step(10)
+    lo, hi = world.body_aabb(obj.body)
+    err = spot[:2] - (lo[:2] + hi[:2]) / 2
+    if float(np.linalg.norm(err)) > 0.003:
+        goal = goal + np.array([err[0], err[1], 0.0])
+        m.move_line((goal + np.array([0, 0, 0.04]), quat), check=False)
     m.move_line((goal, quat), check=False)
     m.step(10)
     m.gripper(0.08, steps=60)

@@ -1,0 +1,404 @@
+"""Meta-skill benchmark: per-skill physical success over seeded scenes, and a 10-step episode's wall time.
+
+Each trial builds a fresh world (PyBullet DIRECT) from a seeded scene graph: a three-drawer cabinet,
+a stove and a few objects drawn from the catalogue, laid out by ``skills.layout.layout_from_graph``.
+Setup steps (e.g. the pick before a place) run physically too; a trial whose setup fails is counted
+as ``setup_failed`` and left out of the skill's success rate (so each rate is conditional on reaching
+the skill). Success means the skill reported ok, i.e. its own effect holds in the simulator.
+
+Usage: python benchmarks/bench_skills.py [--trials 50] [--skills pick,place_on,...] [--episodes 5]
+       [--seed 0] [--workers 1] [--save FILE] [--markdown]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import os
+import random
+import statistics
+import sys
+import tempfile
+import time
+from collections import Counter
+from collections.abc import Callable
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+if str(REPO) not in sys.path:
+    sys.path.insert(0, str(REPO))
+
+from gsr.scene_graph import Edge, Node, SceneGraph  # noqa: E402
+from gsr.step import Step  # noqa: E402
+from gsr.task_spec import TaskSpec  # noqa: E402
+
+PICKABLE = (
+    "cube",
+    "bowl",
+    "plate",
+    "mug",
+    "milk",
+    "ketchup",
+    "alphabet_soup",
+    "cream_cheese",
+    "wine_bottle",
+    "book",
+    "box",
+    "basket",
+    "butter",
+    "popcorn",
+)
+SMALL = ("cube", "cream_cheese", "butter", "milk", "alphabet_soup", "chocolate_pudding", "mug")
+COLORS = ("red", "blue", "green", "yellow", "white", "orange")
+SKILLS = ("pick", "place_on", "place_in", "stack", "open", "close", "turn_on", "turn_off", "push")
+DRAWERS = {0: "bottom_drawer", 1: "middle_drawer", 2: "top_drawer"}
+
+
+def scene(
+    rng: random.Random,
+    movables: list[tuple[str, str]],
+    states: dict[str, tuple[str, ...]] | None = None,
+    extra: list[Node] | None = None,
+) -> SceneGraph:
+    """Table, cabinet (3 drawers + top), stove and the given (id, category) objects, all on the table."""
+    states = states or {}
+    nodes = [
+        Node(id="table", category="table"),
+        Node(id="cabinet_1", category="cabinet", attributes={"fixture": True}),
+        Node(id="cabinet_1/top_side", category="cabinet_top", parent="cabinet_1"),
+        Node(
+            id="stove_1",
+            category="stove",
+            states=states.get("stove_1", ("off",)),
+            attributes={"fixture": True},
+        ),
+    ]
+    for level, name in DRAWERS.items():
+        nid = f"cabinet_1/{name}"
+        nodes.append(
+            Node(
+                id=nid,
+                category="drawer",
+                parent="cabinet_1",
+                attributes={"level": level},
+                states=states.get(nid, ("closed",)),
+            )
+        )
+    edges = [
+        Edge(source="cabinet_1", relation="on", target="table"),
+        Edge(source="stove_1", relation="on", target="table"),
+    ]
+    for nid, cat in movables:
+        attrs = (
+            {"color": rng.choice(COLORS)} if cat in ("cube", "block", "box", "basket", "mug", "book") else {}
+        )
+        nodes.append(Node(id=nid, category=cat, attributes=attrs, states=states.get(nid, ())))
+        edges.append(Edge(source=nid, relation="on", target="table"))
+    for n in extra or []:
+        nodes.append(n)
+        if n.parent is None:
+            edges.append(Edge(source=n.id, relation="on", target="table"))
+    return SceneGraph(nodes=tuple(nodes), edges=tuple(edges))
+
+
+def _task(graph: SceneGraph, seed: int) -> TaskSpec:
+    return TaskSpec(
+        id=f"bench-{seed}", suite="bench-skills", instructions=("bench",), initial=graph, goal="(and)"
+    )
+
+
+def _distinct(rng: random.Random, pool: tuple[str, ...], k: int) -> list[str]:
+    return rng.sample(list(pool), k)
+
+
+# each trial: seed -> (graph, setup steps, the step under test)
+def trial_pick(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    cats = _distinct(rng, PICKABLE, 3)
+    objs = [(f"{c}_{i}", c) for i, c in enumerate(cats)]
+    target = rng.choice(objs)[0]
+    return scene(rng, objs), [], Step("pick", (target, "table"))
+
+
+def trial_place_on(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    x = rng.choice(SMALL)
+    support = rng.choice(("plate", "bowl", "stove_1", "cabinet_1/top_side"))
+    objs = [(f"{x}_1", x)] + ([(f"{support}_1", support)] if support in ("plate", "bowl") else [])
+    objs.append((f"distractor_{rng.choice(PICKABLE)}", rng.choice(("cube", "milk", "mug"))))
+    target = f"{support}_1" if support in ("plate", "bowl") else support
+    return scene(rng, objs), [Step("pick", (f"{x}_1", "table"))], Step("place_on", (f"{x}_1", target))
+
+
+def trial_place_in(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    x = rng.choice(("cube", "cream_cheese", "butter", "chocolate_pudding", "alphabet_soup"))
+    container = rng.choice(("box", "basket", "drawer"))
+    objs = [(f"{x}_1", x)]
+    states: dict[str, tuple[str, ...]] = {}
+    if container == "drawer":
+        target = f"cabinet_1/{DRAWERS[2]}"  # only the top drawer may be open for a put-in (domain rule)
+        states[target] = ("open",)
+    else:
+        target = f"{container}_1"
+        objs.append((target, container))
+    return scene(rng, objs, states), [Step("pick", (f"{x}_1", "table"))], Step("place_in", (f"{x}_1", target))
+
+
+def trial_stack(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    objs = [("block_1", "block"), ("block_2", "block"), ("cube_3", "cube")]
+    return scene(rng, objs), [Step("pick", ("block_1", "table"))], Step("stack", ("block_1", "block_2"))
+
+
+def _openable(rng: random.Random, is_open: bool) -> tuple[SceneGraph, str]:
+    kind = rng.choice(("drawer", "drawer", "lidded_box"))
+    if kind == "drawer":
+        nid = f"cabinet_1/{DRAWERS[rng.randrange(3)]}"
+        return scene(rng, [("cube_1", "cube")], {nid: ("open",) if is_open else ("closed",)}), nid
+    box = Node(
+        id="lid_box_1",
+        category="lidded_box",
+        attributes={"color": rng.choice(COLORS)},
+        states=("open",) if is_open else ("closed",),
+    )
+    return scene(rng, [("cube_1", "cube")], extra=[box]), "lid_box_1"
+
+
+def trial_open(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    graph, nid = _openable(rng, False)
+    return graph, [], Step("open", (nid,))
+
+
+def trial_close(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    graph, nid = _openable(rng, True)
+    return graph, [], Step("close", (nid,))
+
+
+def _switchable(rng: random.Random, on: bool) -> tuple[SceneGraph, str]:
+    kind = rng.choice(("stove", "lamp", "microwave"))
+    state = ("on",) if on else ("off",)
+    if kind == "stove":
+        return scene(rng, [("cube_1", "cube")], {"stove_1": state}), "stove_1"
+    dev = Node(id=f"{kind}_1", category=kind, attributes={"fixture": True}, states=state)
+    return scene(rng, [("cube_1", "cube")], extra=[dev]), f"{kind}_1"
+
+
+def trial_turn_on(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    graph, nid = _switchable(rng, False)
+    return graph, [], Step("turn_on", (nid,))
+
+
+def trial_turn_off(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    graph, nid = _switchable(rng, True)
+    return graph, [], Step("turn_off", (nid,))
+
+
+def trial_push(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    x = rng.choice(("plate", "box", "cube", "bowl", "cookie_box", "milk"))
+    region = Node(id="table/stove_front_region", category="region", parent="table")
+    graph = scene(rng, [(f"{x}_1", x)], extra=[region])
+    return graph, [], Step("push", (f"{x}_1", "table", "table/stove_front_region"))
+
+
+TRIALS: dict[str, Callable[[random.Random], tuple[SceneGraph, list[Step], Step]]] = {
+    "pick": trial_pick,
+    "place_on": trial_place_on,
+    "place_in": trial_place_in,
+    "stack": trial_stack,
+    "open": trial_open,
+    "close": trial_close,
+    "turn_on": trial_turn_on,
+    "turn_off": trial_turn_off,
+    "push": trial_push,
+}
+
+
+def run_trial(job: tuple[str, int]) -> dict:
+    """One seeded trial of one skill: build, run setup, run the skill; a JSON-ready record."""
+    from skills.library import run_step
+    from skills.world import build_world
+
+    skill, seed = job
+    rng = random.Random(f"{skill}-{seed}")
+    graph, setup, step = TRIALS[skill](rng)
+    t0 = time.perf_counter()
+    record = {"skill": skill, "seed": seed, "step": str(step)}
+    with build_world(_task(graph, seed), seed=seed) as world:
+        for s in setup:
+            r = run_step(world, s)
+            if not r.ok:
+                record.update(
+                    setup_failed=True,
+                    ok=False,
+                    failure=r.failure.value if r.failure else None,
+                    message=f"setup {s}: {r.message}",
+                    wall_s=time.perf_counter() - t0,
+                )
+                return record
+        t1 = time.perf_counter()
+        r = run_step(world, step)
+    record.update(
+        setup_failed=False,
+        ok=r.ok,
+        failure=r.failure.value if r.failure else None,
+        message=r.message,
+        skill_wall_s=round(time.perf_counter() - t1, 3),
+        sim_steps=r.sim_steps,
+        wall_s=round(time.perf_counter() - t0, 3),
+    )
+    return record
+
+
+EPISODE = [
+    Step("open", ("cabinet_1/top_drawer",)),
+    Step("pick", ("cube_1", "table")),
+    Step("place_in", ("cube_1", "cabinet_1/top_drawer")),
+    Step("close", ("cabinet_1/top_drawer",)),
+    Step("turn_on", ("stove_1",)),
+    Step("pick", ("bowl_1", "table")),
+    Step("place_on", ("bowl_1", "plate_1")),
+    Step("pick", ("milk_1", "table")),
+    Step("place_on", ("milk_1", "cabinet_1/top_side")),
+    Step("turn_off", ("stove_1",)),
+]
+
+
+def run_episode(seed: int) -> dict:
+    """The 10-step episode (drawer, stove, three pick-and-places) closed loop; wall time with and without build."""
+    from skills.executor import execute_plan
+    from skills.world import build_world
+
+    rng = random.Random(f"episode-{seed}")
+    graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
+    t0, c0 = time.perf_counter(), time.process_time()
+    with build_world(_task(graph, seed), seed=seed) as world:
+        t1 = time.perf_counter()
+        result = execute_plan(world, EPISODE)
+    # CPU time beside wall time: on a shared machine wall time also counts other people's processes
+    return {
+        "seed": seed,
+        "ok": result.ok,
+        "steps_done": sum(s.ok for s in result.steps),
+        "diagnosis": result.diagnosis,
+        "wall_s": round(time.perf_counter() - t0, 3),
+        "execute_s": round(time.perf_counter() - t1, 3),
+        "cpu_s": round(time.process_time() - c0, 3),
+        "sim_steps": result.sim_steps,
+    }
+
+
+def summarize(records: list[dict], episodes: list[dict]) -> dict:
+    """Per-skill rates and failure counts, episode timing."""
+    out: dict = {"skills": {}, "episodes": {}}
+    for skill in SKILLS:
+        rs = [r for r in records if r["skill"] == skill]
+        if not rs:
+            continue
+        attempted = [r for r in rs if not r["setup_failed"]]
+        ok = sum(r["ok"] for r in attempted)
+        out["skills"][skill] = {
+            "trials": len(rs),
+            "attempted": len(attempted),
+            "setup_failed": len(rs) - len(attempted),
+            "succeeded": ok,
+            "rate": round(ok / len(attempted), 3) if attempted else None,
+            "failures": dict(Counter(r["failure"] for r in attempted if not r["ok"])),
+            "median_skill_s": round(statistics.median(r["skill_wall_s"] for r in attempted), 2)
+            if attempted
+            else None,
+        }
+    if episodes:
+        out["episodes"] = {
+            "n": len(episodes),
+            "succeeded": sum(e["ok"] for e in episodes),
+            "median_wall_s": round(statistics.median(e["wall_s"] for e in episodes), 2),
+            "max_wall_s": round(max(e["wall_s"] for e in episodes), 2),
+            "median_execute_s": round(statistics.median(e["execute_s"] for e in episodes), 2),
+            "median_cpu_s": round(statistics.median(e["cpu_s"] for e in episodes), 2),
+        }
+    return out
+
+
+def markdown(summary: dict) -> str:
+    """A markdown table of the summary."""
+    lines = [
+        "| skill | trials | reached | success | rate | failures (count) | median skill s |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for skill, s in summary["skills"].items():
+        fails = ", ".join(f"{k} {v}" for k, v in sorted(s["failures"].items())) or "-"
+        rate = f"{100 * s['rate']:.0f}%" if s["rate"] is not None else "n/a"
+        lines.append(
+            f"| {skill} | {s['trials']} | {s['attempted']} | {s['succeeded']} | {rate} | {fails} | {s['median_skill_s']} |"
+        )
+    e = summary.get("episodes") or {}
+    if e:
+        lines.append("")
+        lines.append(
+            f"10-step episode: {e['succeeded']}/{e['n']} completed; wall time median {e['median_wall_s']} s, "
+            f"max {e['max_wall_s']} s (execution only: median {e['median_execute_s']} s; "
+            f"CPU time median {e['median_cpu_s']} s)."
+        )
+    return "\n".join(lines)
+
+
+def _save(path: Path, data: dict) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=2)
+    os.replace(tmp, path)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark; print a markdown table; optionally save every trial record as JSON."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--trials", type=int, default=50)
+    ap.add_argument("--skills", default=",".join(SKILLS))
+    ap.add_argument("--episodes", type=int, default=5)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--save", type=Path)
+    ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("-v", "--verbose", action="store_true")
+    args = ap.parse_args(argv)
+    skills = [s.strip() for s in args.skills.split(",") if s.strip()]
+    unknown = [s for s in skills if s not in TRIALS]
+    if unknown:
+        print(f"error: unknown skill(s) {', '.join(unknown)}; expected {', '.join(SKILLS)}", file=sys.stderr)
+        return 2
+    jobs = [(s, args.seed + i) for s in skills for i in range(args.trials)]
+    t0 = time.perf_counter()
+    records: list[dict] = []
+    with multiprocessing.get_context("spawn").Pool(args.workers) if args.workers > 1 else _Serial() as pool:
+        for rec in pool.imap(run_trial, jobs):
+            records.append(rec)
+            if args.verbose:
+                print(
+                    f"{rec['skill']:9s} seed {rec['seed']:3d} {'ok ' if rec['ok'] else 'FAIL'} "
+                    f"{rec.get('failure') or ''} {rec['message'][:100]}",
+                    file=sys.stderr,
+                    flush=True,
+                )
+        episodes = list(pool.imap(run_episode, [args.seed + i for i in range(args.episodes)]))
+    summary = summarize(records, episodes)
+    summary["total_s"] = round(time.perf_counter() - t0, 1)
+    if args.save:
+        _save(args.save, {"summary": summary, "trials": records, "episodes": episodes})
+    print(markdown(summary) if args.markdown else json.dumps(summary, indent=2))
+    return 0
+
+
+class _Serial:
+    """A stand-in for a process pool that runs jobs in this process."""
+
+    def __enter__(self) -> _Serial:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def imap(self, fn, items):
+        """Map lazily in-process."""
+        return (fn(x) for x in items)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
