@@ -29,6 +29,7 @@ _EXPORTS = {
     "PhysicalExecutor": "skills.executor",
     "symbolic_view": "skills.executor",
     "make_env": "skills.gym_env",
+    "SimExecutor": "skills.sim_executor",
 }
 
 __all__ = sorted(_EXPORTS)
