@@ -87,6 +87,22 @@ def test_tiny_run_writes_a_folder_the_transformers_backend_loads(data, tmp_path)
     assert isinstance(reply, str)
     with pytest.raises(GSRError, match="not empty"):
         train(_cfg(data, out), log=lambda _: None)
+    # the no-checker baseline agent runs the same checkpoint open loop, constrained or not
+    from gsr.datagen.tasks import generated_tasks
+    from gsr.train.openloop import OpenLoopAgent
+
+    task = generated_tasks(data, "train", limit=1)[0]
+    for constrained in (False, True):
+        agent = OpenLoopAgent(backend=f"transformers:{out}", constrained=constrained)
+        agent.reset(task, load_builtin_domain(), 0)
+        step = agent.act(task.initial, task.instruction)
+        assert step is None or step.add is None  # claimed effects never reach the executor
+    if constrained and step is not None:
+        from gsr.facts import state_from_graph
+        from gsr.semantics import applicable
+
+        domain = load_builtin_domain()
+        assert applicable(domain, state_from_graph(task.initial, domain), step.action, step.args)
 
 
 def test_lora_on_a_checkpoint_merges_into_a_plain_model(data, tmp_path) -> None:
