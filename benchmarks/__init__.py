@@ -1,1 +1,5 @@
-"""Benchmark scripts and task suites; each `bench_*.py` runs as a script and records figures for docs/performance.md."""
+"""Benchmarks: task suites (``benchmarks.suites``), agents, the checked-step runner, metrics and reports.
+
+``gsr bench list|run|export`` is the command line (docs/benchmarks.md); the ``bench_*.py`` scripts
+measure speed and record figures for docs/performance.md.
+"""
