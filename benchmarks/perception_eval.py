@@ -56,7 +56,8 @@ def visible_nodes(frames: list[Frame]) -> set[str]:
 def visible_truth(truth: SceneGraph, visible: set[str]) -> SceneGraph:
     """The truth restricted to what a camera could see: visible nodes and the edges leaving them."""
     keep = {n.id for n in truth.nodes if n.id in visible}
-    edges = [e for e in truth.edges if e.source in keep]
+    # a visible object's support counts even if the supporter is hidden; other relations need both ends
+    edges = [e for e in truth.edges if e.source in keep and (e.target in keep or e.relation in ("on", "in"))]
     needed = keep | {e.target for e in edges} | {n.parent for n in truth.nodes if n.id in keep and n.parent}
     nodes = [
         n if n.id in keep else n.model_copy(update={"states": ()}) for n in truth.nodes if n.id in needed

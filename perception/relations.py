@@ -59,7 +59,7 @@ def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
 def surface_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresholds) -> float | None:
     """Height of B's surface under A, or None when B is not under A's footprint."""
     overlap = float(np.mean(b.footprint_contains(a.points[:, :2], margin=th.footprint_margin)))
-    if overlap < th.on_overlap:
+    if overlap < th.on_overlap and not _hidden_under(a, b, a_bottom, th):
         return None
     near = a.footprint_contains(b.points[:, :2], margin=th.contact_ring)
     z = b.points[near, 2]
@@ -67,6 +67,13 @@ def surface_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresho
     if z.size == 0:
         return None
     return float(np.percentile(z, 98.0)) if z.size >= 10 else float(z.max())
+
+
+def _hidden_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresholds) -> bool:
+    """B is mostly hidden under A (a box stacked on a box): B's visible points lie under A's footprint
+    and nowhere rise above A's bottom, so B's own footprint, seen only in part, cannot be trusted."""
+    under = float(np.mean(a.footprint_contains(b.points[:, :2], margin=th.footprint_margin)))
+    return under >= 0.8 and float(np.percentile(b.points[:, 2], 98.0)) <= a_bottom + th.on_gap
 
 
 def supports(
