@@ -160,7 +160,7 @@ def run_episode(
                 failure = diagnosis.to_dict()
                 outcome_hint, reason = (
                     "planning_error",
-                    f"step {valid + 1} {step} rejected: {diagnosis.message}",
+                    f"step {valid + 1} rejected: {diagnosis.message}",
                 )
                 break
             feedback = diagnosis
