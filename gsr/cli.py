@@ -365,6 +365,18 @@ def delivery_map(
     raise typer.Exit(map_command(floor, at, seed, building))
 
 
+@delivery_app.command("episode")
+def delivery_episode(
+    task: Annotated[str, typer.Argument(help="Task id, e.g. test-0004.")],
+    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
+    agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
+) -> None:
+    """Run one delivery task and print the agent's timeline."""
+    from benchmarks.delivery.cli import episode_command
+
+    raise typer.Exit(episode_command(task, building, agent))
+
+
 bench_app = typer.Typer(
     help="Benchmark suites: list them, run an agent on one (reports), export tasks.", no_args_is_help=True
 )

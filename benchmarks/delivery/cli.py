@@ -203,3 +203,43 @@ def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> i
     print("\n".join("".join(row) for row in grid))
     print("\n".join(legend) if legend else "nobody on this floor")
     return 0
+
+
+def episode_command(task_id: str, building_path: Path | None, agent: str) -> int:
+    """Run one task (``test-0004``) and print what the agent understood and did, second by second."""
+    from benchmarks.delivery.metrics import score_episode
+    from benchmarks.delivery.run import AGENTS, parser_for
+    from benchmarks.delivery.tasks import SPLITS, make_task
+    from benchmarks.delivery.world import DeliveryWorld
+    from gsr.building.navigation import BuildingMap
+
+    split, _, number = task_id.partition("-")
+    if split not in SPLITS or not number.isdigit() or int(number) >= SPLITS[split][1]:
+        return _err(
+            f"bad task id {task_id!r}: expected SPLIT-NNNN, e.g. test-0004 (splits: {', '.join(SPLITS)})"
+        )
+    if agent not in AGENTS:
+        return _err(f"unknown agent {agent!r} (known: {', '.join(AGENTS)})")
+    from benchmarks.delivery.agent import BaselineAgent
+
+    try:
+        building = _building(building_path)
+    except GSRError as exc:
+        return _err(str(exc))
+    bmap = BuildingMap(building)
+    task = make_task(building, bmap, split, int(number), SPLITS[split][0])
+    world = DeliveryWorld(building, bmap, task)
+    trace = BaselineAgent(building, bmap, parser_for(building), use_routines=agent == "baseline").run(world)
+    result = score_episode(task, world, trace)
+    t = task.start_time
+    print(f"{task.id} at {t // 3600:02d}:{t % 3600 // 60:02d}: {task.instruction}")
+    print(f"  target: {task.item} -> {task.person}")
+    print(f"  parsed: {trace.parsed.model_dump(exclude_none=True) if trace.parsed else trace.parse_error}")
+    for elapsed, text in world.log.events:
+        print(f"  {elapsed:6.1f} s  {text}")
+    verdict = "SUCCESS" if result.success else ("TIMEOUT" if result.timed_out else "FAILED")
+    print(
+        f"  {verdict} in {result.time:.1f} s: object found {result.object_found}, grasped {result.grasped}, "
+        f"within 5 m {result.person_within_5m}, within 3 m {result.person_within_3m}"
+    )
+    return 0

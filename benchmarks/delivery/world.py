@@ -55,7 +55,7 @@ class EpisodeLog:
     timed_out: bool = False
     actions: int = 0
     metres: float = 0.0
-    events: list[str] = field(default_factory=list)
+    events: list[tuple[float, str]] = field(default_factory=list)  # (elapsed seconds, what happened)
 
 
 class DeliveryWorld:
@@ -102,6 +102,13 @@ class DeliveryWorld:
         self.time += seconds
         return True
 
+    def _event(self, text: str) -> None:
+        self.log.events.append((round(self.elapsed, 1), text))
+
+    def _place_name(self, place: Place) -> str:
+        room = self.bmap.room_at(place)
+        return self.building.room(room).name if room else f"a doorway on floor {place[0]}"
+
     def _note_person(self) -> None:
         """Update the partial scores; the task succeeds once the target is held within 3 m of the recipient."""
         where = self.clock.location(self.task.person, self.time)
@@ -112,7 +119,7 @@ class DeliveryWorld:
         self.log.person_within_3m |= d <= SUCCESS_RADIUS
         if d <= SUCCESS_RADIUS and self.held == self.task.item and not self.done:
             self.log.delivered = self.done = True
-            self.log.events.append(f"delivered {self.held} to {self.task.person} at {self.elapsed:.0f} s")
+            self._event(f"success: holding {self.held} within {d:.1f} m of {self.task.person}")
 
     # ------------------------------------------------------------ actions
 
@@ -125,12 +132,16 @@ class DeliveryWorld:
         """Drive to ``goal`` (elevator between floors); False if unreachable or out of time."""
         route = self.bmap.route(self.robot, goal)
         if route is None or not self.bmap.is_walkable(goal):
-            self.log.events.append(f"cannot reach {goal}")
+            self._event(f"cannot reach {goal}")
             return False
         if not self._spend(route.seconds(ROBOT_SPEED)):
+            if self.log.timed_out:
+                self._event(f"out of time driving to {self._place_name(goal)}")
             return False
         self.log.metres += route.metres
         self.robot = goal
+        via = f" via the {route.connector}" if route.connector else ""
+        self._event(f"drove {route.metres:.1f} m{via} to {self._place_name(goal)}")
         self._note_person()
         return True
 
@@ -156,6 +167,8 @@ class DeliveryWorld:
             where = self.clock.location(pid, self.time)
             if where is not None:
                 obs.people[pid] = where
+        people = ", ".join(self.building.person(p).name for p in obs.people) or "nobody"
+        self._event(f"looked around {self._place_name(self.robot)}: {len(obs.items)} objects, {people}")
         self._note_person()
         return obs
 
@@ -167,29 +180,31 @@ class DeliveryWorld:
     def open(self, rec_id: str) -> bool:
         """Open a closed receptacle the robot stands at."""
         if rec_id not in self.rec or not self._at(rec_id):
-            self.log.events.append(f"open {rec_id}: not at it")
+            self._event(f"open {rec_id}: not at it")
             return False
         if not self._spend(OPEN_SECONDS):
             return False
         self.opened.add(rec_id)
+        self._event(f"opened {rec_id}")
         return True
 
     def pick(self, item_id: str) -> bool:
         """One grasp attempt; succeeds with the object type's grasp-success probability."""
         rid = self.item_at.get(item_id)
         if self.held is not None or rid is None or not self._at(rid):
-            self.log.events.append(f"pick {item_id}: hand full, object gone or robot not at it")
+            self._event(f"pick {item_id}: hand full, object gone or robot not at it")
             return False
         if self.rec[rid].closed and rid not in self.opened:
-            self.log.events.append(f"pick {item_id}: {rid} is closed")
+            self._event(f"pick {item_id}: {rid} is closed")
             return False
         if not self._spend(PICK_SECONDS):
             return False
         if self._rng.random() >= OBJECTS[self.items[item_id].category].grasp_success:
-            self.log.events.append(f"pick {item_id}: grasp slipped")
+            self._event(f"pick {item_id}: grasp slipped")
             return False
         self.held = item_id
         del self.item_at[item_id]
+        self._event(f"picked up {item_id} from {rid}")
         if item_id == self.task.item:
             self.log.grasped = self.log.object_found = True
         return True
@@ -204,6 +219,7 @@ class DeliveryWorld:
         ):
             return False
         self.item_at[self.held] = rec_id
+        self._event(f"put {self.held} on/in {rec_id}")
         self.held = None
         return True
 
@@ -221,5 +237,5 @@ class DeliveryWorld:
         if self.bmap.distance(self.robot, where) > SUCCESS_RADIUS:
             return False
         self.done = True
-        self.log.events.append(f"handed {self.held} to {person_id}: wrong object or person")
+        self._event(f"handed {self.held} to {person_id}: wrong object or person")
         return True

@@ -81,3 +81,16 @@ def test_unsound_building_is_refused(tmp_path: Path) -> None:
     p.write_text(json.dumps(data))
     res = runner.invoke(app, ["delivery", "run", "--building", str(p), "--limit", "1"])
     assert res.exit_code == 1 and "unusable building" in res.output and rec["id"] in res.output
+
+
+def test_episode_timeline() -> None:
+    res = runner.invoke(app, ["delivery", "episode", "val-0003"])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert lines[0].startswith("val-0003 at ")
+    assert "parsed: {'object'" in lines[2]
+    times = [float(line.split()[0]) for line in lines[3:-1]]
+    assert times == sorted(times) and times[-1] <= 480.0
+    assert lines[-1].strip().split()[0] in ("SUCCESS", "TIMEOUT", "FAILED")
+    res = runner.invoke(app, ["delivery", "episode", "dev-1"])
+    assert res.exit_code == 1 and "bad task id" in res.output
