@@ -92,9 +92,9 @@ class TransformersBackend:
         processors = LogitsProcessorList()
         max_new = self.max_new_tokens
         if query is not None and query.allowed:
-            trie = TokenTrie(completion_ids(tokenizer, query.allowed, self.terminator))
-            processors.append(step_logits_processor(trie, start, self.terminator[0]))
-            max_new = max(len(s) for s in completion_ids(tokenizer, query.allowed, self.terminator))
+            sequences = completion_ids(tokenizer, query.allowed, self.terminator)
+            processors.append(step_logits_processor(TokenTrie(sequences), start, self.terminator[0]))
+            max_new = max(len(s) for s in sequences)
         torch.manual_seed(self.seed)
         t0 = time.perf_counter()
         with torch.no_grad():

@@ -91,7 +91,13 @@ def trace_pairs(cases: list, goals_per_scene: int = 0, seed: int = 0) -> list[tu
 
 
 def train(
-    out: Path, pairs: list[tuple[str, str]], seed: int = 0, seconds: float = 300.0, epochs: int = 200
+    out: Path,
+    pairs: list[tuple[str, str]],
+    seed: int = 0,
+    seconds: float = 300.0,
+    epochs: int = 200,
+    n_embd: int = 128,
+    n_layer: int = 2,
 ) -> dict:
     """Train tokenizer + GPT-2 on the pairs within the time budget; save to ``out``; return figures."""
     import torch
@@ -117,8 +123,8 @@ def train(
     config = GPT2Config(
         vocab_size=len(fast),
         n_positions=longest + 256,
-        n_embd=128,
-        n_layer=4,
+        n_embd=n_embd,
+        n_layer=n_layer,
         n_head=4,
         bos_token_id=eos,
         eos_token_id=eos,
@@ -133,6 +139,8 @@ def train(
     while done_epochs < epochs and time.perf_counter() - start < seconds:
         order = torch.randperm(len(rows), generator=generator).tolist()
         for i in range(0, len(order), 8):
+            if time.perf_counter() - start >= seconds:
+                break
             batch = [rows[j] for j in order[i : i + 8]]
             width = max(len(ids) for ids, _ in batch)
             ids = torch.full((len(batch), width), eos)
@@ -146,8 +154,12 @@ def train(
             optim.zero_grad()
             loss.backward()
             optim.step()
-            loss_value = float(loss)
+            loss_value = loss.detach().item()
         done_epochs += 1
+        print(
+            f"epoch {done_epochs}: loss {loss_value:.4f}, {time.perf_counter() - start:.0f} s",
+            file=sys.stderr,
+        )
     model.eval()
     out.mkdir(parents=True, exist_ok=True)
     fast.save_pretrained(out)
@@ -159,6 +171,7 @@ def train(
         "seconds": round(time.perf_counter() - start, 1),
         "parameters": sum(p.numel() for p in model.parameters()),
         "max_tokens": longest,
+        "mean_tokens": round(sum(len(ids) for ids, _ in rows) / len(rows)),
     }
 
 
