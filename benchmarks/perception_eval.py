@@ -71,7 +71,8 @@ SKILLS_VIEWS = ("top", "left", "right", "front")
 
 def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
     """Frames and exact ground truth of one primitive scene (benchmarks/perception_scenes.py)."""
-    from benchmarks.perception_scenes import camera_specs, random_scene, render
+    from benchmarks.perception_render import camera_specs, render
+    from benchmarks.perception_scenes import random_scene
 
     rng = np.random.default_rng(scene_seed)
     scene = random_scene(scene_seed)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmarks.perception_scenes import CameraSpec, Scene, SceneBuilder, render
+from benchmarks.perception_render import CameraSpec, render
+from benchmarks.perception_scenes import Scene, SceneBuilder
 from perception.frame import Frame
 
 FRONT = CameraSpec((-0.1, 0.0, 0.95))

@@ -1,0 +1,73 @@
+"""Cameras for the procedural perception scenes: look-at specs and PyBullet TinyRenderer rendering.
+
+:func:`render` returns a ``perception.Frame`` whose mask ids are PyBullet's segmentation values
+(``body + (link + 1) << 24``), labelled by the scene (benchmarks/perception_scenes.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from benchmarks.perception_scenes import Scene
+from perception.camera import Camera, camera_from_gl, depth_from_gl_buffer
+from perception.frame import Frame
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """A look-at camera: eye, target, vertical field of view, resolution."""
+
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float] = (0.65, 0.0, 0.0)
+    fov: float = 60.0
+    width: int = 640
+    height: int = 480
+
+
+def camera_specs(
+    rng: np.random.Generator, count: int = 1, width: int = 640, height: int = 480
+) -> list[CameraSpec]:
+    """Cameras above the robot looking down at the table; extra cameras come from the sides."""
+    specs = [
+        CameraSpec(
+            (rng.uniform(-0.15, 0.0), rng.uniform(-0.1, 0.1), rng.uniform(0.85, 1.0)),
+            width=width,
+            height=height,
+        )
+    ]
+    for k in range(1, count):
+        side = 1.0 if k % 2 else -1.0
+        specs.append(
+            CameraSpec(
+                (rng.uniform(0.2, 0.4), side * rng.uniform(0.6, 0.8), rng.uniform(0.7, 0.85)),
+                width=width,
+                height=height,
+            )
+        )
+    return specs
+
+
+def render(scene: Scene, spec: CameraSpec) -> Frame:
+    """Render RGB, metric depth and the segmentation (labelled) with PyBullet's TinyRenderer."""
+    import pybullet as pb
+
+    view = pb.computeViewMatrix(spec.eye, spec.target, [0, 0, 1], physicsClientId=scene.client)
+    proj = pb.computeProjectionMatrixFOV(
+        spec.fov, spec.width / spec.height, 0.05, 5.0, physicsClientId=scene.client
+    )
+    _, _, rgba, depth_buf, seg = pb.getCameraImage(
+        spec.width,
+        spec.height,
+        view,
+        proj,
+        flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
+        renderer=pb.ER_TINY_RENDERER,
+        physicsClientId=scene.client,
+    )
+    rgb = np.asarray(rgba, dtype=np.uint8).reshape(spec.height, spec.width, 4)[..., :3].copy()
+    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(spec.height, spec.width), proj)
+    masks = np.asarray(seg, dtype=np.int64).reshape(spec.height, spec.width).astype(np.int32)
+    camera: Camera = camera_from_gl(view, proj, spec.width, spec.height)
+    return Frame(rgb=rgb, depth=depth, masks=masks, camera=camera, labels=dict(scene.labels))
