@@ -1,0 +1,95 @@
+"""Relation rules on exact synthetic point clouds (no rendering): thresholds behave as documented."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from perception.frame import InstanceLabel
+from perception.geometry import Instance, fit_boxes
+from perception.relations import (
+    RelationThresholds,
+    descriptive_relations,
+    footprint_gap,
+    in_ratio,
+    supports,
+)
+
+TH = RelationThresholds()
+
+
+def box_cloud(key, category, center, half, yaw=0.0, top=True, step=0.004) -> Instance:
+    """Points on the visible surface of a box (top face and the four sides), exactly."""
+    hx, hy, hz = half
+    xs, ys, zs = (np.arange(-h, h + 1e-9, step) for h in half)
+    faces = [np.array([(x, y, hz) for x in xs for y in ys])] if top else []
+    faces += [np.array([(sx * hx, y, z) for y in ys for z in zs]) for sx in (-1, 1)]
+    faces += [np.array([(x, sy * hy, z) for x in xs for z in zs]) for sy in (-1, 1)]
+    pts = np.concatenate(faces)
+    c, s = math.cos(yaw), math.sin(yaw)
+    pts = pts @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]) + np.asarray(center)
+    inst = Instance(key, InstanceLabel(id=key, category=category), pts, np.zeros((len(pts), 3), np.uint8))
+    fit_boxes(inst)
+    return inst
+
+
+def table() -> Instance:
+    return box_cloud("table", "table", (0.5, 0.0, -0.01), (0.5, 0.5, 0.01))
+
+
+def test_upright_box_recovers_yaw_and_size():
+    cube = box_cloud("c", "cube", (0.4, 0.1, 0.02), (0.03, 0.02, 0.02), yaw=0.5)
+    assert cube.size[:2] == pytest.approx([0.06, 0.04], abs=0.003) or cube.size[:2] == pytest.approx(
+        [0.04, 0.06], abs=0.003
+    )
+    assert cube.center == pytest.approx([0.4, 0.1, 0.02], abs=1e-3)
+
+
+def test_stack_plate_and_table_supports():
+    t = table()
+    a = box_cloud("a", "cube", (0.4, 0.0, 0.02), (0.02, 0.02, 0.02))
+    b = box_cloud("b", "block", (0.4, 0.0, 0.0575), (0.015, 0.015, 0.015))  # 2.5 mm above a's top
+    plate = box_cloud("plate", "plate", (0.6, 0.2, 0.008), (0.09, 0.09, 0.008))
+    c = box_cloud("c", "cube", (0.62, 0.2, 0.036), (0.02, 0.02, 0.02))
+    sup = supports([t, a, b, plate, c], np.array([0, 0, 1.0, 0]), TH)
+    assert sup == {"a": ("on", "table"), "b": ("on", "a"), "plate": ("on", "table"), "c": ("on", "plate")}
+
+
+def test_gap_beyond_threshold_is_not_on_but_falls_back_to_the_surface_below():
+    t = table()
+    a = box_cloud("a", "cube", (0.4, 0.0, 0.02), (0.02, 0.02, 0.02))
+    floating = box_cloud("f", "cube", (0.4, 0.0, 0.04 + TH.on_gap + 0.03), (0.02, 0.02, 0.02))
+    sup = supports([t, a, floating], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["f"] == ("on", "a")  # nothing touches its bottom: the highest surface under it
+
+
+def test_in_box_beats_on_and_needs_half_inside():
+    t = table()
+    box = box_cloud("box", "box", (0.5, 0.0, 0.04), (0.08, 0.08, 0.04), top=False)
+    inside = box_cloud("x", "cube", (0.5, 0.0, 0.026), (0.02, 0.02, 0.02))
+    half_out = box_cloud("y", "cube", (0.5, 0.095, 0.026), (0.02, 0.02, 0.02))  # 1/4 inside
+    assert in_ratio(inside, box, TH) == 1.0
+    assert in_ratio(half_out, box, TH) < TH.in_ratio
+    sup = supports([t, box, inside], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["x"] == ("in", "box") and sup["box"] == ("on", "table")
+
+
+def test_adjacent_and_directions_follow_the_robot_frame():
+    t = table()
+    a = box_cloud("a", "cube", (0.5, 0.0, 0.02), (0.02, 0.02, 0.02))
+    left = box_cloud("l", "cube", (0.5, 0.06, 0.02), (0.02, 0.02, 0.02))  # 2 cm gap, +y = left
+    far = box_cloud("f", "cube", (0.8, 0.0, 0.02), (0.02, 0.02, 0.02))  # 26 cm further from the robot
+    insts = [t, a, left, far]
+    sup = supports(insts, np.array([0, 0, 1.0, 0]), TH)
+    rel = set(descriptive_relations(insts, sup, TH))
+    assert footprint_gap(a, left) == pytest.approx(0.02, abs=0.002)
+    assert {("a", "adjacent", "l"), ("l", "adjacent", "a")} <= rel
+    assert ("a", "adjacent", "f") not in rel
+    assert {("l", "left_of", "a"), ("a", "right_of", "l")} <= rel
+    assert {("a", "front_of", "f"), ("f", "behind", "a")} <= rel
+    # a robot turned 180 degrees about z swaps left/right and front/behind
+    turned = np.diag([-1.0, -1.0, 1.0, 1.0])
+    rel_turned = set(descriptive_relations(insts, sup, TH, turned))
+    assert ("l", "right_of", "a") in rel_turned and ("a", "behind", "f") in rel_turned
