@@ -42,8 +42,7 @@ class PlanResult:
         return self.status == "solved"
 
 
-def _search(task: Task, planner: str, deadline: float) -> tuple[SearchResult, str]:
-    relax = Relaxation(task)
+def _search(task: Task, relax: Relaxation, planner: str, deadline: float) -> tuple[SearchResult, str]:
     if planner == "lazy-ff":
         return lazy_gbfs(task, relax, deadline), "lazy GBFS, h_FF, preferred operators"
     if planner == "gbfs-ff":
@@ -95,7 +94,8 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
         t = time.perf_counter() - start
         return PlanResult("error", None, None, 0, 0, 0, t, t, 0.0, planner, str(err))
     ground_time = time.perf_counter() - start
-    if not task.goals or Relaxation(task).hmax_value(task.init) == INF:
+    relax = Relaxation(task)  # built once: the reachability check and the search share it
+    if not task.goals or relax.hmax_value(task.init) == INF:
         t = time.perf_counter() - start
         return PlanResult(
             "unsolvable",
@@ -110,7 +110,7 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
             planner,
             "goal is unreachable even ignoring delete effects",
         )
-    result, how = _search(task, planner, deadline)
+    result, how = _search(task, relax, planner, deadline)
     total = time.perf_counter() - start
     found = task.to_plan(result.ops) if result.status == "solved" else None
     cost = task.cost_of(result.ops) if found is not None else None

@@ -129,8 +129,9 @@ class Relaxation:
         for f in first:
             cost[f] = 0
         buckets = [first]
+        top = 0  # highest bucket index in use
         c = 0
-        while c < len(buckets):
+        while c <= top:
             # Appending to the bucket being iterated is fine: zero-cost operators feed the same level.
             for f in buckets[c]:
                 if cost[f] != c:
@@ -138,17 +139,20 @@ class Relaxation:
                 if f == goal:
                     return cost, sup
                 for u in pre_of[f]:
-                    acc[u] += c
-                    unsat[u] -= 1
-                    if not unsat[u]:
-                        v = acc[u]
-                        for g in add[u]:
-                            if v < cost[g]:
-                                cost[g] = v
-                                sup[g] = u
-                                while len(buckets) <= v:
-                                    buckets.append([])
-                                buckets[v].append(g)
+                    n = unsat[u] - 1
+                    unsat[u] = n
+                    if n:
+                        acc[u] += c
+                        continue
+                    v = acc[u] + c
+                    for g in add[u]:
+                        if v < cost[g]:
+                            cost[g] = v
+                            sup[g] = u
+                            if v > top:
+                                buckets.extend([] for _ in range(v - top))
+                                top = v
+                            buckets[v].append(g)
             c += 1
         return cost, sup
 

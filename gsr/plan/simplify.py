@@ -120,7 +120,10 @@ class Simplifier:
         ptypes = {p.name: p.types for p in params}
         useful = [g for g in guards if names.intersection(g.args)]
         for g in guards:  # a guard without quantified variables is checked once, up front
-            if g not in useful and Atom(g.predicate, tuple(binding.get(a, a) for a in g.args)) not in self.init:
+            if (
+                g not in useful
+                and Atom(g.predicate, tuple(binding.get(a, a) for a in g.args)) not in self.init
+            ):
                 return
         index, has, objects = self.index, self.objects.has, self.objects
 
