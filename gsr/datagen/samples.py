@@ -119,5 +119,6 @@ def task_rows(
             {"graph": g, "step": bare},
             {"graph": after, "add": full["add"], "delete": full["delete"]},
         )
-        history.append(bare)
+        # the reasoner shows accepted steps with their (checked, hence true) effects: so does the history
+        history.append(full)
     return rows

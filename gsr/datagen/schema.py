@@ -65,7 +65,7 @@ class SceneAbstractionOutput(_Model):
 
 
 class NextActionInput(_Model):
-    """Goal (instruction and PDDL), the current graph and the steps taken so far."""
+    """Goal (instruction and PDDL), the current graph and the steps taken so far (with their effects)."""
 
     instruction: str
     goal: str
