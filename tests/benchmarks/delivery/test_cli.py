@@ -94,3 +94,14 @@ def test_episode_timeline() -> None:
     assert lines[-1].strip().split()[0] in ("SUCCESS", "TIMEOUT", "FAILED")
     res = runner.invoke(app, ["delivery", "episode", "dev-1"])
     assert res.exit_code == 1 and "bad task id" in res.output
+
+
+def test_documented_command_reproduces_the_shipped_building(tmp_path: Path) -> None:
+    from gsr.building.shipped import shipped_building_path
+
+    out = tmp_path / "three_floor.json"
+    res = runner.invoke(
+        app, ["delivery", "generate-building", "--seed", "7", "--name", "three-floor", "--out", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert out.read_bytes() == shipped_building_path().read_bytes()
