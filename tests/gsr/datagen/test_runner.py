@@ -143,3 +143,11 @@ def test_killed_run_resumes_without_loss_or_duplicates(tmp_path) -> None:
         json.loads(line)["id"] for p in (out / "data").rglob("*.jsonl") for line in p.read_text().splitlines()
     ]
     assert len(ids) == len(set(ids)) == 6000
+
+
+@pytest.mark.slow
+def test_ray_backend_writes_the_same_bytes(one_worker, tmp_path) -> None:
+    pytest.importorskip("ray")
+    out = tmp_path / "ray"
+    generate_dataset(RunConfig(out, ROWS, seed=2, shard_size=SHARD), workers=2, backend="ray", progress=False)
+    assert _tree(out) == _tree(one_worker)
