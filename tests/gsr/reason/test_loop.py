@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gsr.errors import GSRError
@@ -126,7 +126,11 @@ def test_bad_arguments(graph):
         solve(graph, "x", "gpt")
 
 
-@settings(max_examples=30, deadline=None)
+@settings(
+    max_examples=30,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
 @given(st.lists(st.text(max_size=80), min_size=1, max_size=4))
 def test_garbage_never_crashes_and_never_executes(graph, domain, box_goal, replies):
     result = solve(graph, "x", Script(replies), goal=box_goal, domain=domain, max_repairs=len(replies) - 1)
