@@ -192,3 +192,49 @@ def test_negative_preconditions_optimal_cost_matches_fast_downward_lmcut(n: int,
     )
     assert status == "solved", message
     assert results["astar-lmcut"].cost == len(fd_plan)
+
+
+def test_fast_simplifier_equals_reference_ground_simplify(shared_data: Path) -> None:
+    from gsr.plan.ground import _TypedObjects
+    from gsr.plan.normalize import ground_simplify, normalize_action, to_dnf
+    from gsr.plan.simplify import Simplifier
+
+    domain = _tabletop()
+    _, graph, goal, _ = long_tabletop_task(3)
+    scenes = [problem_from_graph(graph, goal, domain=domain), _libero(shared_data, SMALL_LIBERO[3])[1]]
+    schemas = [normalize_action(a) for a in domain.actions.values()]
+    fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
+    checked = 0
+    for problem in scenes:
+        objects = _TypedObjects(domain, problem.all_objects(domain))
+        fast = Simplifier(objects, fluent, problem.init)
+
+        def static(atom: Atom, init=problem.init) -> bool | None:
+            return None if atom.predicate in fluent else atom in init
+
+        for schema in schemas:
+            params = schema.all_params
+            combos = itertools.islice(itertools.product(*(objects(p.types) for p in params)), 150)
+            for combo in combos:
+                binding = dict(zip((p.name for p in params), combo, strict=True))
+                formula = And((*schema.join, schema.residual))
+                expected = set(to_dnf(ground_simplify(formula, binding, objects, static)))
+                assert set(to_dnf(fast(formula, binding))) == expected, (schema.name, binding)
+                for eff in schema.effects:
+                    # Guarded enumeration must find exactly the instances whose condition can hold.
+                    got, want = set(), set()
+                    for b in fast.instances(eff.params, fast.guards(eff.condition, True), binding):
+                        lits = fast.literals(eff.condition)
+                        conds = (
+                            [fast.ground_literals(lits, b)]
+                            if lits is not None
+                            else to_dnf(fast(eff.condition, b))
+                        )
+                        got |= {(tuple(sorted(b.items())), c) for c in conds if c is not None}
+                    for extra in itertools.product(*(objects(v.types) for v in eff.params)):
+                        b = {**binding, **dict(zip((v.name for v in eff.params), extra, strict=True))}
+                        conds = to_dnf(ground_simplify(eff.condition, b, objects, static))
+                        want |= {(tuple(sorted(b.items())), c) for c in conds}
+                    assert got == want, (schema.name, binding, eff.literal)
+                checked += 1
+    assert checked > 500
