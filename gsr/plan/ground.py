@@ -167,9 +167,10 @@ def _effects(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> l
     for eff in schema.effects:
         # Effect variables range only over objects satisfying the condition's static atoms.
         guards = simplify.guards(eff.condition, True) if eff.params else ()
+        instances = simplify.instances(eff.params, guards, binding) if eff.params else (binding,)
         literals = simplify.literals(eff.condition)
         atom = eff.literal.atom
-        for b in simplify.instances(eff.params, guards, binding):
+        for b in instances:
             ground = Atom(atom.predicate, tuple(b.get(a, a) for a in atom.args))
             if literals is not None:  # the common case: a conjunction of literals
                 conj = simplify.ground_literals(literals, b)
