@@ -192,6 +192,49 @@ def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
     raise SkillError(Failure.UNSUPPORTED, f"cannot {kind} {node_id} ({art.kind})")
 
 
+def _push_leg(
+    world: World, m: Motion, obj: SimObject, goal: np.ndarray, committed: bool, inside: bool = False
+) -> None:
+    """Slide ``obj`` in a straight line until its centre reaches ``goal`` (x, y); approach checked first.
+
+    ``inside``: for hollow objects (plates, bowls, boxes) the closed fingers go down inside and push
+    the far wall from within, so no free space is needed behind the object.
+    """
+    lo, hi = world.body_aabb(obj.body)
+    centre = (lo + hi) / 2
+    d = goal - centre[:2]
+    dist = float(np.linalg.norm(d))
+    if dist < 0.005:
+        return
+    u = d / dist
+    radius = float(abs(u[0]) * (hi[0] - lo[0]) / 2 + abs(u[1]) * (hi[1] - lo[1]) / 2)
+    quat = top_down(math.atan2(u[1], u[0]) + math.pi / 2)  # fingers side by side across the push direction
+    if inside:
+        z = lo[2] + 0.03  # the fingertips reach 1 cm below the grasp point: keep them off the floor
+        start = np.array([centre[0], centre[1], z])
+        end = np.array([*(goal + u * (radius - 0.02)), z])
+    else:
+        z = lo[2] + min(0.02, (hi[2] - lo[2]) * 0.5)
+        start = np.array([*(centre[:2] - u * (radius + 0.03)), z])
+        end = start + np.array([*(u * (dist + 0.012)), 0.0])
+    above = start + np.array([0, 0, 0.12])
+    z_transit = max(transit_height(world), above[2])
+    _lift(m, z_transit)
+    m.park_for((start + end) / 2, poses=[(start, quat), (end, quat), (above, quat)])
+    m.gripper(0.0, steps=30)
+    m.move_line((np.array([start[0], start[1], z_transit]), quat))
+    m.move_line((above, quat))
+    m.move_line((start, quat))
+    m.ignore = {obj.body}
+    m.move_line((end, quat), check=False)
+    m.step(20)
+    pos, _ = m.pose()
+    m.move_line((pos - np.array([*(u * 0.03), -0.1]), quat), check=False)
+    m.ignore = set()
+    m.step(40)
+    del committed  # kept for readability at the call sites: later legs' failures are real failures
+
+
 def push(world: World, m: Motion, node_id: str, to: str) -> dict | None:
     """Slide an object along the table into region ``to`` (or out of its region onto the table)."""
     if node_id not in world.objects:
@@ -212,26 +255,32 @@ def push(world: World, m: Motion, node_id: str, to: str) -> dict | None:
         goal = np.array([region.bounds[0] - (hi[0] - lo[0]) / 2 - 0.03, centre[1]])
     else:
         raise SkillError(Failure.UNSUPPORTED, f"cannot push onto {to}: not a region of the table")
-    d = goal - centre[:2]
-    dist = float(np.linalg.norm(d))
-    u = d / max(dist, 1e-6)
-    radius = float(abs(u[0]) * (hi[0] - lo[0]) / 2 + abs(u[1]) * (hi[1] - lo[1]) / 2)
-    z = lo[2] + min(0.02, (hi[2] - lo[2]) * 0.5)
-    start = np.array([*(centre[:2] - u * (radius + 0.03)), z])
-    quat = top_down(math.atan2(u[1], u[0]) + math.pi / 2)  # fingers side by side across the push direction
-    _lift(m, transit_height(world))
-    end = start + np.array([*(u * (dist + 0.012)), 0.0])
-    m.park_for((start + end) / 2, poses=[(start, quat), (end, quat), (start + np.array([0, 0, 0.12]), quat)])
-    m.gripper(0.0, steps=30)
-    m.move_line((start + np.array([0, 0, 0.12]), quat))
-    m.move_line((start, quat))
-    m.ignore = {obj.body}
-    m.move_line((start + np.array([*(u * (dist + 0.012)), 0.0]), quat), check=False)
-    m.step(20)
-    pos, _ = m.pose()
-    m.move_line((pos - np.array([*(u * 0.03), -0.1]), quat), check=False)
-    m.ignore = set()
-    m.step(60)
+    # a straight push, else an L-shaped one (x then y, or y then x) when the straight one's start is
+    # blocked (a cabinet behind the object) or out of reach; the first leg that moves anything commits
+    corners = [goal, np.array([goal[0], centre[1]]), np.array([centre[0], goal[1]])]
+    plans: list[tuple[list[np.ndarray], bool]] = [
+        ([goal], False),
+        ([corners[1], goal], False),
+        ([corners[2], goal], False),
+    ]
+    if "" in obj.model.interiors:  # hollow: it can be pushed from inside
+        plans.insert(1, ([goal], True))
+    errors: list[str] = []
+    for legs, inside in plans:
+        try:
+            _push_leg(world, m, obj, legs[0], committed=False, inside=inside)
+        except SkillError as exc:
+            if exc.failure not in (Failure.BLOCKED, Failure.UNREACHABLE):
+                raise
+            errors.append(exc.message)
+            continue
+        for leg in legs[1:]:
+            _push_leg(world, m, obj, leg, committed=True, inside=inside)
+        break
+    else:
+        raise SkillError(
+            Failure.BLOCKED, f"no push of {node_id} towards {to} can start: " + "; ".join(errors[:3])
+        )
     got = support_of(world, node_id)
     if got != ("on", to):
         raise SkillError(Failure.NOT_ACHIEVED, f"{node_id} ended {got}, not on {to}")

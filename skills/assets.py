@@ -244,12 +244,12 @@ def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
                 tuple(shapes),
                 0.8,
                 "base",
-                Joint("prismatic", (T / 2, 0, z), (-1, 0, 0), 0.0, dx * 0.75),
+                Joint("prismatic", (T / 2, 0, z), (-1, 0, 0), 0.0, dx * 0.9),
                 friction=0.8,
             )
         )
         pull = GraspSite(name, (-dx / 2 - 0.045, hy, dz / 2), 0.0, approach="front", width=0.012)
-        model.articulations[name] = Articulation(name, "drawer", 0.0, dx * 0.7, handle=pull)
+        model.articulations[name] = Articulation(name, "drawer", 0.0, dx * 0.85, handle=pull)
         model.interiors[name] = Interior(name, (0, 0, dz * 0.5), (dx - 2 * T, dy - 2 * T, dz))
         model.keypoints[f"{name}/handle"] = (name, pull.xyz)
     return model

@@ -47,12 +47,12 @@ def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
 def transit_height(world: World, extra: float = 0.0, exclude: tuple[str, ...] = ()) -> float:
     """A safe travel height: above every object on the table plus clearance (and a held object's length).
 
-    Tall fixtures (cabinets) are walls to go around, not under: they are left out.
+    Fixtures taller than 45 cm (shelves, tall cabinets) are left out: the arm works beside them.
     """
     tops = [
         world.body_aabb(o.body)[1][2]
         for o in world.objects.values()
-        if o.id not in exclude and (not o.model.fixed or o.model.extent[2] < 0.3)
+        if o.id not in exclude and (not o.model.fixed or o.model.extent[2] < 0.45)
     ]
     return max([world.layout.table_height + 0.1, *tops]) + TRANSIT_CLEARANCE + extra
 
@@ -125,7 +125,8 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         for node_id, lo, hi, _ in interior_boxes(world):
             if node_id == target:
                 lo, hi = _exposed(world, target, lo.copy(), hi.copy())
-                return _free_spot(world, obj, lo, hi, lo[2])
+                # the open fingers reach past the object: keep them off the walls
+                return _free_spot(world, obj, lo, hi, lo[2], inside=True)
         raise SkillError(Failure.UNSUPPORTED, f"{target} has no interior to put things in")
     if target in world.regions:
         r = world.regions[target]
@@ -151,47 +152,81 @@ def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple
     axis = world.joint_axis(obj, part)
     clo, chi = world.aabb(obj.body, -1)
     k = int(np.argmax(np.abs(axis[:2])))
+    # 3 cm off the carcass: the hand above the object must clear the cabinet's front edge
     if axis[k] < 0:
-        hi[k] = min(hi[k], clo[k])
+        hi[k] = min(hi[k], clo[k] - 0.03)
     else:
-        lo[k] = max(lo[k], chi[k])
+        lo[k] = max(lo[k], chi[k] + 0.03)
     if lo[k] >= hi[k]:
         raise SkillError(Failure.BLOCKED, f"{target} is not open far enough to put anything in")
     return lo, hi
 
 
 def _free_spot(
-    world: World, obj: SimObject, lo: np.ndarray, hi: np.ndarray, z: float, prefer_near: bool = False
+    world: World,
+    obj: SimObject,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    z: float,
+    prefer_near: bool = False,
+    inside: bool = False,
 ) -> np.ndarray:
-    """A point in the rectangle lo..hi (shrunk by the object's half size) not covered by another object."""
-    half = np.array(obj.model.extent[:2]) / 2 + 0.005
-    xlo, xhi = lo[0] + half.max(), hi[0] - half.max()
-    ylo, yhi = lo[1] + half.max(), hi[1] - half.max()
+    """A point in the rectangle lo..hi where the held object fits, with room for the fingers.
+
+    Along the fingers' closing axis the open fingers need about 2 cm beside the object (walls and
+    neighbours), across it half a centimetre. Free floor spots first; when the floor is full (cubes
+    packed in a box), the spot whose objects underneath are lowest, at their top: a second layer.
+    """
+    ee_q = world.robot.ee_pose()[1]
+    import pybullet as p
+
+    rot = np.array(p.getMatrixFromQuaternion(list(ee_q))).reshape(3, 3)
+    e1 = rot[:2, 1] / max(np.linalg.norm(rot[:2, 1]), 1e-9)  # the closing axis (hand y) on the table
+    e2 = np.array([-e1[1], e1[0]])
+    olo, ohi = world.body_aabb(obj.body)
+    oh = (ohi[:2] - olo[:2]) / 2
+
+    def reach(e: np.ndarray, h: np.ndarray) -> float:  # half-width of an AABB footprint along e
+        return float(abs(e[0]) * h[0] + abs(e[1]) * h[1])
+
+    gap1, gap2 = (0.02, 0.006) if inside else (0.005, 0.005)
+    # shrink the area: the object's footprint plus the fingers' room, per world axis
+    mx = reach(np.array([1.0, 0.0]), oh) + abs(e1[0]) * gap1 + abs(e2[0]) * gap2
+    my = reach(np.array([0.0, 1.0]), oh) + abs(e1[1]) * gap1 + abs(e2[1]) * gap2
+    xlo, xhi, ylo, yhi = lo[0] + mx, hi[0] - mx, lo[1] + my, hi[1] - my
     if xlo > xhi:
         xlo = xhi = (lo[0] + hi[0]) / 2
     if ylo > yhi:
         ylo = yhi = (lo[1] + hi[1]) / 2
-    others = [
-        world.body_aabb(o.body)
-        for o in world.objects.values()
-        if o.id != obj.id
-        and not o.model.fixed
-        and world.body_aabb(o.body)[1][2] > z - 0.005
-        and world.body_aabb(o.body)[0][2] < z + 0.1
-    ]
-    candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 4) for y in np.linspace(ylo, yhi, 4)]
+    others = []
+    for o in world.objects.values():
+        if o.id == obj.id or o.model.fixed:
+            continue
+        alo, ahi = world.body_aabb(o.body)
+        if ahi[2] > z - 0.005 and alo[2] < z + 0.15 and support_of(world, o.id) != ("held", ""):
+            others.append(((alo[:2] + ahi[:2]) / 2, (ahi[:2] - alo[:2]) / 2, float(ahi[2])))
+    candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 7) for y in np.linspace(ylo, yhi, 7)]
     centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
         candidates.sort(key=lambda c: c[0] + 0.3 * abs(c[1] - centre[1]))
     else:
         candidates.sort(key=lambda c: float(np.linalg.norm(c - centre)))
+
+    def under(c: np.ndarray) -> list[float]:
+        tops = []
+        for oc, ohalf, top in others:
+            d = c - oc
+            apart1 = abs(d @ e1) >= reach(e1, oh) + reach(e1, ohalf) + gap1
+            apart2 = abs(d @ e2) >= reach(e2, oh) + reach(e2, ohalf) + gap2
+            if not (apart1 or apart2):
+                tops.append(top)
+        return tops
+
     for c in candidates:
-        if all(
-            not (olo[0] - half[0] < c[0] < ohi[0] + half[0] and olo[1] - half[1] < c[1] < ohi[1] + half[1])
-            for olo, ohi in others
-        ):
+        if not under(c):
             return np.array([c[0], c[1], z])
-    return np.array([centre[0], centre[1], z])
+    best = min(candidates, key=lambda c: max(under(c)))
+    return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)])
 
 
 def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
@@ -218,7 +253,8 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
         m.move_line((goal + np.array([0, 0, 0.04]), quat), check=False)
     m.move_line((goal, quat), check=False)
     m.step(10)
-    m.gripper(0.08, steps=60)
+    # open just enough to let go: wide-open fingers would sweep into neighbours (packed boxes)
+    m.gripper(min(0.08, world.robot.finger_width() + 0.016), steps=60)
     m.held = None
     m.step(40)
     pos, quat = m.pose()

@@ -125,7 +125,7 @@ def _free_spot(
         gap = min(
             (((x - fx) ** 2 + (y - fy) ** 2) ** 0.5 - fr - radius for fx, fy, fr in footprints), default=1.0
         )
-        if gap > 0.01:
+        if gap > 0.04:  # room for the fingers on either side
             return x, y
         if gap > best_gap:
             best, best_gap = (x, y), gap

@@ -65,6 +65,8 @@ class World:
     _pressed: dict[tuple[str, str], bool] = field(default_factory=dict)
     sim_steps: int = 0
     debug_teleport: bool = False
+    #: objects moved apart at build time because the layout's positions overlap our assets (id -> dx, dy)
+    adjusted: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     # ------------------------------------------------------------ lookup
 
@@ -336,13 +338,19 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_t
         client, robot, table_body, _table_id(graph), graph, layout, seed, debug_teleport=debug_teleport
     )
     world.regions = {r.name: r for r in layout.regions}
-    for r in layout.regions:  # a region node may be named by its id or by the part name after the slash
+    for r in layout.regions:
+        # a region node is named by the region's name, its part name after the slash, or LIBERO's name
         for n in graph.nodes:
-            if n.id.endswith("/" + r.name):
+            if n.id.endswith("/" + r.name) or n.attributes.get("libero_region") == r.name:
                 world.regions[n.id] = r
     rng = np.random.default_rng(seed)
     occupied: dict[str, int] = {}
+    world.adjusted = separate_footprints(layout)
     for placed in _rest_order(layout):
+        shift = world.adjusted.get(placed.id)
+        if shift is not None:
+            x, y, z = placed.position
+            placed = placed.model_copy(update={"position": (x + shift[0], y + shift[1], z)})
         _load(world, placed, rng, occupied)
     for n in graph.nodes:
         if n.parent in world.objects:
@@ -353,6 +361,48 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_t
         world.robot.hold(world.robot.q())
         world.step()
     return world
+
+
+def separate_footprints(
+    layout: Layout, margin: float = 0.008, rounds: int = 60
+) -> dict[str, tuple[float, float]]:
+    """Shifts that keep table-standing objects from overlapping (a layout may not know our asset sizes).
+
+    Circles of each object's footprint are pushed apart (movable ones only; fixtures stay) until no two
+    overlap; deterministic. Returns id -> (dx, dy) for the objects that moved.
+    """
+    items = [o for o in layout.objects if o.on is None]
+    pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
+    rad = {o.id: float(np.hypot(*make_asset(o.asset, o.size).extent[:2]) / 2 * 0.85) for o in items}
+    fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
+    for _ in range(rounds):
+        moved = False
+        for i, a in enumerate(items):
+            for b in items[i + 1 :]:
+                if a.id in fixed and b.id in fixed:
+                    continue
+                d = pos[b.id] - pos[a.id]
+                dist = float(np.linalg.norm(d))
+                need = rad[a.id] + rad[b.id] + margin
+                if dist >= need:
+                    continue
+                u = d / dist if dist > 1e-9 else np.array([0.0, 1.0])
+                push = need - dist + 1e-4
+                if a.id in fixed:
+                    pos[b.id] += u * push
+                elif b.id in fixed:
+                    pos[a.id] -= u * push
+                else:
+                    pos[a.id] -= u * push / 2
+                    pos[b.id] += u * push / 2
+                moved = True
+        if not moved:
+            break
+    return {
+        o.id: (round(float(pos[o.id][0] - o.position[0]), 4), round(float(pos[o.id][1] - o.position[1]), 4))
+        for o in items
+        if np.linalg.norm(pos[o.id] - np.array(o.position[:2])) > 1e-4
+    }
 
 
 def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied: dict[str, int]) -> None:
