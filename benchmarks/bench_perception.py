@@ -87,15 +87,18 @@ def bench_noise(scenes: int, seed: int, world: str) -> list[dict[str, Any]]:
 
 
 def markdown(rows: list[dict[str, Any]]) -> str:
-    """The noise table as Markdown."""
-    rels = list(rows[0]["f1"])
+    """The noise table as Markdown (relations the world's truth defines; others shown as "-")."""
+    rels: list[str] = []
+    for row in rows:
+        rels += [r for r in row["f1"] if r not in rels]
     head = "| world | depth noise (m) | mask erosion (px) | " + " | ".join(f"F1 {r}" for r in rels)
-    head += " | node recall | state acc. |"
-    lines = [head, "|" + "---|" * (5 + len(rels))]
+    head += " | visible F1 on | visible F1 in | node recall | state acc. | visible state acc. |"
+    lines = [head, "|" + "---|" * (8 + len(rels))]
     for row in rows:
         cells = [row["world"], f"{row['depth_noise']:g}", str(row["mask_erosion"])]
-        cells += [f"{row['f1'][r]:.3f}" for r in rels]
-        cells += [f"{row['node_recall']:.3f}", f"{row['states']:.3f}"]
+        cells += [f"{row['f1'][r]:.3f}" if r in row["f1"] else "-" for r in rels]
+        cells += [f"{row['visible_f1']['on']:.3f}", f"{row['visible_f1']['in']:.3f}"]
+        cells += [f"{row['node_recall']:.3f}", f"{row['states']:.3f}", f"{row['visible_states']:.3f}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

@@ -29,12 +29,12 @@ class ArticulationThresholds:
     """When a part counts as open, and how a handle is found without a handle mask.
 
     "Open" follows the simulator's convention (skills assets): a part is open once it is past half of
-    its travel. A drawer travels 70% of its cabinet's depth, so it is open when pulled out by more than
-    35% of the parent's depth (and at least ``drawer_open_min``); a door travels 1.6 rad, so it is open
-    past 0.8 rad.
+    its travel. A drawer travels about 80% of its cabinet's depth, so it is open when pulled out by
+    more than 40% of the parent's depth (and at least ``drawer_open_min``); a door travels 1.6 rad, so
+    it is open past 0.8 rad.
     """
 
-    drawer_open_fraction: float = 0.35  # of the parent's depth along its front axis
+    drawer_open_fraction: float = 0.4  # of the parent's depth along its front axis
     drawer_open_min: float = 0.02  # m, never "open" below this however shallow the parent
     door_open: float = 0.8  # rad between the door panel and the parent's front plane
     handle_protrusion: float = 0.008  # m beyond the drawer face that counts as a handle
@@ -57,9 +57,26 @@ def front_axis(parent: Instance, part: Instance) -> np.ndarray:
     return parent.axes[k] * (1.0 if ratio[k] >= 0 else -1.0)
 
 
-def _front_level(points: np.ndarray, origin: np.ndarray, axis: np.ndarray) -> float:
-    """How far the front-most points stand along ``axis`` (98th percentile, robust to noise)."""
-    return float(np.percentile((points[:, :2] - origin) @ axis, 98.0))
+def _front_level(points: np.ndarray, origin: np.ndarray, axis: np.ndarray, bin_size: float = 0.005) -> float:
+    """How far the front face stands along ``axis``: the front-most slice that spans half the width.
+
+    Slicing along the axis and requiring width keeps narrow protrusions (a pull bar standing off a
+    drawer's panel) from being taken for the face.
+    """
+    rel = points[:, :2] - origin
+    proj, lat = rel @ axis, rel @ np.array([-axis[1], axis[0]])
+    width = float(np.ptp(lat))
+    slices = np.floor((proj - proj.min()) / bin_size).astype(np.int64)
+    order = np.argsort(slices, kind="stable")
+    slices, lat_sorted, proj_sorted = slices[order], lat[order], proj[order]
+    starts = np.flatnonzero(np.r_[True, slices[1:] != slices[:-1]])
+    spans = np.maximum.reduceat(lat_sorted, starts) - np.minimum.reduceat(lat_sorted, starts)
+    wide = np.flatnonzero(spans >= 0.5 * width)
+    if wide.size == 0:  # no slice spans the width (a sliver of the part is visible): robust maximum
+        return float(np.percentile(proj, 98.0))
+    k = int(wide[-1])
+    end = starts[k + 1] if k + 1 < len(starts) else len(proj_sorted)
+    return float(np.percentile(proj_sorted[starts[k] : end], 90.0))
 
 
 def drawer_opening(part: Instance, parent: Instance) -> float:

@@ -25,7 +25,7 @@ def hand_scene() -> tuple[Scene, dict[str, np.ndarray]]:
         "plate", "yellow", np.array([0.09, 0.09, 0.008]), np.array([0.4, 0.0]), 0.0, 0.0, ("on", "table")
     )
     b.box_object("cube", "cyan", np.full(3, 0.02), np.array([0.4, 0.0]), 0.016, 0.2, ("on", plate.node))
-    b.cabinet(np.array([0.95, 0.3]), 0.15, 2, [0.12, 0.0])
+    b.cabinet(np.array([0.95, 0.3]), 0.15, 2, [0.15, 0.0])
     b.microwave(np.array([0.97, -0.5]), -0.1, 1.1)
     import pybullet as pb
 
