@@ -6,8 +6,14 @@ Setup steps (e.g. the pick before a place) run physically too; a trial whose set
 as ``setup_failed`` and left out of the skill's success rate (so each rate is conditional on reaching
 the skill). Success means the skill reported ok, i.e. its own effect holds in the simulator.
 
+With ``--suite NAME[:SOURCE]`` it instead runs the planner agent on a task suite with physical
+execution (``skills.sim_executor.SimExecutor`` in ``benchmarks.runner.run_episode``) and reports the
+physical success per category (``--level Simple`` keeps one level, ``--limit N`` the first N tasks).
+
 Usage: python benchmarks/bench_skills.py [--trials 50] [--skills pick,place_on,...] [--episodes 5]
        [--seed 0] [--workers 1] [--save FILE] [--markdown]
+       python benchmarks/bench_skills.py --suite libero:../shared/data/libero/libero_goal [--markdown]
+       python benchmarks/bench_skills.py --suite gsr-bench-gen --level Simple [--markdown]
 """
 
 from __future__ import annotations
@@ -285,6 +291,71 @@ def run_episode(seed: int) -> dict:
     }
 
 
+def run_suite_task(job: tuple[dict, int]) -> dict:
+    """One suite task, planner agent, physical execution; a JSON-ready record."""
+    from benchmarks.agents import make_agent
+    from benchmarks.runner import run_episode
+    from gsr.resources import load_builtin_domain
+    from gsr.task_spec import task_from_dict
+    from skills.sim_executor import SimExecutor
+
+    data, seed = job
+    task = task_from_dict(data)
+    ex = SimExecutor(seed=seed, frame_camera=None)
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        r = run_episode(
+            task, make_agent("planner", {}), load_builtin_domain("tabletop"), seed=seed, executor=ex
+        )
+    finally:
+        ex.close()
+    return {
+        "id": task.id,
+        "category": task.category or task.suite,
+        "level": task.level,
+        "success": r.success,
+        "steps": r.steps,
+        "reason": r.reason,
+        "wall_s": round(time.perf_counter() - t0, 2),
+        "cpu_s": round(time.process_time() - c0, 2),
+    }
+
+
+def suite_markdown(rows: list[dict]) -> str:
+    """Physical success per category (and level) of a suite run."""
+    groups: dict[tuple[str, str], list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r["category"], r["level"] or "-"), []).append(r)
+    lines = [
+        "| category | level | tasks | physical success | median wall s | main failure |",
+        "|---|---|---|---|---|---|",
+    ]
+    for (cat, level), rs in sorted(groups.items()):
+        ok = sum(r["success"] for r in rs)
+        fails = Counter(_failure_kind(r["reason"]) for r in rs if not r["success"])
+        main = ", ".join(f"{k} {v}" for k, v in fails.most_common(2)) or "-"
+        med = statistics.median(r["wall_s"] for r in rs)
+        lines.append(
+            f"| {cat} | {level} | {len(rs)} | {ok}/{len(rs)} ({100 * ok / len(rs):.0f}%) | {med:.1f} | {main} |"
+        )
+    return "\n".join(lines)
+
+
+def _failure_kind(reason: str) -> str:
+    for kind in (
+        "unreachable",
+        "blocked",
+        "grasp_missed",
+        "grasp_slipped",
+        "timeout",
+        "not_achieved",
+        "unsupported",
+    ):
+        if f"({kind})" in reason:
+            return kind
+    return "diverged" if "diverges" in reason else (reason.split(":")[0][:40] or "unknown")
+
+
 def summarize(records: list[dict], episodes: list[dict]) -> dict:
     """Per-skill rates and failure counts, episode timing."""
     out: dict = {"skills": {}, "episodes": {}}
@@ -358,7 +429,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--save", type=Path)
     ap.add_argument("--markdown", action="store_true")
     ap.add_argument("-v", "--verbose", action="store_true")
+    ap.add_argument("--suite", help="NAME[:SOURCE]: run the planner agent on a suite physically instead")
+    ap.add_argument("--level", help="with --suite: keep tasks of this level only (e.g. Simple)")
+    ap.add_argument("--limit", type=int, help="with --suite: the first N tasks only")
     args = ap.parse_args(argv)
+    if args.suite:
+        return _main_suite(args)
     skills = [s.strip() for s in args.skills.split(",") if s.strip()]
     unknown = [s for s in skills if s not in TRIALS]
     if unknown:
@@ -383,6 +459,42 @@ def main(argv: list[str] | None = None) -> int:
     if args.save:
         _save(args.save, {"summary": summary, "trials": records, "episodes": episodes})
     print(markdown(summary) if args.markdown else json.dumps(summary, indent=2))
+    return 0
+
+
+def _main_suite(args: argparse.Namespace) -> int:
+    from benchmarks.suites import get_suite
+    from gsr.errors import GSRError
+
+    name, _, source = args.suite.partition(":")
+    try:
+        tasks = get_suite(name).tasks(source or None, args.seed)
+    except GSRError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if args.level:
+        tasks = [t for t in tasks if (t.level or "").lower() == args.level.lower()]
+    tasks = tasks[: args.limit] if args.limit else tasks
+    if not tasks:
+        print("error: no tasks selected", file=sys.stderr)
+        return 2
+    jobs = [(t.model_dump(mode="json"), args.seed) for t in tasks]
+    rows: list[dict] = []
+    with multiprocessing.get_context("spawn").Pool(args.workers) if args.workers > 1 else _Serial() as pool:
+        for row in pool.imap(run_suite_task, jobs):
+            rows.append(row)
+            if args.verbose:
+                print(
+                    f"{row['id']:40s} {'ok ' if row['success'] else 'FAIL'} {row['reason'][:140]}",
+                    file=sys.stderr,
+                    flush=True,
+                )
+    if args.save:
+        _save(args.save, {"suite": args.suite, "level": args.level, "tasks": rows})
+    ok = sum(r["success"] for r in rows)
+    print(
+        suite_markdown(rows) if args.markdown else json.dumps({"succeeded": ok, "tasks": len(rows)}, indent=2)
+    )
     return 0
 
 
