@@ -85,7 +85,12 @@ def _requests(n: int, seed: int, with_ground: bool) -> list[tuple[str, str, str,
     ]
     if with_ground:
         kinds.append(
-            ("ground", "/v1/ground", {"scene_graph": SCENE, "instruction": "put all red cubes into the red box"}, 2)
+            (
+                "ground",
+                "/v1/ground",
+                {"scene_graph": SCENE, "instruction": "put all red cubes into the red box"},
+                2,
+            )
         )
     rng = random.Random(seed)
     return [(k[0], k[1], json.dumps(k[2]), k[3]) for k in (rng.choice(kinds) for _ in range(n))]
@@ -149,7 +154,16 @@ def main() -> int:
         with_ground = False
     port = _free_port()
     gsr_bin = Path(sys.executable).with_name("gsr")
-    cmd = [str(gsr_bin), "serve", "--port", str(port), "--workers", str(args.workers), "--max-concurrent", "32"]
+    cmd = [
+        str(gsr_bin),
+        "serve",
+        "--port",
+        str(port),
+        "--workers",
+        str(args.workers),
+        "--max-concurrent",
+        "32",
+    ]
     server = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=dict(os.environ))
     base = f"http://127.0.0.1:{port}"
     try:
@@ -167,7 +181,9 @@ def main() -> int:
             time.sleep(0.2)
         # warm up (domain parse, first imports) outside the measurement
         asyncio.run(_run(base, _requests(20, args.seed + 1, with_ground), 4))
-        results, wall = asyncio.run(_run(base, _requests(args.requests, args.seed, with_ground), args.concurrency))
+        results, wall = asyncio.run(
+            _run(base, _requests(args.requests, args.seed, with_ground), args.concurrency)
+        )
     finally:
         server.terminate()
         try:
