@@ -231,12 +231,26 @@ def _free_spot(
 
 def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
     """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome."""
-    spot = target_point(world, target, obj, relation)
+    import pybullet as p
+
+    from skills.packing import packed_spot
+
     ee, quat = m.pose()
     lo, hi = world.body_aabb(obj.body)
     centre = (lo + hi) / 2
     # the grasp offset as it is now: where the hand must be for the object's bottom centre to be at spot
     offset = ee - np.array([centre[0], centre[1], lo[2]])
+    rot = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
+    packed = packed_spot(world, obj, target, math.atan2(rot[1, 1], rot[0, 1])) if relation == "in" else None
+    if packed is not None:
+        # containers: a spot in the container's frame, the wrist turned to line the object up with it
+        spot, delta = packed
+        turn = p.getQuaternionFromEuler((0, 0, delta))
+        quat = tuple(p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), quat)[1])
+        c, s = math.cos(delta), math.sin(delta)
+        offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
+    else:
+        spot = target_point(world, target, obj, relation)
     goal = spot + offset + np.array([0, 0, 0.012])
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
     m.ignore = {obj.body}
