@@ -40,7 +40,7 @@ class ArticulationThresholds:
     handle_protrusion: float = 0.008  # m beyond the drawer face that counts as a handle
     handle_min_points: int = 5
     lid_cell: float = 0.01  # m, grid cell for the top-surface test of lidded objects
-    lid_depth: float = 0.02  # m below the object's top that counts as looking into a cavity
+    lid_depth: float = 0.025  # m below the object's top that counts as looking into a cavity
     lid_open_fraction: float = 0.15  # share of cavity cells above which a lidded object is open
 
 
@@ -115,16 +115,21 @@ def geometric_handle(part: Instance, parent: Instance, th: ArticulationThreshold
 
 
 def cavity_fraction(inst: Instance, th: ArticulationThresholds) -> float:
-    """Share of the object's footprint cells whose highest point lies well below its top (an open cavity)."""
+    """Share of the object's footprint cells whose surface lies well below its top (an open cavity).
+
+    A cell's surface is the median height of its points (robust to depth noise, unlike the maximum);
+    the top is the 75th percentile of the cell surfaces.
+    """
     cells = np.floor(inst.points[:, :2] / th.lid_cell).astype(np.int64)
     cells -= cells.min(axis=0)
     key = cells[:, 0] * (int(cells[:, 1].max()) + 1) + cells[:, 1]
-    order = np.argsort(key, kind="stable")
+    order = np.lexsort((inst.points[:, 2], key))  # by cell, then by height within the cell
     key, z = key[order], inst.points[order, 2]
     starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
-    top_per_cell = np.maximum.reduceat(z, starts)
-    top = float(np.percentile(top_per_cell, 90.0))
-    return float(np.mean(top_per_cell < top - th.lid_depth))
+    counts = np.diff(np.r_[starts, key.size])
+    surface = z[starts + (counts - 1) // 2]
+    top = float(np.percentile(surface, 75.0))
+    return float(np.mean(surface < top - th.lid_depth))
 
 
 def part_states(
