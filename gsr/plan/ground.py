@@ -171,7 +171,7 @@ def _effects(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> l
         literals = simplify.literals(eff.condition)
         atom = eff.literal.atom
         for b in instances:
-            ground = Atom(atom.predicate, tuple(b.get(a, a) for a in atom.args))
+            ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
             if literals is not None:  # the common case: a conjunction of literals
                 conj = simplify.ground_literals(literals, b)
                 if conj is not None:

@@ -84,7 +84,7 @@ class Simplifier:
         out = []
         fluent, init = self.fluent, self.init
         for atom, pos in literals:
-            g = Atom(atom.predicate, tuple(binding.get(a, a) for a in atom.args))
+            g = Atom(atom.predicate, tuple(map(binding.get, atom.args, atom.args)))
             if atom.predicate in fluent:
                 out.append((g, pos))
             elif (g in init) != pos:
@@ -161,7 +161,7 @@ class Simplifier:
     def __call__(self, formula: Formula, binding: Mapping[str, str]) -> Formula:
         """Substitute ``binding``, instantiate quantifiers and evaluate equality and static atoms."""
         if isinstance(formula, Atom):
-            atom = Atom(formula.predicate, tuple(binding.get(a, a) for a in formula.args))
+            atom = Atom(formula.predicate, tuple(map(binding.get, formula.args, formula.args)))
             if formula.predicate in self.fluent:
                 return atom
             return TRUE if atom in self.init else FALSE
