@@ -83,7 +83,10 @@ def drawer_opening(part: Instance, parent: Instance) -> float:
     """Metres the drawer's front face stands out of the parent's front face (>= 0)."""
     axis = front_axis(parent, part)
     origin = parent.center[:2]
-    return max(0.0, _front_level(part.points, origin, axis) - _front_level(parent.points, origin, axis))
+    # The parent's front is its front-most points (a body has no pull bars, and a slice test would
+    # fail where an arm hides part of the front); the drawer's is its widest front slice (see above).
+    parent_front = float(np.percentile((parent.points[:, :2] - origin) @ axis, 98.0))
+    return max(0.0, _front_level(part.points, origin, axis) - parent_front)
 
 
 def parent_depth(part: Instance, parent: Instance) -> float:
