@@ -6,7 +6,9 @@
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -71,3 +73,52 @@ def render(scene: Scene, spec: CameraSpec) -> Frame:
     masks = np.asarray(seg, dtype=np.int64).reshape(spec.height, spec.width).astype(np.int32)
     camera: Camera = camera_from_gl(view, proj, spec.width, spec.height)
     return Frame(rgb=rgb, depth=depth, masks=masks, camera=camera, labels=dict(scene.labels))
+
+
+def save_frame(frame: Frame, folder: str | Path) -> dict[str, Path]:
+    """Write a frame as the files `gsr perceive` reads: rgb.png, depth.npy, masks.npy, camera.json, labels.json."""
+    from PIL import Image
+
+    from perception.camera import save_camera
+
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    files = {name: out / name for name in ("rgb.png", "depth.npy", "masks.npy", "camera.json", "labels.json")}
+    Image.fromarray(frame.rgb).save(files["rgb.png"])
+    np.save(files["depth.npy"], frame.depth)
+    np.save(files["masks.npy"], frame.masks)
+    save_camera(frame.camera, files["camera.json"])
+    labels = {}
+    for k, v in frame.labels.items():
+        if v.keypoint_of:
+            entry: dict = {"keypoint_of": v.keypoint_of, "name": v.name}
+        else:
+            entry = {"id": v.id, "category": v.category, "color": v.color, "parent": v.parent}
+        labels[str(k)] = {key: val for key, val in entry.items() if val is not None}
+    files["labels.json"].write_text(json.dumps(labels, indent=1) + "\n")
+    return files
+
+
+def main() -> None:
+    """Render one procedural scene and write its frame files and ground truth (for trying `gsr perceive`)."""
+    import argparse
+
+    from benchmarks.perception_scenes import random_scene
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", required=True, help="folder for rgb.png, depth.npy, masks.npy, camera.json, ...")
+    args = ap.parse_args()
+    scene = random_scene(args.seed)
+    try:
+        frame = render(scene, camera_specs(np.random.default_rng(args.seed))[0])
+        truth = scene.truth()
+    finally:
+        scene.close()
+    files = save_frame(frame, args.out)
+    (Path(args.out) / "truth.json").write_text(truth.to_json() + "\n")
+    print("\n".join(str(p) for p in [*files.values(), Path(args.out) / "truth.json"]))
+
+
+if __name__ == "__main__":
+    main()

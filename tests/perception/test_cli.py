@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -11,18 +10,17 @@ import numpy as np
 import pytest
 
 from gsr.scene_graph import SceneGraph
-from perception.camera import save_camera
 
 pytest.importorskip("pybullet")
 pytest.importorskip("open3d")
 
+from benchmarks.perception_render import save_frame
 from tests.perception.scenes import FRONT, frames, hand_scene
 
 
 @pytest.fixture(scope="module")
 def frame_files(tmp_path_factory) -> dict[str, Path]:
     """One rendered frame written as PNG / .npy / JSON files, as a user would pass them."""
-    from PIL import Image
 
     scene, _ = hand_scene()
     try:
@@ -31,25 +29,9 @@ def frame_files(tmp_path_factory) -> dict[str, Path]:
     finally:
         scene.close()
     d = tmp_path_factory.mktemp("frame")
-    files = {
-        "rgb": d / "rgb.png",
-        "depth": d / "depth.npy",
-        "masks": d / "masks.npy",
-        "camera": d / "camera.json",
-        "labels": d / "labels.json",
-        "truth": d / "truth.json",
-    }
-    Image.fromarray(frame.rgb).save(files["rgb"])
-    np.save(files["depth"], frame.depth)
-    np.save(files["masks"], frame.masks)
-    save_camera(frame.camera, files["camera"])
-    labels = {}
-    for k, v in frame.labels.items():
-        entry = {"id": v.id, "category": v.category, "color": v.color, "parent": v.parent}
-        if v.keypoint_of:
-            entry = {"keypoint_of": v.keypoint_of, "name": v.name}
-        labels[str(k)] = {key: val for key, val in entry.items() if val is not None}
-    files["labels"].write_text(json.dumps(labels))
+    written = save_frame(frame, d)
+    files = {name.split(".")[0]: path for name, path in written.items()}
+    files["truth"] = d / "truth.json"
     files["truth"].write_text(truth.to_json())
     return files
 
