@@ -33,8 +33,10 @@ def libero_cases(folder: Path) -> list[tuple[str, Any, Any, str]]:
     return cases
 
 
-def run_cases(cases: list, backend: Any, mode: str, given_goal: bool = False, **options: Any) -> list[dict]:
-    """One row per case: status, success, bench_goal, counts and seconds."""
+def run_cases(
+    cases: list, backend: Any, mode: str, given_goal: bool = False, echo: bool = False, **options: Any
+) -> list[dict]:
+    """One row per case: status, success, bench_goal, counts and seconds (``echo``: print each row as JSON)."""
     from gsr.facts import state_from_graph
     from gsr.reason.loop import solve
     from gsr.resources import load_builtin_domain
@@ -60,6 +62,8 @@ def run_cases(cases: list, backend: Any, mode: str, given_goal: bool = False, **
         if not result.success:
             row["message"] = result.message
         rows.append(row)
+        if echo:
+            print(json.dumps(row), flush=True)
     return rows
 
 
@@ -109,6 +113,7 @@ def main(argv: list[str] | None = None) -> int:
             backend,
             args.mode,
             args.given_goal,
+            echo=args.rows,
             constrained=args.constrained,
             max_steps=args.max_steps,
             max_repairs=args.repairs,
@@ -117,9 +122,6 @@ def main(argv: list[str] | None = None) -> int:
     except GSRError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
-    if args.rows:
-        for row in rows:
-            print(json.dumps(row))
     out = {
         "backend": args.backend,
         "mode": args.mode,
