@@ -18,9 +18,14 @@ def list_text() -> str:
 
     lines = ["suites:"]
     lines += [f"  {s.name:<14} {s.description}" for s in SUITES.values()]
-    lines.append("agents:")
+    lines.append("agents (TaskSpec suites):")
     lines += [f"  {a}" for a in BUILTIN]
     lines.append("  package.module:factory  (your own agent; options with --agent-opt key=value)")
+    for s in SUITES.values():
+        hosted = s.episode_suite()
+        if hosted is not None:
+            lines.append(f"agents ({s.name}):")
+            lines += [f"  {a:<14} {d}" for a, d in hosted.agents.items()]
     return "\n".join(lines)
 
 
@@ -61,7 +66,7 @@ class _Progress:
 
     def __call__(self, result: Any) -> None:
         self.done += 1
-        self.ok += bool(result.success)
+        self.ok += bool(result["success"] if isinstance(result, dict) else result.success)
         if self.tty:
             width = 30
             filled = int(width * self.done / max(self.total, 1))
@@ -81,7 +86,7 @@ def run(
     *,
     source: str | None = None,
     tasks: str | None = None,
-    agent: str = "planner",
+    agent: str | None = None,
     agent_options: list[str] | None = None,
     trials: int = 1,
     seed: int = 0,
@@ -93,13 +98,34 @@ def run(
     retries: int = 0,
     reference: str | None = None,
     out: str | None = None,
+    split: str | None = None,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
     from benchmarks.report import results_document, write_reports
-    from benchmarks.runner import RunConfig, run_tasks
+    from benchmarks.runner import EpisodeOptions, RunConfig, run_tasks
+    from benchmarks.suites import SUITES, get_suite
 
     if trials < 1 or workers < 1 or max_steps < 1 or retries < 0:
         raise GSRError("--trials, --workers and --max-steps must be at least 1, --retries at least 0")
+    hosted = get_suite(suite).episode_suite() if suite in SUITES else None
+    if hosted is not None:
+        unused = [
+            name
+            for name, given in (
+                ("--agent-opt", bool(agent_options)),
+                ("--max-steps", max_steps != 200),
+                ("--retries", retries != 0),
+                ("--reference", reference is not None),
+            )
+            if given
+        ]
+        if unused:
+            raise GSRError(f"suite {suite} does not take {', '.join(unused)}")
+        options = EpisodeOptions(agent, seed, trials, limit, source, tasks, split)
+        return run_episode_suite(hosted, options, workers, backend, address, out)
+    if split is not None:
+        raise GSRError(f"--split applies to suites with splits (delivery), not {suite}")
+    agent = agent or "planner"
     task_list = load_suite_tasks(suite, source, tasks, seed, limit)
     config = RunConfig(agent, parse_options(agent_options or []), seed, max_steps, retries, reference)
     progress = _Progress(len(task_list) * trials)
@@ -123,8 +149,33 @@ def run(
     return doc
 
 
+def run_episode_suite(
+    hosted: Any, options: Any, workers: int, backend: str, address: str | None, out: str | None
+) -> dict[str, Any]:
+    """Run an episode suite (``benchmarks.runner.EpisodeSuite``) on the runner's pool; write its reports."""
+    from benchmarks.report import write_reports
+    from benchmarks.runner import run_jobs
+
+    payloads, config = hosted.prepare(options)
+    jobs = [(p, k) for p in payloads for k in range(options.trials)]
+    progress = _Progress(len(jobs))
+    try:
+        records = run_jobs(hosted.job(), jobs, config, workers, backend, address, progress)
+    finally:
+        progress.close()
+    doc = hosted.document(records, config, trials=options.trials, backend=backend, workers=workers)
+    if out:
+        write_reports(out, doc, hosted.markdown(doc))
+    return doc
+
+
 def summary_text(doc: dict[str, Any]) -> str:
     """A few lines for the terminal: overall and per-category success."""
+    from benchmarks.suites import SUITES
+
+    hosted = SUITES[doc["suite"]].episode_suite() if doc["suite"] in SUITES else None
+    if hosted is not None:
+        return hosted.summary_text(doc)
     m = doc["metrics"]
     lines = [
         f"{doc['suite']} / {doc['agent']}: success {m.get('success_rate', 0):.1%} "

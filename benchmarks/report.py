@@ -117,9 +117,10 @@ def _plots(doc: dict[str, Any]) -> list[str]:
     out.append(base64.b64encode(buf.getvalue()).decode())
     outcomes = doc["metrics"].get("outcomes", {})
     fig, ax = plt.subplots(figsize=(7, 2.6))
-    ax.bar(list(outcomes), list(outcomes.values()), color=["#228833", "#ccbb44", "#ee6677", "#aa3377"])
+    palette = ["#228833", "#ccbb44", "#ee6677", "#aa3377", "#66ccee", "#4477aa", "#bbbbbb"]
+    ax.bar(list(outcomes), list(outcomes.values()), color=palette[: len(outcomes)])
     ax.set_ylabel("episodes")
-    ax.set_title("GSR-Bench outcome classes")
+    ax.set_title("GSR-Bench outcome classes" if doc["suite"] != "delivery" else "delivery outcomes")
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90)
@@ -140,10 +141,12 @@ def html_report(doc: dict[str, Any], markdown: str) -> str:
     )
 
 
-def write_reports(out_dir: str | Path, doc: dict[str, Any]) -> list[Path]:
-    """Write results.json, report.md and report.html into ``out_dir`` (atomically); their paths."""
+def write_reports(out_dir: str | Path, doc: dict[str, Any], markdown: str | None = None) -> list[Path]:
+    """Write results.json, report.md and report.html into ``out_dir`` (atomically); their paths.
+
+    ``markdown`` replaces the default report text (an episode suite's own tables)."""
     out = Path(out_dir)
-    md = markdown_report(doc)
+    md = markdown if markdown is not None else markdown_report(doc)
     paths = [out / "results.json", out / "report.md", out / "report.html"]
     write_atomic(paths[0], json.dumps(doc, indent=2) + "\n")
     write_atomic(paths[1], md)

@@ -76,6 +76,47 @@ class SymbolicExecutor:
         return self._graph
 
 
+@dataclass(frozen=True)
+class EpisodeOptions:
+    """What ``gsr bench run`` asks of an episode suite (paths as given; None = the suite's default)."""
+
+    agent: str | None = None
+    seed: int = 0
+    trials: int = 1
+    limit: int | None = None
+    source: str | None = None
+    tasks: str | None = None
+    split: str | None = None
+
+
+class EpisodeSuite(Protocol):
+    """A suite whose episodes are not PDDL-step tasks (e.g. in-building delivery).
+
+    It prepares its own per-episode payloads, runs each through a module-level job function on the
+    runner's pool (:func:`run_jobs`: local processes or Ray, results in job order) and turns the
+    records into its own metrics, results document and Markdown report.
+    """
+
+    name: str
+    agents: dict[str, str]  # agent name -> one-line description
+    default_agent: str
+
+    def prepare(self, options: EpisodeOptions) -> tuple[list[dict[str, Any]], Any]:
+        """Check the options; the payloads (each with an ``id``) and the picklable job config."""
+
+    def job(self) -> Callable[[dict[str, Any], int, Any], dict[str, Any]]:
+        """The module-level ``fn(payload, trial, config) -> record`` a worker runs per episode."""
+
+    def document(self, records: list[dict[str, Any]], config: Any, **meta: Any) -> dict[str, Any]:
+        """The results.json document (``suite``, ``agent``, ``success_rate``, ``metrics``, ``tasks``...)."""
+
+    def markdown(self, doc: dict[str, Any]) -> str:
+        """The Markdown report of a results document."""
+
+    def summary_text(self, doc: dict[str, Any]) -> str:
+        """A few lines for the terminal."""
+
+
 @dataclass
 class EpisodeResult:
     """One episode's record (the rows of results.json)."""
@@ -249,32 +290,65 @@ def _from_dict(d: dict[str, Any]) -> EpisodeResult:
     return EpisodeResult(**d)
 
 
-def _iter_local(jobs: list[tuple[dict[str, Any], int]], config: RunConfig, workers: int) -> Iterator[dict]:
+JobFn = Callable[[dict[str, Any], int, Any], dict[str, Any]]
+
+
+def _iter_local(
+    fn: JobFn, jobs: list[tuple[dict[str, Any], int]], config: Any, workers: int
+) -> Iterator[dict[str, Any]]:
     if workers <= 1:
         for data, trial in jobs:
-            yield _episode_job(data, trial, config)
+            yield fn(data, trial, config)
         return
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
 
     ctx = mp.get_context("spawn")  # no forked copies of a half-initialised parent (threads, locks)
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        yield from pool.map(_episode_job, *zip(*jobs, strict=True), [config] * len(jobs))
+        yield from pool.map(fn, *zip(*jobs, strict=True), [config] * len(jobs))
 
 
 def _iter_ray(
-    jobs: list[tuple[dict[str, Any], int]], config: RunConfig, address: str | None
-) -> Iterator[dict]:
+    fn: JobFn, jobs: list[tuple[dict[str, Any], int]], config: Any, address: str | None
+) -> Iterator[dict[str, Any]]:
     try:
         import ray
     except ImportError:
         raise GSRError("--backend ray needs Ray: pip install 'gsr[dist]'") from None
     if not ray.is_initialized():
         ray.init(address=address, ignore_reinit_error=True, log_to_driver=False)
-    remote = ray.remote(_episode_job)
+    remote = ray.remote(fn)
     refs = [remote.remote(data, trial, config) for data, trial in jobs]
     for ref in refs:  # in submission order: results line up with the local backend
         yield ray.get(ref)
+
+
+def run_jobs(
+    fn: JobFn,
+    jobs: list[tuple[dict[str, Any], int]],
+    config: Any,
+    workers: int = 1,
+    backend: str = "local",
+    address: str | None = None,
+    progress: Callable[[dict[str, Any]], None] | None = None,
+) -> list[dict[str, Any]]:
+    """Run ``fn(payload, trial, config)`` for every job on a backend; records in job order.
+
+    ``fn`` must be a module-level function and payloads/config picklable: they travel to worker
+    processes or Ray tasks. This is the pool both PDDL-step suites and episode suites run on.
+    """
+    if backend == "local":
+        stream = _iter_local(fn, jobs, config, workers)
+    elif backend == "ray":
+        stream = _iter_ray(fn, jobs, config, address)
+    else:
+        raise GSRError(f"unknown backend {backend!r}; choose local or ray")
+    out = []
+    for d in stream:
+        out.append(d)
+        if progress is not None:
+            progress(d)
+    return out
 
 
 def run_tasks(
@@ -290,16 +364,12 @@ def run_tasks(
     config = config or RunConfig()
     make_agent(config.agent, config.agent_options)  # fail fast on a bad agent, before any worker starts
     jobs = _jobs(list(tasks), trials)
-    if backend == "local":
-        stream = _iter_local(jobs, config, workers)
-    elif backend == "ray":
-        stream = _iter_ray(jobs, config, address)
-    else:
-        raise GSRError(f"unknown backend {backend!r}; choose local or ray")
-    out = []
-    for d in stream:
-        r = _from_dict(d)
-        out.append(r)
+    out: list[EpisodeResult] = []
+
+    def collect(d: dict[str, Any]) -> None:
+        out.append(_from_dict(d))
         if progress is not None:
-            progress(r)
+            progress(out[-1])
+
+    run_jobs(_episode_job, jobs, config, workers, backend, address, collect)
     return out

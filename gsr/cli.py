@@ -393,14 +393,22 @@ def bench_list_cmd() -> None:
 
 @bench_app.command("run")
 def bench_run_cmd(
-    suite: Annotated[str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench or tasks.")],
-    source: Annotated[str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder).")] = None,
+    suite: Annotated[
+        str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench, tasks or delivery.")
+    ],
+    source: Annotated[
+        str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder, delivery building JSON).")
+    ] = None,
     tasks: Annotated[
-        str | None, typer.Option(help="Run TaskSpec JSON/YAML files (a file or folder).")
+        str | None, typer.Option(help="Run TaskSpec JSON/YAML files (delivery: a JSON Lines task file).")
     ] = None,
     agent: Annotated[
-        str, typer.Option(help="planner, grounder, reasoner, random or module:factory.")
-    ] = "planner",
+        str | None,
+        typer.Option(
+            help="planner (default), grounder, reasoner, random or module:factory; delivery: baseline, no-routines."
+        ),
+    ] = None,
+    split: Annotated[str | None, typer.Option(help="delivery: train, val or test (default test).")] = None,
     agent_opt: Annotated[list[str] | None, typer.Option(help="Agent option key=value (repeatable).")] = None,
     trials: Annotated[int, typer.Option(help="Episodes per task.")] = 1,
     seed: Annotated[int, typer.Option(help="Seed for generated suites and agents.")] = 0,
@@ -435,6 +443,7 @@ def bench_run_cmd(
         retries=retries,
         reference=reference,
         out=out,
+        split=split,
     )
     typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
     raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)

@@ -9,7 +9,7 @@ import json
 import sys
 from pathlib import Path
 
-from gsr.building.model import Building, load_building, save_building, write_text_atomic
+from gsr.building.model import Building, save_building, write_text_atomic
 from gsr.errors import GSRError
 
 
@@ -20,17 +20,9 @@ def _err(message: str) -> int:
 
 def _building(path: Path | None) -> Building:
     """The shipped building, or a user's file checked against the building invariants."""
-    from gsr.building.checks import building_problems
-    from gsr.building.shipped import load_shipped_building
+    from benchmarks.delivery.run import checked_building
 
-    if path is None:
-        return load_shipped_building()
-    building = load_building(path)
-    problems = building_problems(building)
-    if problems:
-        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
-        raise GSRError(f"{path}: unusable building: {problems[0]}{more}")
-    return building
+    return checked_building(path)
 
 
 def generate_building_command(seed: int, out: Path, floors: int, people: int, name: str | None) -> int:

@@ -126,20 +126,29 @@ def _person_facet(task: DeliveryTask) -> str:
     return "+".join(parts) or "gender only"
 
 
+def facets(task: DeliveryTask) -> dict[str, str]:
+    """How the instruction refers to things: object description, recipient reference, recipient's room."""
+    return {
+        "object described by": _object_facet(task),
+        "recipient referred to by": _person_facet(task),
+        "recipient's room given": "yes" if task.reference.person.room else "no",
+    }
+
+
 def breakdown(tasks: list[DeliveryTask], results: list[EpisodeResult]) -> list[dict[str, object]]:
     """Task SR and human-search SR per kind of instruction (how object and person are referred to)."""
     if [t.id for t in tasks] != [r.task for r in results]:
         raise ValueError("tasks and results are not the same episodes in the same order")
-    facets = {
-        "object described by": _object_facet,
-        "recipient referred to by": _person_facet,
-        "recipient's room given": lambda t: "yes" if t.reference.person.room else "no",
-    }
+    return breakdown_by([facets(t) for t in tasks], results)
+
+
+def breakdown_by(keys: list[dict[str, str]], results: list[EpisodeResult]) -> list[dict[str, object]]:
+    """The breakdown from each episode's :func:`facets` (in episode order)."""
     rows: list[dict[str, object]] = []
-    for facet, key in facets.items():
+    for facet in ("object described by", "recipient referred to by", "recipient's room given"):
         groups: dict[str, list[EpisodeResult]] = {}
-        for t, r in zip(tasks, results, strict=True):
-            groups.setdefault(key(t), []).append(r)
+        for k, r in zip(keys, results, strict=True):
+            groups.setdefault(k[facet], []).append(r)
         for value, rs in sorted(groups.items(), key=lambda kv: -len(kv[1])):
             rows.append(
                 {

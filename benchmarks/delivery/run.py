@@ -4,15 +4,32 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
-from benchmarks.delivery.agent import BaselineAgent
+from benchmarks.delivery.agent import AgentTrace, BaselineAgent
 from benchmarks.delivery.metrics import EpisodeResult, Summary, score_episode, summarize
 from benchmarks.delivery.parser import InstructionParser, lexicon_from_graph
 from benchmarks.delivery.tasks import DeliveryTask, generate_tasks
 from benchmarks.delivery.world import DeliveryWorld
 from gsr.building.graph import building_graph
-from gsr.building.model import Building
+from gsr.building.model import Building, load_building
 from gsr.building.navigation import BuildingMap
+from gsr.errors import GSRError
+
+
+def checked_building(path: Path | None) -> Building:
+    """The shipped building, or a user's file checked against the building invariants."""
+    from gsr.building.checks import building_problems
+    from gsr.building.shipped import load_shipped_building
+
+    if path is None:
+        return load_shipped_building()
+    building = load_building(path)
+    problems = building_problems(building)
+    if problems:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise GSRError(f"{path}: unusable building: {problems[0]}{more}")
+    return building
 
 
 def parser_for(building: Building) -> InstructionParser:
@@ -36,20 +53,33 @@ AGENTS: dict[str, str] = {
 }
 
 
+def make_agent(building: Building, bmap: BuildingMap, agent_name: str = "baseline") -> BaselineAgent:
+    """One of :data:`AGENTS` for a building; ValueError naming the known ones otherwise."""
+    if agent_name not in AGENTS:
+        raise ValueError(f"unknown agent {agent_name!r} (known: {', '.join(AGENTS)})")
+    return BaselineAgent(building, bmap, parser_for(building), use_routines=agent_name == "baseline")
+
+
+def play(
+    building: Building, bmap: BuildingMap, agent: BaselineAgent, task: DeliveryTask
+) -> tuple[EpisodeResult, AgentTrace]:
+    """One episode, the unit both ``gsr delivery run`` and ``gsr bench run delivery`` execute:
+    a fresh world for the task, the agent's run in it, and the episode's score."""
+    world = DeliveryWorld(building, bmap, task)
+    trace = agent.run(world)
+    return score_episode(task, world, trace), trace
+
+
 def run_tasks(
     building: Building, tasks: list[DeliveryTask], split: str = "custom", agent_name: str = "baseline"
 ) -> RunOutput:
     """Run an agent on ``tasks`` (one simulated world per task) and score every episode."""
-    if agent_name not in AGENTS:
-        raise ValueError(f"unknown agent {agent_name!r} (known: {', '.join(AGENTS)})")
     bmap = BuildingMap(building)
-    agent = BaselineAgent(building, bmap, parser_for(building), use_routines=agent_name == "baseline")
+    agent = make_agent(building, bmap, agent_name)
     results = []
     start = time.perf_counter()
     for task in tasks:
-        world = DeliveryWorld(building, bmap, task)
-        trace = agent.run(world)
-        results.append(score_episode(task, world, trace))
+        results.append(play(building, bmap, agent, task)[0])
     wall = time.perf_counter() - start
     return RunOutput(tasks, results, summarize(split, results, wall))
 

@@ -2,7 +2,9 @@
 
 ``gsr-bench`` (the public config file), ``gsr-bench-gen`` (the nine generated cells), ``libero`` (a
 folder of BDDL task files), ``rlbench`` (100 generated RLBench-style tasks) and ``tasks`` (a folder or
-file of TaskSpec JSON/YAML, e.g. exported with ``gsr bench export``).
+file of TaskSpec JSON/YAML, e.g. exported with ``gsr bench export``); ``delivery`` (in-building delivery)
+is an *episode suite*: it runs its own episodes on the runner's pool and scores them with its own
+metrics (``benchmarks.runner.EpisodeSuite``).
 """
 
 from __future__ import annotations
@@ -10,7 +12,9 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
+from importlib import import_module
 from pathlib import Path
+from typing import Any
 
 from gsr.errors import GSRError
 from gsr.task_spec import TaskSpec, load_task
@@ -25,15 +29,31 @@ def shared_data() -> Path:
 
 @dataclass(frozen=True)
 class Suite:
-    """A named suite: a description, its default source (if it reads files) and its loader."""
+    """A named suite: a description, its default source (if it reads files) and its loader.
+
+    ``episodes`` names (``module:attr``, imported lazily) an ``EpisodeSuite`` for suites whose episodes
+    are not TaskSpecs; such a suite has no TaskSpec loader.
+    """
 
     name: str
     description: str
-    load: Callable[[Path | None, int], list[TaskSpec]]
+    load: Callable[[Path | None, int], list[TaskSpec]] | None = None
     default_source: Callable[[], Path] | None = None
+    episodes: str | None = None
+
+    def episode_suite(self) -> Any | None:
+        """The suite's ``EpisodeSuite`` object (None for a TaskSpec suite)."""
+        if self.episodes is None:
+            return None
+        module, _, attr = self.episodes.partition(":")
+        return getattr(import_module(module), attr)
 
     def tasks(self, source: str | Path | None = None, seed: int = 0) -> list[TaskSpec]:
         """The suite's tasks from ``source`` (or the default) and ``seed``."""
+        if self.load is None:
+            raise GSRError(
+                f"suite {self.name} runs its own episodes, not TaskSpecs: run it with gsr bench run {self.name}"
+            )
         path = (
             Path(source) if source is not None else (self.default_source() if self.default_source else None)
         )
@@ -101,6 +121,11 @@ SUITES: dict[str, Suite] = {
         Suite("libero", "every LIBERO BDDL task file of a folder", _libero, lambda: shared_data() / "libero"),
         Suite("rlbench", "100 RLBench-style tasks in 5 categories (seeded)", _rlbench),
         Suite("tasks", "TaskSpec JSON/YAML files (a file or a folder)", load_task_files),
+        Suite(
+            "delivery",
+            "in-building delivery (PRS-style): train 2000 / val 200 / test 1000 tasks, shipped building",
+            episodes="benchmarks.delivery.suite:SUITE",
+        ),
     )
 }
 
