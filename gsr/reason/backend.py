@@ -76,6 +76,9 @@ def as_backend(obj: Backend | Callable[[str], str] | str) -> Backend:
     raise GSRError(f"not a backend: {obj!r}")
 
 
+_LOADED: dict[tuple, Backend] = {}
+
+
 def make_backend(spec: str, **options: object) -> Backend:
     """``grounder`` | ``transformers:PATH`` | ``openai:MODEL``; options go to the backend's constructor."""
     kind, _, arg = spec.partition(":")
@@ -86,7 +89,11 @@ def make_backend(spec: str, **options: object) -> Backend:
     if kind == "transformers" and arg:
         from gsr.reason.hf_backend import TransformersBackend
 
-        return TransformersBackend(arg, **options)  # type: ignore[arg-type]
+        # loading weights is slow: reuse a loaded model for the same path and options (service, benchmarks)
+        key = (arg, tuple(sorted((k, repr(v)) for k, v in options.items())))
+        if key not in _LOADED:
+            _LOADED[key] = TransformersBackend(arg, **options)  # type: ignore[arg-type]
+        return _LOADED[key]
     if kind == "openai" and arg:
         from gsr.reason.openai_backend import OpenAIBackend
 

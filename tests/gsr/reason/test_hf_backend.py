@@ -65,3 +65,9 @@ def test_token_trie():
     assert sorted(trie.next_tokens([1])) == [2, 4]
     assert trie.next_tokens([1, 4]) == [] and trie.complete([1, 4])
     assert trie.next_tokens([9]) is None and not trie.complete([1, 2])
+
+
+def test_loaded_models_are_reused(model_dir):
+    first = make_backend(f"transformers:{model_dir}", device="cpu")
+    assert make_backend(f"transformers:{model_dir}", device="cpu") is first
+    assert make_backend(f"transformers:{model_dir}", device="cpu", max_new_tokens=8) is not first

@@ -136,3 +136,9 @@ def test_garbage_never_crashes_and_never_executes(graph, domain, box_goal, repli
     result = solve(graph, "x", Script(replies), goal=box_goal, domain=domain, max_repairs=len(replies) - 1)
     assert result.status == "stuck"
     assert result.steps == []
+
+
+def test_json_answers_are_accepted(graph, domain, box_goal):
+    pick = '{"action": "pick", "args": ["red_cube1", "table"], "add": ["(holding red_cube1)"], "delete": ["(hand_empty)", "(on red_cube1 table)"]}'
+    result = solve(graph, "x", Script([pick, "```\n" + PLACE + "\n```"]), goal=box_goal, domain=domain)
+    assert result.success and result.rejections == 0
