@@ -47,8 +47,9 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     instances, segments = build_instances(frame_list, params.geometry)
     plane = _ground_plane(instances, frame_list, params)
     world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
-    support = supports(instances, plane, params.relations)
     states = part_states(instances, params.articulation)
+    closed = frozenset(k for k, (st, _) in states.items() if "closed" in st)
+    support = supports(instances, plane, params.relations, closed)
     kps = keypoints(instances, segments, params.articulation)
     edges = [(a, rel, b) for a, (rel, b) in support.items()]
     if params.descriptive:

@@ -77,16 +77,24 @@ def _hidden_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresho
 
 
 def supports(
-    instances: list[Instance], plane: np.ndarray | None, th: RelationThresholds
+    instances: list[Instance],
+    plane: np.ndarray | None,
+    th: RelationThresholds,
+    closed: frozenset[str] = frozenset(),
 ) -> dict[str, tuple[str, str]]:
-    """For each subject, its support edge ``(relation, target)``: containment first, then the top surface."""
+    """For each subject, its support edge ``(relation, target)``: containment first, then the top surface.
+
+    Containers in ``closed`` (perceived closed) hold nothing visible: what is seen there rests on them.
+    """
     out: dict[str, tuple[str, str]] = {}
     grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
     for a in instances:
         if not is_subject(a):
             continue
         containers = [
-            (in_ratio(a, b, th), b) for b in instances if b is not a and is_container(b) and b.key != a.key
+            (in_ratio(a, b, th), b)
+            for b in instances
+            if b is not a and is_container(b) and b.key != a.key and b.key not in closed
         ]
         containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]
         if containers:
