@@ -145,3 +145,9 @@ def _strip(doc: dict) -> list[dict]:
 
 def _opt(args: list[str], name: str) -> str | None:
     return args[args.index(name) + 1] if name in args else None
+
+
+@pytest.mark.slow
+def test_ray_backend_gives_the_same_episodes() -> None:
+    pytest.importorskip("ray")
+    assert _strip(run("delivery", limit=4, backend="ray")) == _strip(run("delivery", limit=4))
