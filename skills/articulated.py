@@ -215,7 +215,9 @@ def _push_leg(
         end = np.array([*(goal + u * (radius - 0.02)), z])
     else:
         z = lo[2] + min(0.02, (hi[2] - lo[2]) * 0.5)
-        start = np.array([*(centre[:2] - u * (radius + 0.03)), z])
+        # tall objects: the hand (3 cm thick) above the fingers must stay clear of the object too
+        standoff = 0.03 if hi[2] - lo[2] < 0.06 else 0.048
+        start = np.array([*(centre[:2] - u * (radius + standoff)), z])
         end = start + np.array([*(u * (dist + 0.012)), 0.0])
     above = start + np.array([0, 0, 0.12])
     z_transit = max(transit_height(world), above[2])

@@ -59,8 +59,14 @@ def transit_height(world: World, extra: float = 0.0, exclude: tuple[str, ...] = 
 
 def _lift(m: Motion, z: float) -> None:
     pos, quat = m.pose()
-    if pos[2] < z - 0.005:
-        m.move_line((np.array([pos[0], pos[1], z]), quat), check=False)
+    if pos[2] >= z - 0.005:
+        return
+    top = np.array([pos[0], pos[1], z])
+    try:
+        m.solve(top, quat)
+    except SkillError:  # too high for the arm from here: bring the base under the hand first
+        m.park_for(top, poses=[(top, quat)])
+    m.move_line((top, quat), check=False)
 
 
 def _site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:

@@ -109,7 +109,7 @@ def packed_spot(
     if free is not None:
         z, best = floor, free
     else:
-        best = min(grid, key=lambda c: (max(tops(c)), abs(c[0]) + abs(c[1])))
+        best = min(grid, key=lambda c: (round(max(tops(c)), 3), -abs(c[0]) - abs(c[1])))
         z = max(tops(best)) + 0.003
     xy = centre[:2] + rot @ best
     return np.array([xy[0], xy[1], z]), delta
