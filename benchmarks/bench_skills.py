@@ -432,7 +432,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--suite", help="NAME[:SOURCE]: run the planner agent on a suite physically instead")
     ap.add_argument("--level", help="with --suite: keep tasks of this level only (e.g. Simple)")
     ap.add_argument("--limit", type=int, help="with --suite: the first N tasks only")
+    ap.add_argument("--figures", type=Path, help="write the docs figures (PNG) to this folder and exit")
     args = ap.parse_args(argv)
+    if args.figures:
+        for path in render_figures(args.figures):
+            print(path)
+        return 0
     if args.suite:
         return _main_suite(args)
     skills = [s.strip() for s in args.skills.split(",") if s.strip()]
@@ -460,6 +465,29 @@ def main(argv: list[str] | None = None) -> int:
         _save(args.save, {"summary": summary, "trials": records, "episodes": episodes})
     print(markdown(summary) if args.markdown else json.dumps(summary, indent=2))
     return 0
+
+
+def render_figures(out: Path) -> list[Path]:
+    """PNG figures for docs/skills.md: a 10-step episode's scene before and after, from two cameras."""
+    from dataclasses import replace
+
+    from skills.camera import default_views, render, save_png
+    from skills.executor import execute_plan
+    from skills.world import build_world
+
+    out.mkdir(parents=True, exist_ok=True)
+    rng = random.Random("episode-0")
+    graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
+    paths = []
+    with build_world(_task(graph, 0), seed=0) as world:
+        views = default_views(world)
+        for when, plan in (("before", []), ("middle", EPISODE[:3]), ("after", EPISODE[3:])):
+            execute_plan(world, plan)
+            for name in ("front", "top"):
+                path = out / f"skills-episode-{when}-{name}.png"
+                save_png(render(world, replace(views[name], width=320, height=240)).rgb, str(path))
+                paths.append(path)
+    return paths
 
 
 def _main_suite(args: argparse.Namespace) -> int:

@@ -136,4 +136,5 @@ def save_png(rgb: np.ndarray, path: str) -> None:
     fd, tmp = tempfile.mkstemp(dir=d, suffix=".png")
     os.close(fd)
     Image.fromarray(rgb).save(tmp, format="PNG")
+    os.chmod(tmp, 0o644)  # mkstemp makes private files; images are meant to be shared
     os.replace(tmp, path)
