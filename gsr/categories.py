@@ -106,7 +106,7 @@ _TABLE: dict[str, tuple[str, tuple[str, ...], tuple[str, ...], bool]] = {
     "region": ("part", (S,), ("area", "zone", "spot"), True),
     # receptacles
     "box": ("receptacle", (M, C, S, U), ("crate", "bin_box"), False),
-    "lidded_box": ("box", (M, C, S, OP, U), ("box_with_lid",), False),
+    "lidded_box": ("box", (M, C, S, OP, U), ("box_with_lid", "lid_box"), False),
     "basket": ("receptacle", (M, C, U), ("bin", "hamper"), False),
     "tray": ("receptacle", (M, C, U), ("wooden_tray",), False),
     "caddy": ("receptacle", (M, C, U), ("desk_caddy", "organizer"), False),
