@@ -332,6 +332,9 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_t
     edge = -layout.table_size[0] / 2
     half_y = layout.table_size[1] / 2
     robot = Robot.load(client, th, (edge - 0.6, edge + 0.05), (-half_y, half_y))
+    # the base is clamped to the table's edge: its carriage and link0 slide over the edge, not on it
+    for link in (-1, *robot.base):
+        p.setCollisionFilterPair(robot.body, table_body, link, -1, 0, physicsClientId=client)
     start_y = float(np.clip(np.mean([o.position[1] for o in layout.objects] or [0.0]), -half_y, half_y))
     robot.reset((edge - 0.1, start_y, *robot.q()[2:]))
     world = World(
