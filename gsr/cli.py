@@ -222,8 +222,17 @@ def perceive_eval_cmd(
 
 @app.command("solve")
 def solve_cmd(
-    instruction: Annotated[str, typer.Argument(help="The instruction, e.g. 'put the red cube in the box'.")],
     scene: Annotated[Path, typer.Option(help="Scene graph JSON, GSR-Bench message or LIBERO BDDL file.")],
+    instruction_arg: Annotated[
+        str | None, typer.Argument(metavar="[INSTRUCTION]", help="The instruction (or use --instruction).")
+    ] = None,
+    instruction: Annotated[
+        str | None,
+        typer.Option("--instruction", "-i", help="The instruction, e.g. 'put the red cube in the box'."),
+    ] = None,
+    fmt: Annotated[
+        str, typer.Option("--format", help="text, json, pddl (IPC plan) or gsr-bench (move/open/close).")
+    ] = "text",
     backend: Annotated[str, typer.Option(help="grounder, transformers:PATH or openai:MODEL.")] = "grounder",
     mode: Annotated[str, typer.Option(help="steps, goal or hybrid.")] = "steps",
     goal: Annotated[
@@ -234,16 +243,20 @@ def solve_cmd(
     repairs: Annotated[int, typer.Option(help="Repair tries per step after a rejected answer.")] = 3,
     constrained: Annotated[bool, typer.Option(help="Constrained decoding (transformers backend).")] = False,
     base_url: Annotated[str | None, typer.Option(help="OpenAI-compatible base URL (openai backend).")] = None,
-    transcript: Annotated[bool, typer.Option(help="With --json: include every prompt and reply.")] = False,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the result as JSON.")] = False,
+    transcript: Annotated[
+        bool, typer.Option(help="With --format json: include every prompt and reply.")
+    ] = False,
+    as_json: Annotated[bool, typer.Option("--json", help="Same as --format json.")] = False,
 ) -> None:
-    """Reason from a scene to an instruction with checked steps: exit 0 solved, 2 impossible, 3 never repaired, 4 step limit."""
+    """Reason from a scene to an instruction and print the checked plan: exit 0 with a plan, 1 when none was found."""
     from gsr.reason.cli import solve_command
 
+    if (instruction is None) == (instruction_arg is None):
+        raise _fail("give the instruction once: as an argument or with --instruction")
     raise typer.Exit(
         solve_command(
             scene,
-            instruction,
+            instruction or instruction_arg or "",
             backend,
             mode,
             as_json,
@@ -254,6 +267,7 @@ def solve_cmd(
             constrained,
             transcript,
             base_url,
+            fmt,
         )
     )
 
@@ -332,7 +346,9 @@ def delivery_run(
     as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
     out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
     agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
-    by_kind: Annotated[bool, typer.Option("--breakdown", help="Also break SR down by instruction kind.")] = False,
+    by_kind: Annotated[
+        bool, typer.Option("--breakdown", help="Also break SR down by instruction kind.")
+    ] = False,
 ) -> None:
     """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
     from benchmarks.delivery.cli import run_command
@@ -498,7 +514,9 @@ def ground_cmd(
 @app.command("train")
 def train_cmd(
     data: Annotated[Path, typer.Option(help="A dataset folder written by gsr datagen.")],
-    model: Annotated[str, typer.Option(help="'tiny' (train a small Llama from scratch) or a local checkpoint folder.")],
+    model: Annotated[
+        str, typer.Option(help="'tiny' (train a small Llama from scratch) or a local checkpoint folder.")
+    ],
     out: Annotated[Path, typer.Option(help="Output folder (loads with --backend transformers:OUT).")],
     lora: Annotated[bool, typer.Option(help="Train LoRA adapters (peft) and merge them.")] = False,
     max_steps: Annotated[int, typer.Option(help="Optimizer steps.")] = 300,
@@ -522,9 +540,13 @@ def train_cmd(
 @app.command("datagen-tasks")
 def datagen_tasks_cmd(
     data: Annotated[Path, typer.Option(help="A dataset folder written by gsr datagen.")],
-    out: Annotated[Path, typer.Option(help="Folder for one TaskSpec JSON per task (run with gsr bench run tasks).")],
+    out: Annotated[
+        Path, typer.Option(help="Folder for one TaskSpec JSON per task (run with gsr bench run tasks).")
+    ],
     split: Annotated[str, typer.Option(help="train, val or test.")] = "test",
-    heldout: Annotated[str | None, typer.Option(help="Only one held-out kind: pair, color or horizon.")] = None,
+    heldout: Annotated[
+        str | None, typer.Option(help="Only one held-out kind: pair, color or horizon.")
+    ] = None,
     limit: Annotated[int | None, typer.Option(help="At most this many tasks.")] = None,
 ) -> None:
     """Export a generated dataset's tasks as TaskSpec files for the suites runner."""

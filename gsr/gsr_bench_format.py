@@ -9,7 +9,7 @@ from ``drawer_low`` / ``drawer_middle`` / ``drawer_high``.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from pydantic import ValidationError
@@ -17,6 +17,7 @@ from pydantic import ValidationError
 from gsr.categories import category_of
 from gsr.errors import GSRError
 from gsr.scene_graph import RELATIONS, Edge, Node, SceneGraph, format_validation_error
+from gsr.step import Step
 
 _NODE = re.compile(r"^\s*([^()\s]+)\s*(?:\(\s*([A-Za-z_]+)\s*\))?\s*$")
 _EDGE = re.compile(r"^\s*([^()\s]+?)\s*\(\s*([A-Za-z_]+)\s*\)\s*([^()\s]+?)\s*(?:\(\s*[A-Za-z_]+\s*\))?\s*$")
@@ -126,3 +127,30 @@ def gsr_bench_message(graph: SceneGraph) -> dict[str, list[str]]:
         "nodes": [node_text(n) for n in graph.nodes],
         "edges": [f"{e.source}({e.relation}){e.target}" for e in graph.edges],
     }
+
+
+_MOVES = {"place_in": "in", "place_on": "on", "stack": "on"}
+
+
+def gsr_bench_commands(steps: Iterable[Step]) -> list[str]:
+    """A tabletop plan in GSR-Bench's action language: ``move X in|on Y``, ``open X``, ``close X``.
+
+    A ``pick`` followed by the placement of the same object becomes one ``move``; any other action
+    (turn on, press, push) or a pick that is never placed has no GSR-Bench command and raises GSRError.
+    """
+    out: list[str] = []
+    held: str | None = None
+    for i, step in enumerate(steps, 1):
+        name, args = step.action, step.args
+        if name == "pick" and held is None and args:
+            held = args[0]
+        elif name in _MOVES and held is not None and len(args) == 2 and args[0] == held:
+            out.append(f"move {held} {_MOVES[name]} {args[1]}")
+            held = None
+        elif name in ("open", "close") and held is None and len(args) == 1:
+            out.append(f"{name} {args[0]}")
+        else:
+            raise GSRError(f"step {i} {step}: not expressible in GSR-Bench's actions (move, open, close)")
+    if held is not None:
+        raise GSRError(f"the plan ends holding {held}: GSR-Bench has no bare pick")
+    return out

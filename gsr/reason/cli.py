@@ -1,8 +1,8 @@
 """`gsr solve` and `gsr reason ...`: the reasoner on the command line (called from gsr.cli).
 
-Exit codes of ``gsr solve``: 0 solved; 1 bad input or backend failure; 2 the goal is impossible
-(the planner proves it unreachable); 3 the model's output never repaired (no valid step / goal);
-4 step limit reached, or the model said done with no goal to verify.
+Exit codes of ``gsr solve``: 0 with a plan that reaches the goal; 1 when no valid plan was found (the
+reason is printed: the goal is impossible, the model's output never repaired, the step limit, a backend
+failure) or on bad input.
 """
 
 from __future__ import annotations
@@ -15,15 +15,7 @@ from gsr.errors import GSRError
 from gsr.pddl.model import Domain
 from gsr.reason.result import ReasonResult
 
-EXIT_CODES = {
-    "solved": 0,
-    "backend_error": 1,
-    "unsolvable": 2,
-    "stuck": 3,
-    "no_goal": 3,
-    "step_limit": 4,
-    "done_unverified": 4,
-}
+FORMATS = ("text", "json", "pddl", "gsr-bench")
 
 
 def _domain(path: Path | None) -> Domain:
@@ -78,12 +70,15 @@ def solve_command(
     constrained: bool = False,
     transcript: bool = False,
     base_url: str | None = None,
+    fmt: str = "text",
 ) -> int:
-    """Run the reasoner on a scene file; print the checked steps; return the exit code."""
+    """Run the reasoner on a scene file; print the checked plan in ``fmt``; return the exit code."""
     from gsr.io import load_scene
     from gsr.reason.backend import make_backend
     from gsr.reason.loop import solve
 
+    if fmt not in FORMATS:
+        raise GSRError(f"unknown --format {fmt!r}: choose one of {', '.join(FORMATS)}")
     domain = _domain(domain_file)
     graph = load_scene(scene)
     options = {"base_url": base_url} if base_url and backend.startswith("openai:") else {}
@@ -99,18 +94,26 @@ def solve_command(
         max_repairs=repairs,
         constrained=constrained,
     )
-    if as_json:
+    if as_json or fmt == "json":
         print(json.dumps(result.to_dict(transcript=transcript), indent=2))
-    else:
+    elif fmt == "text" or not result.success:
         print(render(result))
-    code = EXIT_CODES.get(result.status, 1)
-    if code:
-        print(f"error: {result.status}: {result.message}", file=sys.stderr)
-        for group in result.unrepaired[-1:]:
-            for attempt in group[-2:]:
-                why = attempt.error or (attempt.diagnosis.message if attempt.diagnosis else "")
-                print(f"  rejected {attempt.reply.strip()[:120]!r}: {why}", file=sys.stderr)
-    return code
+    elif fmt == "pddl":
+        from gsr.plan_format import write_plan
+
+        print(write_plan(result.plan), end="")
+    else:
+        from gsr.gsr_bench_format import gsr_bench_commands
+
+        print("\n".join(gsr_bench_commands(result.plan)))
+    if result.success:
+        return 0
+    print(f"error: no valid plan ({result.status}): {result.message}", file=sys.stderr)
+    for group in result.unrepaired[-1:]:
+        for attempt in group[-2:]:
+            why = attempt.error or (attempt.diagnosis.message if attempt.diagnosis else "")
+            print(f"  rejected {attempt.reply.strip()[:120]!r}: {why}", file=sys.stderr)
+    return 1
 
 
 def prompt_command(scene: Path, instruction: str, mode: str, domain_file: Path | None = None) -> int:

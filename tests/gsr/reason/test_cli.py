@@ -46,7 +46,7 @@ def test_solve_json_goal_mode(tmp_path):
 def test_solve_exit_codes(tmp_path):
     scene = _scene(tmp_path)
     impossible = runner.invoke(app, ["solve", "x", "--scene", scene, "--goal", "(in red_cube1 red_cube1)"])
-    assert impossible.exit_code == 2 and "unsolvable" in impossible.output
+    assert impossible.exit_code == 1 and "no valid plan (unsolvable)" in impossible.output
     bad_goal = runner.invoke(app, ["solve", "x", "--scene", scene, "--goal", "(in red_cube blue_box)"])
     assert bad_goal.exit_code == 1 and "unknown object red_cube" in str(bad_goal.exception or bad_goal.output)
     missing = runner.invoke(app, ["solve", "x", "--scene", str(tmp_path / "none.json")])
@@ -55,13 +55,15 @@ def test_solve_exit_codes(tmp_path):
     assert bad_backend.exit_code == 1
 
 
-def test_solve_never_repaired_exits_3(tmp_path, monkeypatch):
+def test_solve_never_repaired_exits_1(tmp_path, monkeypatch):
     from .test_openai_backend import FakeOpenAI
 
     with FakeOpenAI(["nonsense"] * 3) as server:
         args = ["solve", "x", "--scene", _scene(tmp_path), "--goal", "(in red_cube1 blue_box)"]
         res = runner.invoke(app, [*args, "--backend", "openai:m", "--base-url", server.url, "--repairs", "2"])
-    assert res.exit_code == 3 and "stuck" in res.output and "cannot parse the step" in res.output
+    assert (
+        res.exit_code == 1 and "no valid plan (stuck)" in res.output and "cannot parse the step" in res.output
+    )
 
 
 def test_reason_prompt_and_check(tmp_path):
@@ -92,3 +94,17 @@ def test_solve_libero_file_with_the_embedded_grounder(shared_data):
 def test_solve_instruction_the_grounder_cannot_read(tmp_path):
     res = runner.invoke(app, ["solve", "juggle the purple elephants", "--scene", _scene(tmp_path)])
     assert res.exit_code == 1 and "backend_error" in res.output and "elephant" in res.output
+
+
+def test_solve_instruction_option_and_formats(tmp_path):
+    scene = _scene(tmp_path)
+    base = ["solve", "--scene", scene, "--instruction", "put the red cube in the blue box"]
+    pddl = runner.invoke(app, [*base, "--format", "pddl"])
+    assert pddl.exit_code == 0, pddl.output
+    assert pddl.stdout.splitlines()[:2] == ["(pick red_cube1 table)", "(place_in red_cube1 blue_box)"]
+    bench = runner.invoke(app, [*base, "--format", "gsr-bench"])
+    assert bench.exit_code == 0 and bench.stdout.strip() == "move red_cube1 in blue_box"
+    both = runner.invoke(app, [*base, "put it somewhere"])
+    assert both.exit_code == 1 and "give the instruction once" in both.output
+    bad = runner.invoke(app, [*base, "--format", "yaml"])
+    assert bad.exit_code == 1
