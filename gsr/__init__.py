@@ -61,6 +61,14 @@ _EXPORTS: dict[str, str] = {
     "write_plan": "gsr.plan_format",
     "load_builtin_domain": "gsr.resources",
     "plan_graph": "gsr.plan.api",
+    "ground": "gsr.language",
+    "GroundingError": "gsr.language",
+    "solve": "gsr.reason",
+    "ReasonResult": "gsr.reason",
+    "TaskSpec": "gsr.task_spec",
+    "Layout": "gsr.task_spec",
+    "load_task": "gsr.task_spec",
+    "scene_graph_svg": "gsr.graph_svg",
     "PlanResult": "gsr.plan.api",
 }
 
