@@ -55,7 +55,7 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     if params.descriptive:
         edges += descriptive_relations(instances, support, params.relations, world_to_robot)
     nodes = [_node(i, states.get(i.key), kps.get(i.key, [])) for i in instances]
-    nodes += _missing_parents(nodes)
+    nodes = _with_drawer_levels(nodes + _missing_parents(nodes))
     ids = {n.id for n in nodes}
     kept_kps = sorted(k for k in kps if k not in ids)
     metadata = {
@@ -173,6 +173,28 @@ def _node(inst: Instance, state: tuple[tuple[str, ...], dict[str, float]] | None
 
 def _xyz(v: np.ndarray) -> dict[str, float]:
     return {"x": round(float(v[0]), 5), "y": round(float(v[1]), 5), "z": round(float(v[2]), 5)}
+
+
+def _with_drawer_levels(nodes: list[Node]) -> list[Node]:
+    """Rank each parent's drawers by height (0 = lowest), as the task graph's ``level`` attribute does.
+
+    Instructions name drawers by rank ("the bottom drawer"), so the level is perceived from geometry
+    (the drawers' centres) rather than taken from a label; a level the label already gives is kept.
+    """
+    drawers: dict[str, list[Node]] = {}
+    for n in nodes:
+        if n.parent is not None and n.category == "drawer" and n.pose is not None:
+            drawers.setdefault(n.parent, []).append(n)
+    level: dict[str, int] = {}
+    for group in drawers.values():
+        for rank, n in enumerate(sorted(group, key=lambda d: d.pose.position.z)):  # type: ignore[union-attr]
+            level[n.id] = rank
+    return [
+        n.model_copy(update={"attributes": {**n.attributes, "level": level[n.id]}})
+        if n.id in level and "level" not in n.attributes
+        else n
+        for n in nodes
+    ]
 
 
 def _missing_parents(nodes: list[Node]) -> list[Node]:

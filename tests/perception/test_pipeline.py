@@ -54,6 +54,17 @@ def test_articulated_states_and_measurements(rendered):
     assert nodes["cabinet_1/drawer_low"].parent == "cabinet_1"
 
 
+def test_drawer_levels_ranked_by_height(rendered):
+    views, _, _ = rendered
+    nodes = perceive(views[0]).node_map()
+    drawers = sorted(
+        (n for n in nodes.values() if n.category == "drawer"), key=lambda n: n.attributes["level"]
+    )
+    assert [d.attributes["level"] for d in drawers] == list(range(len(drawers)))
+    assert nodes["cabinet_1/drawer_low"].attributes["level"] == 0  # labels carry no level: perceived
+    assert drawers[-1].id == "cabinet_1/drawer_high"
+
+
 def test_handle_keypoints_from_handle_masks(rendered):
     views, _, handles = rendered
     nodes = perceive(views[0]).node_map()
