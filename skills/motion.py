@@ -157,15 +157,33 @@ class Motion:
             self.move_base(float(target[0]) - standoff, float(target[1]))
             return
         r = self.robot
-        for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15):
-            for dy in (0.0, -0.08, 0.08):
+        for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15, -0.2):
+            for dy in (0.0, -0.08, 0.08, -0.16, 0.16, -0.25, 0.25):
                 base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
-                if all(self._reachable(pose, base) for pose in poses):
+                if self._base_clear(base) and all(self._reachable(pose, base) for pose in poses):
                     self.move_base(float(base[0]), float(base[1]))
                     return
         raise SkillError(
             Failure.UNREACHABLE, f"no base position reaches the poses around {np.round(target, 3).tolist()}"
         )
+
+    def _base_clear(self, base: np.ndarray) -> bool:
+        """Whether the robot's base and shoulder at ``base`` stay clear of every object (fixtures by the edge)."""
+        import pybullet as p
+
+        r, w = self.robot, self.world
+        saved = r.q()
+        q = saved.copy()
+        q[:2] = base
+        r.reset(q)
+        try:
+            for o in w.objects.values():
+                for link in (*r.base, r.arm[0]):
+                    if p.getClosestPoints(r.body, o.body, 0.01, linkIndexA=link, physicsClientId=w.client):
+                        return False
+            return True
+        finally:
+            r.reset(saved)
 
     def _reachable(self, pose: Pose, base: np.ndarray) -> bool:
         from skills.robot import ARM_FRONT, ARM_HOME

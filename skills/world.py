@@ -376,7 +376,8 @@ def separate_footprints(
     """
     items = [o for o in layout.objects if o.on is None]
     pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
-    rad = {o.id: float(np.hypot(*make_asset(o.asset, o.size).extent[:2]) / 2 * 0.85) for o in items}
+    # circumscribed circles: a rotated box reaches its half-diagonal
+    rad = {o.id: float(np.hypot(*make_asset(o.asset, o.size).extent[:2]) / 2) for o in items}
     fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
     for _ in range(rounds):
         moved = False
