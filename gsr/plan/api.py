@@ -95,7 +95,7 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
         return PlanResult("error", None, None, 0, 0, 0, t, t, 0.0, planner, str(err))
     ground_time = time.perf_counter() - start
     relax = Relaxation(task)  # built once: the reachability check and the search share it
-    if not task.goals or relax.hmax_value(task.init) == INF:
+    if not task.goals or relax.hadd(task.init)[0][relax.goal_fact] == INF:  # same reachability as h_max
         t = time.perf_counter() - start
         return PlanResult(
             "unsolvable",
