@@ -4,6 +4,7 @@ open3d is imported inside the functions that need it, so importing this package 
 """
 
 from perception.articulation import ArticulationThresholds
+from perception.belief import update_belief
 from perception.camera import (
     Camera,
     camera_from_dict,
@@ -47,4 +48,5 @@ __all__ = [
     "save_camera",
     "score",
     "split_gl_segmentation",
+    "update_belief",
 ]

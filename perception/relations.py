@@ -30,6 +30,7 @@ class RelationThresholds:
     adjacent_gap: float = 0.05  # footprint separation for A adjacent B (same supporter)
     direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
     direction_radius: float = 0.5  # directional relations only between objects this close
+    max_support_gap: float = 0.25  # farther above every surface than this, A rests on nothing (held, in the air)
 
 
 def is_subject(inst: Instance) -> bool:
@@ -117,7 +118,9 @@ def supports(
             below.append((top, g.key))
             if abs(a_bottom - top) <= th.on_gap:
                 strict.append((top, g.key))
-        pick = max(strict) if strict else (max(below) if below else None)
+        # fallback for noise: the highest surface under A, unless A floats clearly above it (held by the robot)
+        near = [b for b in below if a_bottom - b[0] <= th.max_support_gap]
+        pick = max(strict) if strict else (max(near) if near else None)
         if pick is not None:
             out[a.key] = ("on", pick[1])
     return out

@@ -65,6 +65,14 @@ def test_gap_beyond_threshold_is_not_on_but_falls_back_to_the_surface_below():
     assert sup["f"] == ("on", "a")  # nothing touches its bottom: the highest surface under it
 
 
+def test_object_held_high_above_every_surface_rests_on_nothing():
+    t = table()
+    a = box_cloud("a", "cube", (0.4, 0.0, 0.02), (0.02, 0.02, 0.02))
+    held = box_cloud("h", "bowl", (0.4, 0.0, 0.04 + TH.max_support_gap + 0.05), (0.05, 0.05, 0.025))
+    sup = supports([t, a, held], np.array([0, 0, 1.0, 0]), TH)
+    assert "h" not in sup and sup["a"] == ("on", "table")
+
+
 def test_in_box_beats_on_and_needs_half_inside():
     t = table()
     box = box_cloud("box", "box", (0.5, 0.0, 0.04), (0.08, 0.08, 0.04), top=False)
