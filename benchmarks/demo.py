@@ -54,6 +54,7 @@ def run_demo(
     from gsr.reason import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
+    from perception import update_belief
     from skills import build_world, default_views, render, render_frame, run_step, scene_graph_from_sim
 
     path = task_path or default_task_path()
@@ -106,8 +107,8 @@ def run_demo(
         if not reasoned.success:
             rec.verdict = f"no valid plan: {reasoned.message}"
             return _finish(rec, out, before, None)
-        typer.echo("executing checked steps with the meta-skills:")
-        executed_all = True
+        typer.echo("executing checked steps with the meta-skills, re-perceiving after each:")
+        executed_all, belief = True, before
         for checked in reasoned.steps:
             result = _stage(
                 rec,
@@ -115,22 +116,23 @@ def run_demo(
                 lambda s=checked.step: run_step(world, s),
                 lambda r: "ok" if r.ok else f"{r.failure}: {r.message}",
             )
+            belief = update_belief(belief, observe("after"))  # closed loop: what the camera sees now
+            missing = _unobserved_effects(checked.diagnosis, belief, domain)
             rec.steps.append(
                 {
                     "step": str(checked.step),
                     "check": checked.diagnosis.message or "ok: preconditions hold",
-                    "executed": result.ok,
-                    "execution": "ok" if result.ok else f"{result.failure}: {result.message}",
+                    "executed": result.ok and not missing,
+                    "execution": ("ok" if result.ok else f"{result.failure}: {result.message}")
+                    + (f"; not observed: {', '.join(missing)}" if missing else ""),
                 }
             )
-            if not result.ok:
+            if not result.ok or missing:
                 executed_all = False
                 break
-        after = _stage(
-            rec,
-            "re-perceive -> scene graph" if use_perception else "ground-truth graph",
-            lambda: observe("after"),
-            summary,
+        after = belief
+        rec.stages.append(
+            ("re-perceived scene graph", 0.0, f"{len(after.nodes)} nodes, {len(after.edges)} edges")
         )
         truth = scene_graph_from_sim(world)
         perceived_ok = goal_holds(domain, goal, state_from_graph(after, domain))
@@ -148,6 +150,19 @@ def run_demo(
         return _finish(rec, out, before, after, scene_graph_svg)
     finally:
         world.close()
+
+
+_OBSERVABLE = frozenset({"on", "in", "open", "turned_on"})  # what a camera can confirm
+
+
+def _unobserved_effects(diagnosis: Any, graph: Any, domain: Any) -> list[str]:
+    """The step's true effects on observable relations/states that the observed graph contradicts."""
+    from gsr.facts import state_from_graph
+
+    atoms = state_from_graph(graph, domain).atoms
+    wrong = [f"{a}" for a in diagnosis.add if a.predicate in _OBSERVABLE and a not in atoms]
+    wrong += [f"(not {a})" for a in diagnosis.delete if a.predicate in _OBSERVABLE and a in atoms]
+    return sorted(wrong)
 
 
 def _finish(
