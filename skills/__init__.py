@@ -10,7 +10,7 @@ import importlib
 from typing import Any
 
 _EXPORTS = {
-    "build_world": "skills.world",
+    "build_world": "skills.build",
     "World": "skills.world",
     "layout_from_graph": "skills.layout",
     "scene_graph_from_sim": "skills.sim_graph",

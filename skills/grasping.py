@@ -117,12 +117,47 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     width = m.gripper(0.0, force=60.0, steps=90)
     if width < 0.002:
         raise SkillError(Failure.GRASP_MISSED, f"fingers closed on nothing at {obj.id}")
+    if world.debug_weld:
+        _weld(world, obj)
     m.step(20)
     m.held = obj.body
     m.move_line((np.array([pos[0], pos[1], z_transit]), quat), check=False)
     m.step(30)
     if world.body_aabb(obj.body)[0][2] < z0 + 0.03 or support_of(world, obj.id) != ("held", ""):
         raise SkillError(Failure.GRASP_SLIPPED, f"{obj.id} did not come up with the hand")
+
+
+def _weld(world: World, obj: SimObject) -> None:
+    """Debug option only: fix the object to the hand where it is (hides slips; never used by benchmarks)."""
+    import pybullet as p
+
+    r = world.robot
+    ee_p, ee_q = r.ee_pose()
+    # the joint frame: the object's centre of mass, expressed in the hand's frame and in its own
+    ob_p, ob_q = p.getBasePositionAndOrientation(obj.body, physicsClientId=world.client)
+    inv_p, inv_q = p.invertTransform(list(ee_p), list(ee_q))
+    rel_p, rel_q = p.multiplyTransforms(inv_p, inv_q, ob_p, ob_q)
+    world.welds[obj.id] = p.createConstraint(
+        r.body,
+        r.ee,
+        obj.body,
+        -1,
+        p.JOINT_FIXED,
+        (0, 0, 0),
+        rel_p,
+        (0, 0, 0),
+        rel_q,
+        (0, 0, 0, 1),
+        physicsClientId=world.client,
+    )
+
+
+def _unweld(world: World, obj: SimObject) -> None:
+    import pybullet as p
+
+    cid = world.welds.pop(obj.id, None)
+    if cid is not None:
+        p.removeConstraint(cid, physicsClientId=world.client)
 
 
 def target_point(world: World, target: str, obj: SimObject, relation: str) -> np.ndarray:
@@ -274,6 +309,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     m.move_line((goal, quat), check=False)
     m.step(10)
     # open just enough to let go: wide-open fingers would sweep into neighbours (packed boxes)
+    _unweld(world, obj)
     m.gripper(min(0.08, world.robot.finger_width() + 0.016), steps=60)
     m.held = None
     m.step(40)

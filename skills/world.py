@@ -8,17 +8,14 @@ poses and joint states. Scene-graph node ids map to bodies (objects) and links (
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from gsr.categories import is_a
 from gsr.errors import GSRError
 from gsr.scene_graph import SceneGraph
-from gsr.task_spec import Layout, PlacedObject, Region, TaskSpec
+from gsr.task_spec import Layout, PlacedObject, Region
 from skills.asset_model import Articulation, AssetModel
-from skills.assets import asset_urdf_path, make_asset
 from skills.robot import Robot
 
 SETTLE_STEPS = 120
@@ -64,7 +61,9 @@ class World:
     powered: dict[str, bool] = field(default_factory=dict)  # switchable object id -> on
     _pressed: dict[tuple[str, str], bool] = field(default_factory=dict)
     sim_steps: int = 0
-    debug_teleport: bool = False
+    #: debugging only (off by default, never used by benchmarks): weld a grasped object to the hand
+    debug_weld: bool = False
+    welds: dict[str, int] = field(default_factory=dict)  # object id -> constraint id (debug_weld only)
     #: objects moved apart at build time because the layout's positions overlap our assets (id -> dx, dy)
     adjusted: dict[str, tuple[float, float]] = field(default_factory=dict)
 
@@ -218,318 +217,16 @@ class World:
         self.close()
 
 
-def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
-    """The asset part a graph part node denotes (``wooden_cabinet_1/top_drawer`` -> ``drawer_2``); "" if none."""
-    n = graph.node(node_id)
-    name = node_id.split("/")[-1]
-    cat = n.category
-    if is_a(cat, "drawer"):
-        drawers = sorted(p for p in model.articulations if p.startswith("drawer_"))
-        level = n.attributes.get("level")
-        if not isinstance(level, int):
-            words = {
-                "top": 2,
-                "high": 2,
-                "upper": 2,
-                "middle": 1,
-                "mid": 1,
-                "bottom": 0,
-                "low": 0,
-                "lower": 0,
-            }
-            level = next((v for k, v in words.items() if k in name), 0)
-        siblings = [m for m in graph.nodes if m.parent == n.parent and is_a(m.category, "drawer")]
-        if len(siblings) < len(drawers) and isinstance(level, int):  # two-drawer cabinets: the lowest ones
-            level = min(level, len(drawers) - 1)
-        return drawers[min(max(level, 0), len(drawers) - 1)] if drawers else ""
-    if is_a(cat, "cabinet_top"):
-        return "top_side" if "top_side" in model.part_links else ""
-    if is_a(cat, "compartment"):
-        return (
-            "compartment_1"
-            if "back" in name
-            else ("compartment_0" if "compartment_0" in model.interiors else "")
-        )
-    if is_a(cat, "door"):
-        return model.open_part or ""
-    if is_a(cat, "button") or is_a(cat, "switch"):
-        return model.switch_part or ""
-    if is_a(cat, "burner"):
-        return "burner" if "burner" in model.part_links else ""
-    return ""
+# building lives in skills.build; re-exported here because callers know it as skills.world.build_world
+from skills.build import build_world, resolve_part, separate_footprints  # noqa: E402
 
-
-def _table_id(graph: SceneGraph) -> str:
-    for n in graph.nodes:
-        if n.parent is None and is_a(n.category, "table"):
-            return n.id
-    return "table"
-
-
-def _rest_order(layout: Layout) -> list[PlacedObject]:
-    ids = {o.id for o in layout.objects}
-    done: set[str] = set()
-    out: list[PlacedObject] = []
-    pending = list(layout.objects)
-    while pending:
-        progressed = False
-        for o in list(pending):
-            host = (o.on or "").split("/")[0]
-            if host in ids and host not in done:
-                continue
-            out.append(o)
-            done.add(o.id)
-            pending.remove(o)
-            progressed = True
-        if not progressed:
-            raise GSRError(f"layout: support cycle among {', '.join(o.id for o in pending)}")
-    return out
-
-
-def build_world(
-    task_or_layout: TaskSpec | Layout,
-    seed: int = 0,
-    graph: SceneGraph | None = None,
-    debug_teleport: bool = False,
-) -> World:
-    """Build the simulated world for a task (or a bare layout plus its graph), deterministic per seed.
-
-    A task without a layout gets one from :func:`skills.layout.layout_from_graph`. ``debug_teleport``
-    lets skills move objects kinematically (debugging only; off by default and never used by benchmarks).
-    """
-    import pybullet as p
-
-    from skills.layout import layout_from_graph
-    from skills.sim_graph import graph_from_layout
-
-    if isinstance(task_or_layout, TaskSpec):
-        graph = task_or_layout.initial
-        layout = task_or_layout.layout or layout_from_graph(graph, seed)
-    else:
-        layout = task_or_layout
-        graph = graph or graph_from_layout(layout)
-    client = p.connect(p.DIRECT)
-    try:
-        return _populate(client, layout, graph, seed, debug_teleport)
-    except Exception:
-        p.disconnect(client)
-        raise
-
-
-def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_teleport: bool) -> World:
-    import pybullet as p
-
-    p.resetSimulation(physicsClientId=client)
-    p.setGravity(0, 0, -9.81, physicsClientId=client)
-    p.setPhysicsEngineParameter(fixedTimeStep=1 / 240, numSolverIterations=80, physicsClientId=client)
-    th = layout.table_height
-    table_model = make_asset("table", (layout.table_size[0], layout.table_size[1], 0.05))
-    table_body = p.loadURDF(
-        str(asset_urdf_path(table_model)), (0, 0, th), useFixedBase=True, physicsClientId=client
-    )
-    p.changeDynamics(table_body, -1, lateralFriction=0.8, physicsClientId=client)
-    # the base's rails run beside the table's near edge (x) and along it (y)
-    edge = -layout.table_size[0] / 2
-    half_y = layout.table_size[1] / 2
-    robot = Robot.load(client, th, (edge - 0.6, edge + 0.05), (-half_y, half_y))
-    # the base is clamped to the table's edge: its carriage and link0 slide over the edge, not on it
-    for link in (-1, *robot.base):
-        p.setCollisionFilterPair(robot.body, table_body, link, -1, 0, physicsClientId=client)
-    start_y = float(np.clip(np.mean([o.position[1] for o in layout.objects] or [0.0]), -half_y, half_y))
-    robot.reset((edge - 0.1, start_y, *robot.q()[2:]))
-    world = World(
-        client, robot, table_body, _table_id(graph), graph, layout, seed, debug_teleport=debug_teleport
-    )
-    world.regions = {r.name: r for r in layout.regions}
-    for r in layout.regions:
-        # a region node is named by the region's name, its part name after the slash, or LIBERO's name
-        for n in graph.nodes:
-            if n.id.endswith("/" + r.name) or n.attributes.get("libero_region") == r.name:
-                world.regions[n.id] = r
-    rng = np.random.default_rng(seed)
-    occupied: dict[str, int] = {}
-    world.adjusted = separate_footprints(layout)
-    for placed in _rest_order(layout):
-        shift = world.adjusted.get(placed.id)
-        if shift is not None:
-            x, y, z = placed.position
-            placed = placed.model_copy(update={"position": (x + shift[0], y + shift[1], z)})
-        _load(world, placed, rng, occupied)
-    for n in graph.nodes:
-        if n.parent in world.objects:
-            part = resolve_part(world.objects[n.parent].model, graph, n.id)
-            world.parts[n.id] = (n.parent, part)
-    _initial_joints(world, layout)
-    for _ in range(SETTLE_STEPS):
-        world.robot.hold(world.robot.q())
-        world.step()
-    return world
-
-
-def separate_footprints(
-    layout: Layout, margin: float = 0.008, rounds: int = 60
-) -> dict[str, tuple[float, float]]:
-    """Shifts that keep table-standing objects from overlapping (a layout may not know our asset sizes).
-
-    Circles of each object's footprint are pushed apart (movable ones only; fixtures stay) until no two
-    overlap; deterministic. Returns id -> (dx, dy) for the objects that moved.
-    """
-    items = [o for o in layout.objects if o.on is None]
-    pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
-    # circumscribed circles: a rotated box reaches its half-diagonal
-    rad = {o.id: float(np.hypot(*make_asset(o.asset, o.size).extent[:2]) / 2) for o in items}
-    fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
-    for _ in range(rounds):
-        moved = False
-        for i, a in enumerate(items):
-            for b in items[i + 1 :]:
-                if a.id in fixed and b.id in fixed:
-                    continue
-                d = pos[b.id] - pos[a.id]
-                dist = float(np.linalg.norm(d))
-                need = rad[a.id] + rad[b.id] + margin
-                if dist >= need:
-                    continue
-                u = d / dist if dist > 1e-9 else np.array([0.0, 1.0])
-                push = need - dist + 1e-4
-                if a.id in fixed:
-                    pos[b.id] += u * push
-                elif b.id in fixed:
-                    pos[a.id] -= u * push
-                else:
-                    pos[a.id] -= u * push / 2
-                    pos[b.id] += u * push / 2
-                moved = True
-        if not moved:
-            break
-    return {
-        o.id: (round(float(pos[o.id][0] - o.position[0]), 4), round(float(pos[o.id][1] - o.position[1]), 4))
-        for o in items
-        if np.linalg.norm(pos[o.id] - np.array(o.position[:2])) > 1e-4
-    }
-
-
-def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied: dict[str, int]) -> None:
-    import pybullet as p
-
-    node = world.graph.node(placed.id) if world.graph.has_node(placed.id) else None
-    color = placed.color or (node.color if node else None)
-    model = make_asset(placed.asset, placed.size, color)
-    fixed = placed.fixed or model.fixed
-    x, y, z = placed.position
-    th = world.layout.table_height
-    yaw = placed.yaw
-    if placed.on:
-        x, y, z = _rest_on(world, placed, model, occupied)
-    else:
-        z = max(z, th) + 0.002
-    quat = p.getQuaternionFromEuler((0, 0, yaw))
-    body = p.loadURDF(
-        str(asset_urdf_path(model)), (x, y, z), quat, useFixedBase=fixed, physicsClientId=world.client
-    )
-    links = {model.links[0].name: -1}
-    for j in range(p.getNumJoints(body, physicsClientId=world.client)):
-        info = p.getJointInfo(body, j, physicsClientId=world.client)
-        links[info[12].decode()] = j
-        if info[2] != p.JOINT_FIXED:  # free the default velocity motors; joint friction set below
-            p.setJointMotorControl2(body, j, p.VELOCITY_CONTROL, force=0, physicsClientId=world.client)
-    world.objects[placed.id] = SimObject(placed.id, body, model, placed, links)
-    del rng  # layout positions are deterministic already; kept for future jitter options
-
-
-def _rest_on(
-    world: World, placed: PlacedObject, model: AssetModel, occupied: dict[str, int]
-) -> tuple[float, float, float]:
-    """A resting position on or in the support named by ``placed.on``."""
-    target = placed.on or ""
-    host_id = target.split("/")[0]
-    if host_id not in world.objects:
-        if target in world.regions or target == world.table_id:
-            return placed.position[0], placed.position[1], world.layout.table_height + 0.002
-        raise GSRError(f"layout object {placed.id!r}: rests on {target!r}, which is not in the layout")
-    host = world.objects[host_id]
-    part = (
-        resolve_part(host.model, world.graph, target)
-        if "/" in target and world.graph.has_node(target)
-        else ""
-    )
-    k = occupied.get(target, 0)
-    occupied[target] = k + 1
-    interior = host.model.interiors.get(part)
-    rel = world.graph.edges_from(placed.id) if world.graph.has_node(placed.id) else iter(())
-    inside = any(e.relation == "in" for e in rel) or (part and interior is not None)
-    if inside and interior is not None:
-        link = host.links[interior.link]
-        cx, cy, cz = interior.center
-        sx, sy, sz = interior.size
-        # a 3x3 grid of slots inside the interior so several objects do not start interpenetrating
-        gx, gy = (k % 3 - 1) * sx / 3.2, (k // 3 % 3 - 1) * sy / 3.2
-        if k == 0:
-            gx = gy = 0.0
-        floor = world.to_world(host.body, link, (cx + gx, cy + gy, cz - sz / 2))
-        return float(floor[0]), float(floor[1]), float(floor[2]) + 0.012 + 0.05 * (k // 9)
-    link = host.links.get(host.model.part_links.get(part, ""), -1) if part else -1
-    lo, hi = world.body_aabb(host.body) if link < 0 else world.aabb(host.body, link)
-    cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2
-    return float(cx), float(cy), float(hi[2]) + 0.003 + 0.06 * k
-
-
-def _initial_joints(world: World, layout: Layout) -> None:
-    import pybullet as p
-
-    fractions: dict[tuple[str, str], float] = {}
-    for placed in layout.objects:
-        o = world.objects[placed.id]
-        for name, value in placed.joint_states.items():
-            part = name if name in o.model.articulations else ""
-            if not part:
-                node = f"{placed.id}/{name}"
-                if world.graph.has_node(node):
-                    part = resolve_part(o.model, world.graph, node)
-            if part in o.model.articulations:
-                fractions[(placed.id, part)] = float(value)
-    for n in world.graph.nodes:
-        target = n.parent if n.parent in world.objects else (n.id if n.id in world.objects else None)
-        if target is None:
-            continue
-        o = world.objects[target]
-        part = world.parts.get(n.id, (target, ""))[1]
-        if "open" in n.states:
-            part = part or o.model.open_part or ""
-            fractions.setdefault((target, part), 1.0)
-        if "on" in n.states:
-            sw = part or o.model.switch_part or ""
-            if sw in o.model.articulations and o.model.articulations[sw].kind == "button":
-                world.powered[target] = True
-            else:
-                fractions.setdefault((target, sw), 1.0)
-    for o in world.objects.values():
-        for part, art in o.model.articulations.items():
-            link = o.links[art.link]
-            frac = fractions.get((o.id, part), 0.0)
-            q = art.closed + frac * (art.open - art.closed)
-            p.resetJointState(o.body, link, q, physicsClientId=world.client)
-            if art.kind == "button":  # a spring: a weak position motor pulls the button back up
-                p.setJointMotorControl2(
-                    o.body,
-                    link,
-                    p.POSITION_CONTROL,
-                    targetPosition=art.closed,
-                    force=4.0,
-                    positionGain=0.2,
-                    physicsClientId=world.client,
-                )
-            else:
-                p.setJointMotorControl2(
-                    o.body,
-                    link,
-                    p.VELOCITY_CONTROL,
-                    targetVelocity=0,
-                    force=JOINT_FRICTION[art.kind],
-                    physicsClientId=world.client,
-                )
-
-
-def angle_diff(a: float, b: float) -> float:
-    """Smallest signed difference a - b of two angles."""
-    return (a - b + math.pi) % (2 * math.pi) - math.pi
+__all__ = [
+    "JOINT_FRICTION",
+    "SETTLE_STEPS",
+    "Located",
+    "SimObject",
+    "World",
+    "build_world",
+    "resolve_part",
+    "separate_footprints",
+]

@@ -57,3 +57,17 @@ def test_articulated_and_push_skills(shared_data, steps) -> None:
         for step in steps:
             result = run_step(world, step)
             assert result.ok, f"{step}: {result.message}"
+
+
+def test_debug_weld_is_off_by_default_and_explicit(bowl_task) -> None:
+    from skills.world import build_world
+
+    with build_world(bowl_task, seed=0) as world:
+        assert world.debug_weld is False
+        assert run_step(world, Step("pick", ("akita_black_bowl_1", "main_table"))).ok
+        assert world.welds == {}
+    with build_world(bowl_task, seed=0, debug_weld=True) as world:
+        assert run_step(world, Step("pick", ("akita_black_bowl_1", "main_table"))).ok
+        assert set(world.welds) == {"akita_black_bowl_1"}
+        assert run_step(world, Step("place_on", ("akita_black_bowl_1", "plate_1"))).ok
+        assert world.welds == {}
