@@ -6,7 +6,20 @@ import itertools
 from dataclasses import dataclass
 
 from gsr.errors import GSRError
-from gsr.pddl.model import FALSE, TRUE, And, Atom, Domain, Formula, Increase, Not, Or, Problem, is_variable
+from gsr.pddl.model import (
+    FALSE,
+    TRUE,
+    And,
+    Atom,
+    Domain,
+    Formula,
+    Increase,
+    Not,
+    Or,
+    Problem,
+    TypedVar,
+    is_variable,
+)
 from gsr.plan.normalize import (
     Conjunction,
     Schema,
@@ -42,6 +55,26 @@ def _relaxed(formula: Formula, reached: set[Atom]) -> bool:
     if isinstance(formula, Or):
         return any(_relaxed(p, reached) for p in formula.parts)
     return True  # a negative literal
+
+
+def _conjuncts(formula: Formula) -> list[Formula]:
+    """The conjuncts of a (nested) conjunction."""
+    if isinstance(formula, And):
+        return [q for p in formula.parts for q in _conjuncts(p)]
+    return [formula]
+
+
+def _any_reached(
+    alternatives: list[tuple[Formula, ...]], binding: dict[str, str], reached: set[Atom]
+) -> bool:
+    """Whether each disjunction of atoms has a reached (or static initial) atom under ``binding``."""
+    for atoms in alternatives:
+        for a in atoms:
+            if Atom(a.predicate, tuple(map(binding.get, a.args, a.args))) in reached:  # type: ignore[union-attr]
+                break
+        else:
+            return False
+    return True
 
 
 def _prune(formula: Formula, reached: set[Atom]) -> Formula:
@@ -161,24 +194,47 @@ def _variant(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> _
     return _Variant(schema.name, args, pre, binding, schema)
 
 
-def _effects(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> list[GroundEffect]:
+_EffectGroup = tuple[
+    tuple[TypedVar, ...],
+    Formula,
+    tuple[Atom, ...],
+    tuple[tuple[Atom, bool], ...] | None,
+    tuple[tuple[Atom, bool], ...],
+]
+
+
+def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
+    """Effects sharing variables and condition, grouped: (params, condition, guards, literals, atoms).
+
+    ``forall ?n ?m (when c (and (not (cube_count ?c ?n)) (cube_count ?c ?m)))`` flattens into two
+    effects with one condition; grouping grounds the instances and the condition once for both.
+    """
+    groups: dict[tuple, list[tuple[Atom, bool]]] = {}
+    for eff in schema.effects:
+        groups.setdefault((eff.params, eff.condition), []).append((eff.literal.atom, eff.literal.negated))
+    return [
+        (params, cond, simplify.guards(cond, True) if params else (), simplify.literals(cond), tuple(lits))
+        for (params, cond), lits in groups.items()
+    ]
+
+
+def _effects(groups: list[_EffectGroup], binding: dict[str, str], simplify: Simplifier) -> list[GroundEffect]:
     """A fired action's ground effects: (condition disjunct, atom, is_delete) triples."""
     effects: list[GroundEffect] = []
-    for eff in schema.effects:
+    for params, condition, guards, literals, lits in groups:
         # Effect variables range only over objects satisfying the condition's static atoms.
-        guards = simplify.guards(eff.condition, True) if eff.params else ()
-        instances = simplify.instances(eff.params, guards, binding) if eff.params else (binding,)
-        literals = simplify.literals(eff.condition)
-        atom = eff.literal.atom
+        instances = simplify.instances(params, guards, binding) if params else (binding,)
         for b in instances:
-            ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
             if literals is not None:  # the common case: a conjunction of literals
                 conj = simplify.ground_literals(literals, b)
-                if conj is not None:
-                    effects.append((conj, ground, eff.literal.negated))
-                continue
-            for conj in to_dnf(simplify(eff.condition, b)):
-                effects.append((conj, ground, eff.literal.negated))
+                if conj is None:
+                    continue
+                conjs: list[Conjunction] = [conj]
+            else:
+                conjs = to_dnf(simplify(condition, b))
+            for atom, is_del in lits:
+                ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
+                effects.extend((conj, ground, is_del) for conj in conjs)
     return effects
 
 
@@ -194,8 +250,23 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in init:
         index.setdefault(a.predicate, set()).add(a.args)
+    groups = [_effect_groups(s, simplify) for s in schemas]
+    # Top-level disjunctions of atoms in each residual precondition, e.g. pick's (or (on ?o ?from)
+    # (in ?o ?from)): a binding with none of them reached cannot fire yet, so it is skipped before
+    # its precondition is simplified (and looked at again next round).
+    alternatives = [
+        [
+            part.parts
+            for part in _conjuncts(s.residual)
+            if isinstance(part, Or) and part.parts and all(isinstance(q, Atom) for q in part.parts)
+        ]
+        for s in schemas
+    ]
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
+    # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
+    # only scans these, not every effect of every fired operator again.
+    pending: list[tuple[tuple[Atom, ...], Atom]] = []
     changed = True
     while changed:
         changed = False
@@ -203,21 +274,37 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             names = [p.name for p in schema.all_params]
             for binding in _bindings(schema, index, objects):
                 key = (si, *(binding[n] for n in names))
+                if (
+                    alternatives[si]
+                    and key not in cache
+                    and not _any_reached(alternatives[si], binding, reached)
+                ):
+                    continue
                 if key in cache:
                     v = cache[key]
                 else:
                     v = cache[key] = _variant(schema, binding, simplify)
                 if v is not None and not v.fired and _relaxed(v.pre, reached):
                     v.fired = True
-                    v.effects = _effects(schema, binding, simplify)
+                    v.effects = _effects(groups[si], binding, simplify)
                     fired.append(v)
+                    pending.extend(
+                        (tuple(a for a, pos in cond if pos), atom)
+                        for cond, atom, is_del in v.effects
+                        if not is_del and atom not in reached
+                    )
         # Fire the add effects of reached operators whose (positive) conditions are reached.
-        for v in fired:
-            for cond, atom, is_del in v.effects or ():
-                if not is_del and atom not in reached and all(a in reached for a, pos in cond if pos):
-                    reached.add(atom)
-                    index.setdefault(atom.predicate, set()).add(atom.args)
-                    changed = True
+        waiting = []
+        for cond, atom in pending:
+            if atom in reached:
+                continue
+            if all(a in reached for a in cond):
+                reached.add(atom)
+                index.setdefault(atom.predicate, set()).add(atom.args)
+                changed = True
+            else:
+                waiting.append((cond, atom))
+        pending = waiting
     return _intern(domain, problem, fired, reached, fluent)
 
 
@@ -227,37 +314,58 @@ def _intern(
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
-    for v, disjunct in ((f, d) for f in fired for d in minimal_dnf(_prune(f.pre, reached))):
-        pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
-        neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
-        pre_set, neg_set = set(pre), set(neg)
-        add: set[int] = set()
-        dele: set[int] = set()
-        cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
+    for v in fired:
+        disjuncts = minimal_dnf(_prune(v.pre, reached))
+        if not disjuncts:
+            continue
+        # The variant's effects over atom ids, once for all its disjuncts; effects on never-reached
+        # atoms, or needing one, never matter.
+        effects: list[tuple[list[int], list[int], int, bool]] = []
         for c, atom, is_del in v.effects or ():
-            if atom not in ids or any(pos and a not in ids for a, pos in c):
-                continue  # never true / never fires
-            cp = tuple(sorted(ids[a] for a, pos in c if pos and ids[a] not in pre_set))
-            cn = tuple(sorted(ids[a] for a, pos in c if not pos and a in ids and ids[a] not in neg_set))
-            if set(cp) & neg_set or set(cn) & pre_set:
-                continue  # contradicts the precondition: never fires
-            target = (add, dele) if not cp and not cn else cond.setdefault((cp, cn), (set(), set()))
-            target[1 if is_del else 0].add(ids[atom])
-        conds = tuple(
-            (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
-        )
-        ops.add(
-            GroundOp(
-                v.name,
-                v.args,
-                _cost(v.schema.costs, v.binding, problem),
-                pre,
-                neg,
-                tuple(sorted(add)),
-                tuple(sorted(dele - add)),
-                conds,
+            aid = ids.get(atom)
+            if aid is None:
+                continue
+            cpos: list[int] = []
+            cneg: list[int] = []
+            for a, pos in c:
+                i = ids.get(a)
+                if pos:
+                    if i is None:
+                        break
+                    cpos.append(i)
+                elif i is not None:
+                    cneg.append(i)
+            else:
+                effects.append((cpos, cneg, aid, is_del))
+        for disjunct in disjuncts:
+            pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
+            neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
+            pre_set, neg_set = set(pre), set(neg)
+            add: set[int] = set()
+            dele: set[int] = set()
+            cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
+            for cpos, cneg, aid, is_del in effects:
+                cp = tuple(sorted(i for i in cpos if i not in pre_set))
+                cn = tuple(sorted(i for i in cneg if i not in neg_set))
+                if neg_set.intersection(cp) or pre_set.intersection(cn):
+                    continue  # contradicts the precondition: never fires
+                target = (add, dele) if not cp and not cn else cond.setdefault((cp, cn), (set(), set()))
+                target[1 if is_del else 0].add(aid)
+            conds = tuple(
+                (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
             )
-        )
+            ops.add(
+                GroundOp(
+                    v.name,
+                    v.args,
+                    _cost(v.schema.costs, v.binding, problem),
+                    pre,
+                    neg,
+                    tuple(sorted(add)),
+                    tuple(sorted(dele - add)),
+                    conds,
+                )
+            )
     ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
     init = 0
     for a in problem.init:
