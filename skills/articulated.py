@@ -119,13 +119,23 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
         raise SkillError(
             Failure.UNREACHABLE, f"the wrist cannot turn the knob of {obj.id} by {delta:.2f} rad"
         )
-    m.gripper(0.06)
-    m.move_line((handle + np.array([0, 0, APPROACH]), quat))
     m.ignore_links = {(obj.body, obj.links[art.link])}
-    m.move_line((handle, quat))
-    width = m.gripper(0.0, force=60.0, steps=90)
-    if width < 0.002:
-        raise SkillError(Failure.GRASP_MISSED, f"missed the knob of {obj.id}")
+    for attempt in range(2):  # a knob nudged by the closing fingers can slip out: look again, once
+        m.gripper(0.06)
+        m.move_line((handle + np.array([0, 0, APPROACH]), quat))
+        m.move_line((handle, quat))
+        if m.gripper(0.0, force=60.0, steps=90) >= 0.002:
+            break
+        m.gripper(0.06)
+        m.move_line((handle + np.array([0, 0, APPROACH]), quat), check=False)
+        if attempt == 1:
+            raise SkillError(Failure.GRASP_MISSED, f"missed the knob of {obj.id} twice")
+        handle, yaw = _handle(world, obj, art)
+        delta = target - world.joint_position(obj, part)
+        a = p.getEulerFromQuaternion(quat)[2]  # keep the chosen wrist branch; re-aim it at the bar
+        a += ((yaw - math.pi / 2 - a + math.pi / 2) % math.pi) - math.pi / 2
+        quat = p.getQuaternionFromEuler((math.pi, 0, a))
+        goal = p.getQuaternionFromEuler((math.pi, 0, a + delta))
     m.ignore = {obj.body}
     m.move_line((handle, goal), check=False)
     m.step(20)
