@@ -22,12 +22,13 @@ from gsr.pddl.model import (
 )
 from gsr.plan.normalize import (
     Conjunction,
+    GroundLiteral,
     Schema,
     nnf,
     normalize_action,
     to_dnf,
 )
-from gsr.plan.simplify import Simplifier
+from gsr.plan.simplify import Simplifier, free_variables
 from gsr.plan.task import GroundOp, Task
 
 GroundEffect = tuple[Conjunction, Atom, bool]  # (condition, atom, is_delete)
@@ -77,6 +78,24 @@ def _any_reached(
     return True
 
 
+def _ruled_out(
+    si: int,
+    parts: list[tuple[Formula, tuple[str, ...]]],
+    binding: dict[str, str],
+    simplify: Simplifier,
+    memo: dict[tuple, bool],
+) -> bool:
+    """Whether one of the narrow disjunctions is statically false under ``binding`` (memoised)."""
+    for k, (part, free) in enumerate(parts):
+        key = (si, k, *(binding[v] for v in free))
+        false = memo.get(key)
+        if false is None:
+            false = memo[key] = simplify(part, binding) is FALSE
+        if false:
+            return True
+    return False
+
+
 def _prune(formula: Formula, reached: set[Atom]) -> Formula:
     """Unreachable atoms are false: simplify a ground NNF formula before its DNF is taken."""
     if isinstance(formula, Atom):
@@ -86,6 +105,26 @@ def _prune(formula: Formula, reached: set[Atom]) -> Formula:
     if isinstance(formula, (And, Or)):
         return Simplifier.combine(isinstance(formula, And), (_prune(p, reached) for p in formula.parts))
     return formula
+
+
+def _literal_dnf(formula: Formula, reached: set[Atom]) -> list[Conjunction] | None:
+    """Fast path of ``minimal_dnf(_prune(...))`` for a conjunction of literals; None for other formulas."""
+    parts = formula.parts if isinstance(formula, And) else (formula,)
+    out: list[GroundLiteral] = []
+    for p in parts:
+        if isinstance(p, Atom):
+            if p not in reached:
+                return []
+            out.append((p, True))
+        elif isinstance(p, Not) and isinstance(p.formula, Atom):
+            if p.formula in reached:
+                out.append((p.formula, False))
+        else:
+            return None
+    conj = frozenset(out)
+    if any((a, not pos) in conj for a, pos in out):
+        return []
+    return [conj]
 
 
 def minimal_dnf(formula: Formula) -> list[Conjunction]:
@@ -262,6 +301,17 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
         ]
         for s in schemas
     ]
+    # Top-level disjunctions over fewer variables than the action (push's "?to and ?from are parts of
+    # one thing"): simplified once per value of their variables; a false one rules the binding out.
+    narrow = [
+        [
+            (part, tuple(sorted(free_variables(part))))
+            for part in _conjuncts(s.residual)
+            if isinstance(part, Or) and len(free_variables(part)) < len(s.all_params)
+        ]
+        for s in schemas
+    ]
+    narrow_memo: dict[tuple, bool] = {}
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
     # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
@@ -274,12 +324,12 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             names = [p.name for p in schema.all_params]
             for binding in _bindings(schema, index, objects):
                 key = (si, *(binding[n] for n in names))
-                if (
-                    alternatives[si]
-                    and key not in cache
-                    and not _any_reached(alternatives[si], binding, reached)
-                ):
-                    continue
+                if key not in cache:
+                    if narrow[si] and _ruled_out(si, narrow[si], binding, simplify, narrow_memo):
+                        cache[key] = None
+                        continue
+                    if alternatives[si] and not _any_reached(alternatives[si], binding, reached):
+                        continue
                 if key in cache:
                     v = cache[key]
                 else:
@@ -315,12 +365,14 @@ def _intern(
     ids = {a: i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
     for v in fired:
-        disjuncts = minimal_dnf(_prune(v.pre, reached))
+        disjuncts = _literal_dnf(v.pre, reached)
+        if disjuncts is None:
+            disjuncts = minimal_dnf(_prune(v.pre, reached))
         if not disjuncts:
             continue
         # The variant's effects over atom ids, once for all its disjuncts; effects on never-reached
         # atoms, or needing one, never matter.
-        effects: list[tuple[list[int], list[int], int, bool]] = []
+        effects: list[tuple[tuple[int, ...], tuple[int, ...], int, bool]] = []
         for c, atom, is_del in v.effects or ():
             aid = ids.get(atom)
             if aid is None:
@@ -336,7 +388,7 @@ def _intern(
                 elif i is not None:
                     cneg.append(i)
             else:
-                effects.append((cpos, cneg, aid, is_del))
+                effects.append((tuple(sorted(cpos)), tuple(sorted(cneg)), aid, is_del))
         for disjunct in disjuncts:
             pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
             neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
@@ -345,12 +397,15 @@ def _intern(
             dele: set[int] = set()
             cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
             for cpos, cneg, aid, is_del in effects:
-                cp = tuple(sorted(i for i in cpos if i not in pre_set))
-                cn = tuple(sorted(i for i in cneg if i not in neg_set))
-                if neg_set.intersection(cp) or pre_set.intersection(cn):
-                    continue  # contradicts the precondition: never fires
-                target = (add, dele) if not cp and not cn else cond.setdefault((cp, cn), (set(), set()))
-                target[1 if is_del else 0].add(aid)
+                if cpos or cneg:  # ids are sorted, so the filtered tuples are too
+                    cp = tuple(i for i in cpos if i not in pre_set)
+                    cn = tuple(i for i in cneg if i not in neg_set)
+                    if neg_set.intersection(cp) or pre_set.intersection(cn):
+                        continue  # contradicts the precondition: never fires
+                    if cp or cn:
+                        cond.setdefault((cp, cn), (set(), set()))[1 if is_del else 0].add(aid)
+                        continue
+                (dele if is_del else add).add(aid)
             conds = tuple(
                 (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
             )
