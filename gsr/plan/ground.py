@@ -233,12 +233,10 @@ def _variant(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> _
     return _Variant(schema.name, args, pre, binding, schema)
 
 
+Literals = tuple[tuple[Atom, bool], ...]
+# (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete)
 _EffectGroup = tuple[
-    tuple[TypedVar, ...],
-    Formula,
-    tuple[Atom, ...],
-    tuple[tuple[Atom, bool], ...] | None,
-    tuple[tuple[Atom, bool], ...],
+    tuple[TypedVar, ...], Formula, tuple[Atom, ...], tuple[Literals, Literals] | None, Literals
 ]
 
 
@@ -247,27 +245,51 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
 
     ``forall ?n ?m (when c (and (not (cube_count ?c ?n)) (cube_count ?c ?m)))`` flattens into two
     effects with one condition; grouping grounds the instances and the condition once for both.
+    A condition that is a conjunction of literals is split into the literals without effect
+    variables (grounded once per action binding) and the rest (per instance); positive static
+    literals over effect variables are dropped, since instances come from joining exactly those.
     """
     groups: dict[tuple, list[tuple[Atom, bool]]] = {}
     for eff in schema.effects:
         groups.setdefault((eff.params, eff.condition), []).append((eff.literal.atom, eff.literal.negated))
-    return [
-        (params, cond, simplify.guards(cond, True) if params else (), simplify.literals(cond), tuple(lits))
-        for (params, cond), lits in groups.items()
-    ]
+    out: list[_EffectGroup] = []
+    for (params, cond), lits in groups.items():
+        literals = simplify.literals(cond)
+        split = None
+        if literals is not None:
+            names = {p.name for p in params}
+            outer = tuple((a, pos) for a, pos in literals if not names.intersection(a.args))
+            inner = tuple(
+                (a, pos)
+                for a, pos in literals
+                if names.intersection(a.args) and not (pos and a.predicate not in simplify.fluent)
+            )
+            split = (outer, inner)
+        guards = simplify.guards(cond, True) if params else ()
+        out.append((params, cond, guards, split, tuple(lits)))
+    return out
 
 
 def _effects(groups: list[_EffectGroup], binding: dict[str, str], simplify: Simplifier) -> list[GroundEffect]:
     """A fired action's ground effects: (condition disjunct, atom, is_delete) triples."""
     effects: list[GroundEffect] = []
-    for params, condition, guards, literals, lits in groups:
+    ground_literals = simplify.ground_literals
+    for params, condition, guards, split, lits in groups:
+        if split is not None:
+            base = ground_literals(split[0], binding)
+            if base is None:
+                continue  # the condition is false whatever the effect variables are
         # Effect variables range only over objects satisfying the condition's static atoms.
         instances = simplify.instances(params, guards, binding) if params else (binding,)
         for b in instances:
-            if literals is not None:  # the common case: a conjunction of literals
-                conj = simplify.ground_literals(literals, b)
+            if split is not None:  # the common case: a conjunction of literals
+                conj = ground_literals(split[1], b) if split[1] else base
                 if conj is None:
                     continue
+                if conj is not base:
+                    if any((a, not pos) in base for a, pos in conj):
+                        continue
+                    conj = base | conj
                 conjs: list[Conjunction] = [conj]
             else:
                 conjs = to_dnf(simplify(condition, b))
