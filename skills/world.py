@@ -9,6 +9,7 @@ poses and joint states. Scene-graph node ids map to bodies (objects) and links (
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -217,8 +218,18 @@ class World:
         self.close()
 
 
-# building lives in skills.build; re-exported here because callers know it as skills.world.build_world
-from skills.build import build_world, resolve_part, separate_footprints  # noqa: E402
+_BUILD_NAMES = ("build_world", "resolve_part", "separate_footprints")
+
+
+def __getattr__(name: str) -> Any:
+    """Building lives in skills.build (which imports this module); re-exported lazily, so either module
+    can be imported first without a circular import."""
+    if name in _BUILD_NAMES:
+        from skills import build
+
+        return getattr(build, name)
+    raise AttributeError(f"module 'skills.world' has no attribute {name!r}")
+
 
 __all__ = [
     "JOINT_FRICTION",
@@ -226,7 +237,4 @@ __all__ = [
     "Located",
     "SimObject",
     "World",
-    "build_world",
-    "resolve_part",
-    "separate_footprints",
 ]
