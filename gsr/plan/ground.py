@@ -392,25 +392,31 @@ def _intern(
             disjuncts = minimal_dnf(_prune(v.pre, reached))
         if not disjuncts:
             continue
-        # The variant's effects over atom ids, once for all its disjuncts; effects on never-reached
-        # atoms, or needing one, never matter.
-        effects: list[tuple[tuple[int, ...], tuple[int, ...], int, bool]] = []
+        # The variant's effects over atom ids, once for all its disjuncts, grouped by condition;
+        # effects on never-reached atoms, or needing one, never matter.
+        by_cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[list[int], list[int]]] = {}
+        last: Conjunction | None = None
+        key: tuple[tuple[int, ...], tuple[int, ...]] | None = None
         for c, atom, is_del in v.effects or ():
             aid = ids.get(atom)
             if aid is None:
                 continue
-            cpos: list[int] = []
-            cneg: list[int] = []
-            for a, pos in c:
-                i = ids.get(a)
-                if pos:
-                    if i is None:
-                        break
-                    cpos.append(i)
-                elif i is not None:
-                    cneg.append(i)
-            else:
-                effects.append((tuple(sorted(cpos)), tuple(sorted(cneg)), aid, is_del))
+            if c is not last:  # the atoms of one grouped effect share their condition object
+                last, key = c, None
+                cpos: list[int] = []
+                cneg: list[int] = []
+                for a, pos in c:
+                    i = ids.get(a)
+                    if pos:
+                        if i is None:
+                            break
+                        cpos.append(i)
+                    elif i is not None:
+                        cneg.append(i)
+                else:
+                    key = (tuple(sorted(cpos)), tuple(sorted(cneg)))
+            if key is not None:
+                by_cond.setdefault(key, ([], []))[is_del].append(aid)
         for disjunct in disjuncts:
             pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
             neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
@@ -418,16 +424,21 @@ def _intern(
             add: set[int] = set()
             dele: set[int] = set()
             cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
-            for cpos, cneg, aid, is_del in effects:
+            for (cpos, cneg), (adds, dels) in by_cond.items():
                 if cpos or cneg:  # ids are sorted, so the filtered tuples are too
-                    cp = tuple(i for i in cpos if i not in pre_set)
-                    cn = tuple(i for i in cneg if i not in neg_set)
-                    if neg_set.intersection(cp) or pre_set.intersection(cn):
+                    cp = tuple(i for i in cpos if i not in pre_set) if pre_set else cpos
+                    cn = tuple(i for i in cneg if i not in neg_set) if neg_set else cneg
+                    if not neg_set.isdisjoint(cp) or not pre_set.isdisjoint(cn):
                         continue  # contradicts the precondition: never fires
                     if cp or cn:
-                        cond.setdefault((cp, cn), (set(), set()))[1 if is_del else 0].add(aid)
+                        target = cond.get((cp, cn))
+                        if target is None:
+                            target = cond[(cp, cn)] = (set(), set())
+                        target[0].update(adds)
+                        target[1].update(dels)
                         continue
-                (dele if is_del else add).add(aid)
+                add.update(adds)
+                dele.update(dels)
             conds = tuple(
                 (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
             )
