@@ -42,6 +42,7 @@ _EXPORTS: dict[str, str] = {
     "load_bddl": "gsr.pddl.bddl",
     "write_domain": "gsr.pddl.writer",
     "write_problem": "gsr.pddl.writer",
+    "write_formula": "gsr.pddl.writer",
     "facts": "gsr.facts",
     "state_from_graph": "gsr.facts",
     "problem_from_graph": "gsr.facts",
