@@ -270,33 +270,63 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
     return out
 
 
-def _effects(groups: list[_EffectGroup], binding: dict[str, str], simplify: Simplifier) -> list[GroundEffect]:
-    """A fired action's ground effects: (condition disjunct, atom, is_delete) triples."""
-    effects: list[GroundEffect] = []
-    ground_literals = simplify.ground_literals
-    for params, condition, guards, split, lits in groups:
+Deferred = tuple["_Variant", _EffectGroup, dict[str, str], Conjunction]
+
+
+def _effects(
+    v: _Variant,
+    groups: list[_EffectGroup],
+    simplify: Simplifier,
+    reached: set[Atom],
+    deferred: list[Deferred],
+) -> None:
+    """Ground a fired action's effects into ``v.effects``: (condition disjunct, atom, is_delete).
+
+    A group whose binding-level condition needs an atom not reached yet (pick's cube counting
+    ``(in ?o ?from)`` for an object on the table) is deferred: it is grounded once that atom is
+    reached, or never, which is what interning would make of its effects anyway.
+    """
+    v.effects = []
+    for group in groups:
+        split = group[3]
+        base = None
         if split is not None:
-            base = ground_literals(split[0], binding)
+            base = simplify.ground_literals(split[0], v.binding)
             if base is None:
                 continue  # the condition is false whatever the effect variables are
-        # Effect variables range only over objects satisfying the condition's static atoms.
-        instances = simplify.instances(params, guards, binding) if params else (binding,)
-        for b in instances:
-            if split is not None:  # the common case: a conjunction of literals
-                conj = ground_literals(split[1], b) if split[1] else base
-                if conj is None:
+            if any(pos and a not in reached for a, pos in base):
+                deferred.append((v, group, v.binding, base))
+                continue
+        _ground_group(group, v.binding, base, simplify, v.effects)
+
+
+def _ground_group(
+    group: _EffectGroup,
+    binding: dict[str, str],
+    base: Conjunction | None,
+    simplify: Simplifier,
+    effects: list[GroundEffect],
+) -> None:
+    """Append the ground effects of one effect group (``base``: its grounded binding-level literals)."""
+    params, condition, guards, split, lits = group
+    ground_literals = simplify.ground_literals
+    # Effect variables range only over objects satisfying the condition's static atoms.
+    instances = simplify.instances(params, guards, binding) if params else (binding,)
+    for b in instances:
+        if split is not None and base is not None:  # the common case: a conjunction of literals
+            conj = ground_literals(split[1], b) if split[1] else base
+            if conj is None:
+                continue
+            if conj is not base:
+                if any((a, not pos) in base for a, pos in conj):
                     continue
-                if conj is not base:
-                    if any((a, not pos) in base for a, pos in conj):
-                        continue
-                    conj = base | conj
-                conjs: list[Conjunction] = [conj]
-            else:
-                conjs = to_dnf(simplify(condition, b))
-            for atom, is_del in lits:
-                ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
-                effects.extend((conj, ground, is_del) for conj in conjs)
-    return effects
+                conj = base | conj
+            conjs: list[Conjunction] = [conj]
+        else:
+            conjs = to_dnf(simplify(condition, b))
+        for atom, is_del in lits:
+            ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
+            effects.extend((conj, ground, is_del) for conj in conjs)
 
 
 def ground_task(domain: Domain, problem: Problem) -> Task:
@@ -339,6 +369,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
     # only scans these, not every effect of every fired operator again.
     pending: list[tuple[tuple[Atom, ...], Atom]] = []
+    deferred: list[Deferred] = []
     changed = True
     while changed:
         changed = False
@@ -358,13 +389,27 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     v = cache[key] = _variant(schema, binding, simplify)
                 if v is not None and not v.fired and _relaxed(v.pre, reached):
                     v.fired = True
-                    v.effects = _effects(groups[si], binding, simplify)
+                    _effects(v, groups[si], simplify, reached, deferred)
                     fired.append(v)
                     pending.extend(
                         (tuple(a for a, pos in cond if pos), atom)
                         for cond, atom, is_del in v.effects
                         if not is_del and atom not in reached
                     )
+        # Deferred effect groups whose binding-level condition is now reached get grounded.
+        blocked = []
+        for v, group, binding, base in deferred:
+            if any(pos and a not in reached for a, pos in base):
+                blocked.append((v, group, binding, base))
+                continue
+            start = len(v.effects)
+            _ground_group(group, binding, base, simplify, v.effects)
+            pending.extend(
+                (tuple(a for a, pos in cond if pos), atom)
+                for cond, atom, is_del in v.effects[start:]
+                if not is_del and atom not in reached
+            )
+        deferred = blocked
         # Fire the add effects of reached operators whose (positive) conditions are reached.
         waiting = []
         for cond, atom in pending:
