@@ -370,24 +370,40 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     # only scans these, not every effect of every fired operator again.
     pending: list[tuple[tuple[Atom, ...], Atom]] = []
     deferred: list[Deferred] = []
+    join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
+    unfired: list[list[dict[str, str]]] = [[] for _ in schemas]
     changed = True
     while changed:
         changed = False
         for si, schema in enumerate(schemas):
             names = [p.name for p in schema.all_params]
-            for binding in _bindings(schema, index, objects):
+            # Bindings depend only on the join predicates' atoms: while those did not grow, only
+            # the bindings that have not fired yet (and may now) are looked at again.
+            sizes = tuple(len(index.get(a.predicate, ())) for a in schema.join)
+            if sizes == join_sizes[si]:
+                candidates = unfired[si]
+            else:
+                join_sizes[si] = sizes
+                candidates = _bindings(schema, index, objects)
+            unfired[si] = still = []
+            for binding in candidates:
                 key = (si, *(binding[n] for n in names))
                 if key not in cache:
                     if narrow[si] and _ruled_out(si, narrow[si], binding, simplify, narrow_memo):
                         cache[key] = None
                         continue
                     if alternatives[si] and not _any_reached(alternatives[si], binding, reached):
+                        still.append(binding)
                         continue
                 if key in cache:
                     v = cache[key]
                 else:
                     v = cache[key] = _variant(schema, binding, simplify)
-                if v is not None and not v.fired and _relaxed(v.pre, reached):
+                if v is None or v.fired:
+                    continue
+                if not _relaxed(v.pre, reached):
+                    still.append(binding)
+                else:
                     v.fired = True
                     _effects(v, groups[si], simplify, reached, deferred)
                     fired.append(v)
