@@ -61,9 +61,11 @@ def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
 
 
 def _table_id(graph: SceneGraph) -> str:
-    for n in graph.nodes:
-        if n.parent is None and is_a(n.category, "table"):
-            return n.id
+    """The node the table body stands for: the graph's table, else its floor (LIBERO object scenes)."""
+    for surface in ("table", "floor"):
+        for n in graph.nodes:
+            if n.parent is None and is_a(n.category, surface):
+                return n.id
     return "table"
 
 
