@@ -157,9 +157,26 @@ class Relaxation:
             cost[f] = 0
         buckets = [first]
         top = 0  # highest bucket index in use
-        c = 0
+        # Level 0 (the state's facts: most of the work) only counts preconditions down; acc += 0 is
+        # skipped. Appending to the bucket being iterated is fine: zero-cost operators feed it.
+        for f in first:
+            if f == goal:
+                return cost, sup
+            for u in pre_of[f]:
+                n = unsat[u] - 1
+                unsat[u] = n
+                if not n:
+                    v = acc[u]
+                    for g in add[u]:
+                        if v < cost[g]:
+                            cost[g] = v
+                            sup[g] = u
+                            if v > top:
+                                buckets.extend([] for _ in range(v - top))
+                                top = v
+                            buckets[v].append(g)
+        c = 1
         while c <= top:
-            # Appending to the bucket being iterated is fine: zero-cost operators feed the same level.
             for f in buckets[c]:
                 if cost[f] != c:
                     continue
