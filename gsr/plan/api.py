@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import tempfile
 import time
 from dataclasses import dataclass
@@ -88,11 +89,17 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
         raise GSRError(f"unknown planner {planner!r}; choose one of {', '.join(PLANNERS)}")
     start = time.perf_counter()
     deadline = start + timeout
+    # Grounding allocates many small acyclic objects; the cyclic collector only slows it (~5-10%).
+    gc_was_enabled = gc.isenabled()
+    gc.disable()
     try:
         task = ground_task(domain, problem)
     except GSRError as err:
         t = time.perf_counter() - start
         return PlanResult("error", None, None, 0, 0, 0, t, t, 0.0, planner, str(err))
+    finally:
+        if gc_was_enabled:
+            gc.enable()
     ground_time = time.perf_counter() - start
     relax = Relaxation(task)  # built once: the reachability check and the search share it
     if not task.goals or relax.hadd(task.init)[0][relax.goal_fact] == INF:  # same reachability as h_max
