@@ -21,6 +21,7 @@ from gsr.pddl.model import (
     is_variable,
 )
 from gsr.plan.normalize import (
+    DNF_LIMIT,
     Conjunction,
     GroundLiteral,
     Schema,
@@ -107,24 +108,93 @@ def _prune(formula: Formula, reached: set[Atom]) -> Formula:
     return formula
 
 
-def _literal_dnf(formula: Formula, reached: set[Atom]) -> list[Conjunction] | None:
-    """Fast path of ``minimal_dnf(_prune(...))`` for a conjunction of literals; None for other formulas."""
-    parts = formula.parts if isinstance(formula, And) else (formula,)
+def _alternative(formula: Formula, reached: set[Atom]) -> list[GroundLiteral] | None:
+    """The literals of a literal or conjunction of literals, unreached atoms pruned; None if false."""
     out: list[GroundLiteral] = []
-    for p in parts:
-        if isinstance(p, Atom):
+    stack = [formula]
+    while stack:
+        p = stack.pop()
+        if isinstance(p, And):
+            stack.extend(p.parts)
+        elif isinstance(p, Atom):
             if p not in reached:
-                return []
+                return None
             out.append((p, True))
         elif isinstance(p, Not) and isinstance(p.formula, Atom):
             if p.formula in reached:
                 out.append((p.formula, False))
         else:
-            return None
-    conj = frozenset(out)
-    if any((a, not pos) in conj for a, pos in out):
+            raise TypeError  # not a conjunction of literals: the general path handles it
+    return out
+
+
+def _fast_dnf(formula: Formula, reached: set[Atom]) -> list[Conjunction] | None:
+    """``minimal_dnf(_prune(formula))`` for conjunctions of literals and of disjunctions of such.
+
+    Those are nearly all ground preconditions (the general path walks the formula three times);
+    None for any other shape.
+    """
+    literals: list[GroundLiteral] = []
+    choices: list[list[Conjunction]] = []
+    stack = [formula]
+    try:
+        while stack:
+            p = stack.pop()
+            if isinstance(p, And):
+                stack.extend(p.parts)
+            elif isinstance(p, Or):
+                alts: list[Conjunction] | None = []
+                for q in p.parts:
+                    if isinstance(q, Atom):  # the common alternative, inline
+                        if q in reached:
+                            alts.append(frozenset(((q, True),)))  # type: ignore[union-attr]
+                        continue
+                    alt = _alternative(q, reached)
+                    if alt is None:
+                        continue
+                    if not alt:
+                        alts = None  # a true alternative: the disjunction holds
+                        break
+                    alts.append(frozenset(alt))  # type: ignore[union-attr]
+                if alts is None:
+                    continue
+                if not alts:
+                    return []
+                choices.append(alts)
+            elif isinstance(p, Atom):
+                if p not in reached:
+                    return []
+                literals.append((p, True))
+            elif isinstance(p, Not) and isinstance(p.formula, Atom):
+                if p.formula in reached:
+                    literals.append((p.formula, False))
+            else:
+                return None
+    except TypeError:
+        return None
+    base = frozenset(literals)
+    if any((a, not pos) in base for a, pos in base):
         return []
-    return [conj]
+    acc = [base]
+    for alts in choices:
+        nxt: list[Conjunction] = []
+        seen: set[Conjunction] = set()
+        for left in acc:
+            for right in alts:
+                merged = left | right
+                if merged in seen or any((a, not pos) in merged for a, pos in right):
+                    continue
+                seen.add(merged)
+                nxt.append(merged)
+        if len(nxt) > DNF_LIMIT:
+            return None  # the general path reports it
+        acc = nxt
+    acc.sort(key=len)
+    kept: list[Conjunction] = []
+    for d in acc:
+        if not any(k <= d for k in kept):
+            kept.append(d)
+    return kept
 
 
 def minimal_dnf(formula: Formula) -> list[Conjunction]:
@@ -448,7 +518,7 @@ def _intern(
     ids = {a: i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
     for v in fired:
-        disjuncts = _literal_dnf(v.pre, reached)
+        disjuncts = _fast_dnf(v.pre, reached)
         if disjuncts is None:
             disjuncts = minimal_dnf(_prune(v.pre, reached))
         if not disjuncts:
