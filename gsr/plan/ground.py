@@ -304,9 +304,15 @@ def _variant(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> _
 
 
 Literals = tuple[tuple[Atom, bool], ...]
-# (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete)
+# (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete,
+# action variables the per-instance part mentions)
 _EffectGroup = tuple[
-    tuple[TypedVar, ...], Formula, tuple[Atom, ...], tuple[Literals, Literals] | None, Literals
+    tuple[TypedVar, ...],
+    Formula,
+    tuple[Atom, ...],
+    tuple[Literals, Literals] | None,
+    Literals,
+    tuple[str, ...],
 ]
 
 
@@ -336,7 +342,14 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
             )
             split = (outer, inner)
         guards = simplify.guards(cond, True) if params else ()
-        out.append((params, cond, guards, split, tuple(lits)))
+        # Action variables the per-instance part mentions: its memo key (see _ground_group).
+        # Guards without effect variables are checked once per binding, in base/instances.
+        names = {p.name for p in params}
+        atoms = [g for g in guards if names.intersection(g.args)]
+        atoms += [a for a, _ in split[1]] if split else []
+        atoms += [a for a, _ in lits]
+        used = tuple(sorted({x for a in atoms for x in a.args if is_variable(x) and x not in names}))
+        out.append((params, cond, guards, split, tuple(lits), used))
     return out
 
 
@@ -349,6 +362,7 @@ def _effects(
     simplify: Simplifier,
     reached: set[Atom],
     deferred: list[Deferred],
+    memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]],
 ) -> None:
     """Ground a fired action's effects into ``v.effects``: (condition disjunct, atom, is_delete).
 
@@ -367,7 +381,7 @@ def _effects(
             if any(pos and a not in reached for a, pos in base):
                 deferred.append((v, group, v.binding, base))
                 continue
-        _ground_group(group, v.binding, base, simplify, v.effects)
+        _ground_group(group, v.binding, base, simplify, v.effects, memo)
 
 
 def _ground_group(
@@ -376,15 +390,44 @@ def _ground_group(
     base: Conjunction | None,
     simplify: Simplifier,
     effects: list[GroundEffect],
+    memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]] | None = None,
 ) -> None:
-    """Append the ground effects of one effect group (``base``: its grounded binding-level literals)."""
-    params, condition, guards, split, lits = group
-    ground_literals = simplify.ground_literals
+    """Append the ground effects of one effect group (``base``: its grounded binding-level literals).
+
+    With ``memo``, the per-instance part of a literal condition (instances, their literals and
+    effect atoms) is grounded once per value of the action variables it mentions: pick's cube
+    counting depends on ``?from`` only, not on the object picked.
+    """
+    params, condition, guards, split, lits, _used = group
+    if split is not None and base is not None and memo is not None:
+        key = (id(group), *(binding.get(v, v) for v in group[5]))
+        parts = memo.get(key)
+        if parts is None:
+            parts = memo[key] = []
+            instances = simplify.instances(params, guards, binding) if params else (binding,)
+            for b in instances:
+                inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
+                if inner is None:
+                    continue
+                ground = tuple(
+                    (Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
+                    for atom, is_del in lits
+                )
+                parts.append((inner, ground))
+        for inner, ground in parts:
+            if inner:
+                if any((a, not pos) in base for a, pos in inner):
+                    continue
+                conj = base | inner
+            else:
+                conj = base
+            effects.extend((conj, atom, is_del) for atom, is_del in ground)
+        return
     # Effect variables range only over objects satisfying the condition's static atoms.
     instances = simplify.instances(params, guards, binding) if params else (binding,)
     for b in instances:
         if split is not None and base is not None:  # the common case: a conjunction of literals
-            conj = ground_literals(split[1], b) if split[1] else base
+            conj = simplify.ground_literals(split[1], b) if split[1] else base
             if conj is None:
                 continue
             if conj is not base:
@@ -440,6 +483,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     # only scans these, not every effect of every fired operator again.
     pending: list[tuple[tuple[Atom, ...], Atom]] = []
     deferred: list[Deferred] = []
+    effect_memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]] = {}
     join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
     unfired: list[list[dict[str, str]]] = [[] for _ in schemas]
     changed = True
@@ -475,7 +519,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     still.append(binding)
                 else:
                     v.fired = True
-                    _effects(v, groups[si], simplify, reached, deferred)
+                    _effects(v, groups[si], simplify, reached, deferred, effect_memo)
                     fired.append(v)
                     pending.extend(
                         (tuple(a for a, pos in cond if pos), atom)
@@ -489,7 +533,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 blocked.append((v, group, binding, base))
                 continue
             start = len(v.effects)
-            _ground_group(group, binding, base, simplify, v.effects)
+            _ground_group(group, binding, base, simplify, v.effects, effect_memo)
             pending.extend(
                 (tuple(a for a, pos in cond if pos), atom)
                 for cond, atom, is_del in v.effects[start:]
