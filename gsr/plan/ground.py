@@ -294,11 +294,46 @@ def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem
     return total
 
 
-def _variant(schema: Schema, binding: dict[str, str], simplify: Simplifier) -> _Variant | None:
-    """Ground one action's precondition; None when it is statically false."""
-    pre = simplify(And((*schema.join, schema.residual)), binding)
-    if pre is FALSE:
-        return None
+Part = tuple[Formula, tuple[str, ...] | None]  # a precondition conjunct; its free variables if fewer
+
+
+def _parts(schema: Schema) -> list[Part]:
+    """The precondition conjuncts; those over fewer variables than the action carry them (memo key)."""
+    n = len(schema.all_params)
+    out: list[Part] = []
+    for part in (*schema.join, *_conjuncts(schema.residual)):
+        free = free_variables(part)
+        out.append((part, tuple(sorted(free)) if len(free) < n and not isinstance(part, Atom) else None))
+    return out
+
+
+def _variant(
+    schema: Schema,
+    si: int,
+    parts: list[Part],
+    binding: dict[str, str],
+    simplify: Simplifier,
+    memo: dict[tuple, Formula],
+) -> _Variant | None:
+    """Ground one action's precondition; None when it is statically false.
+
+    Conjuncts over fewer variables than the action (``(imply (openable ?c) (open ?c))`` in
+    place_in) are simplified once per value of their variables.
+    """
+    kept: list[Formula] = []
+    for k, (part, free) in enumerate(parts):
+        if free is None:
+            g = simplify(part, binding)
+        else:
+            key = (si, k, *(binding.get(v, v) for v in free))
+            g = memo.get(key)  # type: ignore[assignment]
+            if g is None:
+                g = memo[key] = simplify(part, binding)
+        if g is FALSE:
+            return None
+        if g is not TRUE:
+            kept.append(g)
+    pre = Simplifier.combine(True, kept)
     args = tuple(binding[p.name] for p in schema.params)
     return _Variant(schema.name, args, pre, binding, schema)
 
@@ -477,6 +512,8 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
         for s in schemas
     ]
     narrow_memo: dict[tuple, bool] = {}
+    parts = [_parts(s) for s in schemas]
+    part_memo: dict[tuple, Formula] = {}
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
     # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
@@ -512,7 +549,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 if key in cache:
                     v = cache[key]
                 else:
-                    v = cache[key] = _variant(schema, binding, simplify)
+                    v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo)
                 if v is None or v.fired:
                     continue
                 if not _relaxed(v.pre, reached):
