@@ -176,7 +176,13 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         return _free_spot(world, obj, lo, hi, z)
     loc = world.locate(target)
     if loc.body == world.table_body:
-        raise SkillError(Failure.UNSUPPORTED, "placing on the bare table needs a spot; use a region")
+        # the bare table: a free spot near where the hand is, inside the table and outside named regions
+        # (an object put "on the table" must not land "on" a region by accident)
+        tlo, thi = world.body_aabb(world.table_body)
+        ee = world.robot.ee_pose()[0]
+        lo = np.array([max(tlo[0] + 0.05, ee[0] - 0.25), max(tlo[1] + 0.05, ee[1] - 0.25), thi[2]])
+        hi = np.array([min(thi[0] - 0.05, ee[0] + 0.25), min(thi[1] - 0.05, ee[1] + 0.25), thi[2]])
+        return _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True)
     lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
     return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
 
@@ -211,6 +217,7 @@ def _free_spot(
     z: float,
     prefer_near: bool = False,
     inside: bool = False,
+    avoid_regions: bool = False,
 ) -> np.ndarray:
     """A point in the rectangle lo..hi where the held object fits, with room for the fingers.
 
@@ -263,8 +270,15 @@ def _free_spot(
                 tops.append(top)
         return tops
 
+    def in_region(c: np.ndarray) -> bool:
+        return avoid_regions and any(
+            r.bounds[0] - oh[0] < c[0] < r.bounds[2] + oh[0]
+            and r.bounds[1] - oh[1] < c[1] < r.bounds[3] + oh[1]
+            for r in world.regions.values()
+        )
+
     for c in candidates:
-        if not under(c):
+        if not under(c) and not in_region(c):
             return np.array([c[0], c[1], z])
     best = min(candidates, key=lambda c: max(under(c)))
     return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)])

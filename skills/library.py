@@ -27,6 +27,17 @@ def _object(world: World, node_id: str):
     return world.objects[node_id]
 
 
+def _settle(world: World, m: Motion, body: int, limit: int = 240) -> None:
+    """Let a released object come to rest (bounded): a mug rocking on its rim is not yet anywhere."""
+    import pybullet as p
+
+    for _ in range(limit // 12):
+        lin, ang = p.getBaseVelocity(body, physicsClientId=world.client)
+        if max(map(abs, lin)) < 0.01 and max(map(abs, ang)) < 0.1:
+            return
+        m.step(12)
+
+
 def _held_object(world: World, m: Motion, node_id: str):
     obj = _object(world, node_id)
     if support_of(world, node_id) != ("held", ""):
@@ -44,6 +55,7 @@ def _place(relation: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
     def run(world: World, m: Motion, args: tuple[str, ...]) -> dict:
         obj = _held_object(world, m, args[0])
         place(world, m, obj, args[1], relation)
+        _settle(world, m, obj.body)
         got = support_of(world, obj.id)
         if got != (relation, args[1]):
             where = f"{got[0]} {got[1]}".strip() if got else "nowhere (still moving)"
