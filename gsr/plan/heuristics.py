@@ -20,6 +20,10 @@ INF = float("inf")
 class Relaxation:
     """The unary-operator relaxation of a Task, shared by all heuristics."""
 
+    # h_add starts from the reference state's level 0 unless more than 1/far of the facts differ
+    # (then counting the state's facts from scratch is cheaper; measured on blocks and tabletop).
+    far = 8
+
     def __init__(self, task: Task) -> None:
         n = len(task.atoms)
         self.task = task
@@ -103,6 +107,42 @@ class Relaxation:
         self.integral = all(float(c).is_integer() and c >= 0 for c in cost)
         if self.integral:
             self.cost = [int(c) for c in cost]
+        # Level 0 of h_add relative to a reference state (the initial state): the precondition
+        # counters after counting the state's facts, and the operators they enable. A state is
+        # evaluated from it by adjusting only the facts that differ (a few atoms and their
+        # complements) instead of counting down every true fact (~200 of them on tabletop tasks).
+        self.comp_of = [-1] * n
+        for a, c in self.comp.items():
+            self.comp_of[a] = c
+        self.ref = task.init
+        ref_facts = [f for _, f in self._start(task.init)]
+        self._ref_unsat = self.npre[:]
+        self._ref_cost = self._inf[:]
+        for f in ref_facts:
+            self._ref_cost[f] = 0
+            for u in self.pre_of[f]:
+                self._ref_unsat[u] -= 1
+        # Enabled operators fire in the order a fact-by-fact count would fire them (by their highest
+        # precondition id, then id), so supporters and h_FF's relaxed plans do not change.
+        order = sorted(range(len(pre)), key=lambda u: (max(pre[u]), u))
+        self._rank = [0] * len(pre)
+        for r, u in enumerate(order):
+            self._rank[u] = r
+        self._ref_zero = sorted(
+            (u for u, k in enumerate(self._ref_unsat) if not k), key=self._rank.__getitem__
+        )
+
+    def _facts(self, state: int) -> list[int]:
+        """The facts true in ``state``: its atoms, the always-true fact and the true complements."""
+        out = []
+        s = state
+        while s:
+            low = s & -s
+            s ^= low
+            out.append(low.bit_length() - 1)
+        out.append(self.true_fact)
+        out += [c for bit, c in self.comp_pairs if not state & bit]
+        return out
 
     def _start(self, state: int) -> list[tuple[float, int]]:
         heap = []
@@ -146,20 +186,76 @@ class Relaxation:
         return cost, sup
 
     def _hadd_buckets(self, state: int) -> tuple[list[float], list[int]]:
-        """h_add with a bucket queue indexed by (integer) cost; same result as the heap version."""
-        cost = self._inf[:]
+        """h_add with a bucket queue indexed by (integer) cost; same costs as the heap version."""
         sup = self._none[:]
-        unsat = self.npre[:]
         acc = self.cost[:]
         pre_of, add, goal = self.pre_of, self.add, self.goal_fact
-        first = [f for _, f in self._start(state)]
-        for f in first:
-            cost[f] = 0
-        buckets = [first]
+        comp_of = self.comp_of
+        buckets: list[list[int]] = [[]]
         top = 0  # highest bucket index in use
-        # Level 0 (the state's facts: most of the work) only counts preconditions down; acc += 0 is
-        # skipped. Appending to the bucket being iterated is fine: zero-cost operators feed it.
-        for f in first:
+        diff = state ^ self.ref
+        if diff.bit_count() * self.far > self.n_facts:
+            # Far from the reference state: count the state's facts down, firing as they complete.
+            cost = self._inf[:]
+            unsat = self.npre[:]
+            first = self._facts(state)
+            for f in first:
+                cost[f] = 0
+            for f in first:
+                for u in pre_of[f]:
+                    n = unsat[u] - 1
+                    unsat[u] = n
+                    if not n:
+                        v = acc[u]
+                        for g in add[u]:
+                            if v < cost[g]:
+                                cost[g] = v
+                                sup[g] = u
+                                if v > top:
+                                    buckets.extend([] for _ in range(v - top))
+                                    top = v
+                                buckets[v].append(g)
+        else:
+            # Level 0 from the reference state's counters, adjusted for the atoms that differ.
+            cost = self._ref_cost[:]
+            unsat = self._ref_unsat[:]
+            extra = []
+            while diff:
+                low = diff & -diff
+                diff ^= low
+                a = low.bit_length() - 1
+                c_a = comp_of[a]
+                on, off = (a, c_a) if state & low else (c_a, a)
+                if on >= 0:
+                    cost[on] = 0
+                    for u in pre_of[on]:
+                        n = unsat[u] - 1
+                        unsat[u] = n
+                        if not n:
+                            extra.append(u)
+                if off >= 0:
+                    cost[off] = INF
+                    for u in pre_of[off]:
+                        unsat[u] += 1
+            # Enabled operators fire in the order a fact-by-fact count fires them (see _rank).
+            enabled = self._ref_zero
+            if extra:
+                enabled = sorted({*enabled, *extra}, key=self._rank.__getitem__)
+            for u in enabled:
+                if unsat[u]:
+                    continue
+                v = acc[u]
+                for g in add[u]:
+                    if v < cost[g]:
+                        cost[g] = v
+                        sup[g] = u
+                        if v > top:
+                            buckets.extend([] for _ in range(v - top))
+                            top = v
+                        buckets[v].append(g)
+        # Facts reached at cost 0 (zero-cost operators) still belong to level 0; the bucket being
+        # iterated may grow.
+        for f in buckets[0]:
             if f == goal:
                 return cost, sup
             for u in pre_of[f]:

@@ -125,6 +125,30 @@ def test_long_tabletop_tasks_plan_and_validate(seed: int) -> None:
     assert validate_plan(domain, problem, result.plan).valid
 
 
+def test_incremental_hadd_equals_counting_from_scratch_and_the_heap_version() -> None:
+    # h_add starts from the initial state's level 0 adjusted for the differing atoms; its costs must
+    # equal the heap version's, and its supporters (so h_FF and the preferred operators) must equal
+    # counting every fact down from scratch.
+    name, graph, goal, _ = long_tabletop_task(3)
+    domain = _tabletop()
+    task = ground_task(domain, problem_from_graph(graph, goal, name=name, domain=domain))
+    relax, scratch = Relaxation(task), Relaxation(task)
+    scratch.far = 10**9  # every state differing from the initial one is counted from scratch
+    result = plan(domain, problem_from_graph(graph, goal, name=name, domain=domain))
+    index = {(o.name, o.args): i for i, o in enumerate(task.ops)}
+    states = [task.init]
+    for step in result.plan:
+        states.append(task.apply(states[-1], index[(step.action, step.args)]))
+    states += [task.apply(s, op) for s in states[:6] for op in task.applicable(s)]
+    assert len(states) > 40
+    for state in states:
+        assert relax.ff(state) == scratch.ff(state)
+        cost = relax.hadd(state)[0][relax.goal_fact]
+        relax.integral = False  # the binary-heap h_add
+        assert relax.hadd(state)[0][relax.goal_fact] == cost
+        relax.integral = True
+
+
 def test_relaxation_counts_negative_goals_and_preconditions() -> None:
     # Removing the blocker from the lid (a negated quantified precondition of open) is invisible to a
     # relaxation that drops negative literals (h_FF would be 3); complement facts make h_FF count it.
