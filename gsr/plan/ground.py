@@ -32,7 +32,10 @@ from gsr.plan.normalize import (
 from gsr.plan.simplify import Simplifier, free_variables
 from gsr.plan.task import GroundOp, Task
 
-GroundEffect = tuple[Conjunction, Atom, bool]  # (condition, atom, is_delete)
+# (condition part, condition part, atom, is_delete): the condition is the union of the two parts,
+# kept apart so that a part shared by many actions (memoised instances) is interned once.
+GroundEffect = tuple[Conjunction, Conjunction, Atom, bool]
+EMPTY: Conjunction = frozenset()
 
 
 @dataclass(slots=True)
@@ -399,7 +402,7 @@ def _effects(
     deferred: list[Deferred],
     memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]],
 ) -> None:
-    """Ground a fired action's effects into ``v.effects``: (condition disjunct, atom, is_delete).
+    """Ground a fired action's effects into ``v.effects`` (see GroundEffect).
 
     A group whose binding-level condition needs an atom not reached yet (pick's cube counting
     ``(in ?o ?from)`` for an object on the table) is deferred: it is grounded once that atom is
@@ -450,13 +453,9 @@ def _ground_group(
                 )
                 parts.append((inner, ground))
         for inner, ground in parts:
-            if inner:
-                if any((a, not pos) in base for a, pos in inner):
-                    continue
-                conj = base | inner
-            else:
-                conj = base
-            effects.extend((conj, atom, is_del) for atom, is_del in ground)
+            if inner and any((a, not pos) in base for a, pos in inner):
+                continue
+            effects.extend((base, inner, atom, is_del) for atom, is_del in ground)
         return
     # Effect variables range only over objects satisfying the condition's static atoms.
     instances = simplify.instances(params, guards, binding) if params else (binding,)
@@ -474,7 +473,7 @@ def _ground_group(
             conjs = to_dnf(simplify(condition, b))
         for atom, is_del in lits:
             ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
-            effects.extend((conj, ground, is_del) for conj in conjs)
+            effects.extend((conj, EMPTY, ground, is_del) for conj in conjs)
 
 
 def ground_task(domain: Domain, problem: Problem) -> Task:
@@ -559,8 +558,8 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     _effects(v, groups[si], simplify, reached, deferred, effect_memo)
                     fired.append(v)
                     pending.extend(
-                        (tuple(a for a, pos in cond if pos), atom)
-                        for cond, atom, is_del in v.effects
+                        (tuple(a for c in cond for a, pos in c if pos), atom)
+                        for *cond, atom, is_del in v.effects
                         if not is_del and atom not in reached
                     )
         # Deferred effect groups whose binding-level condition is now reached get grounded.
@@ -572,8 +571,8 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             start = len(v.effects)
             _ground_group(group, binding, base, simplify, v.effects, effect_memo)
             pending.extend(
-                (tuple(a for a, pos in cond if pos), atom)
-                for cond, atom, is_del in v.effects[start:]
+                (tuple(a for c in cond for a, pos in c if pos), atom)
+                for *cond, atom, is_del in v.effects[start:]
                 if not is_del and atom not in reached
             )
         deferred = blocked
@@ -592,12 +591,32 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     return _intern(domain, problem, fired, reached, fluent)
 
 
+def _condition_ids(
+    cond: Conjunction, ids: dict[Atom, int]
+) -> tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]:
+    """(positive ids, negative ids) of a condition, sorted; () when it needs an unreached atom."""
+    pos_ids: list[int] = []
+    neg_ids: list[int] = []
+    for a, pos in cond:
+        i = ids.get(a)
+        if pos:
+            if i is None:
+                return ()
+            pos_ids.append(i)
+        elif i is not None:
+            neg_ids.append(i)
+    return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
+
+
 def _intern(
     domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
 ) -> Task:
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
+    # Condition parts over atom ids, by object (parts are shared by many effects and actions;
+    # every part is referenced from the fired actions, so ids stay unique).
+    converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
     for v in fired:
         disjuncts = _fast_dnf(v.pre, reached)
         if disjuncts is None:
@@ -607,27 +626,29 @@ def _intern(
         # The variant's effects over atom ids, once for all its disjuncts, grouped by condition;
         # effects on never-reached atoms, or needing one, never matter.
         by_cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[list[int], list[int]]] = {}
-        last: Conjunction | None = None
+        last: tuple[Conjunction, Conjunction] | None = None
         key: tuple[tuple[int, ...], tuple[int, ...]] | None = None
-        for c, atom, is_del in v.effects or ():
+        for base, rest, atom, is_del in v.effects or ():
             aid = ids.get(atom)
             if aid is None:
                 continue
-            if c is not last:  # the atoms of one grouped effect share their condition object
-                last, key = c, None
-                cpos: list[int] = []
-                cneg: list[int] = []
-                for a, pos in c:
-                    i = ids.get(a)
-                    if pos:
-                        if i is None:
-                            break
-                        cpos.append(i)
-                    elif i is not None:
-                        cneg.append(i)
-                else:
-                    key = (tuple(sorted(cpos)), tuple(sorted(cneg)))
-            if key is not None:
+            if last is None or base is not last[0] or rest is not last[1]:
+                # The atoms of one grouped effect share their condition objects.
+                last, key = (base, rest), None
+                b = converted.get(id(base))
+                if b is None:
+                    b = converted[id(base)] = _condition_ids(base, ids)
+                r = converted.get(id(rest))
+                if r is None:
+                    r = converted[id(rest)] = _condition_ids(rest, ids)
+                if b and r:
+                    if not rest:
+                        key = b
+                    elif not base:
+                        key = r
+                    else:
+                        key = (tuple(sorted({*b[0], *r[0]})), tuple(sorted({*b[1], *r[1]})))
+            if key:
                 by_cond.setdefault(key, ([], []))[is_del].append(aid)
         for disjunct in disjuncts:
             pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
