@@ -279,6 +279,9 @@ class Interpreter:
     def _relation(self, c: Tree, d: Description) -> None:
         kind = c.data.removeprefix("rel_")
         nps = [x for x in c.children if isinstance(x, Tree)]
+        if kind == "pos":  # "the bowl at the back": the same as a position premodifier ("the back bowl")
+            d.positions.append(next(_tok(x).text for x in c.children if _tok_cls(x) in ("POS", "SIDE")))
+            return
         if kind == "side":
             side = nps[0]
             word, owner = self._side(side)
@@ -374,7 +377,13 @@ class Interpreter:
         if kind == "dest_side":
             word, owner = self._side(kids[0])
             ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            found = self.resolver.regions(ids, word)
+            # "to the right of X" / "behind X" is beside X; "on the right side of X" may be a part of X
+            outside = (
+                kids[0].data == "side_behind"
+                or any(_tok_cls(x) == "TO" for x in t.children)
+                or not any(_tok_cls(x) in ("ON", "IN") for x in (*t.children, *kids[0].children))
+            )
+            found = self.resolver.regions(ids, word, outside=outside)
             text = " ".join(x.text for x in _tokens(kids[0]))
             if len(found) != 1:
                 raise GroundingError(
@@ -434,6 +443,10 @@ class Interpreter:
 def _tok(x: Token | Tree) -> Tok:
     assert isinstance(x, Token)
     return x.value  # type: ignore[return-value]
+
+
+def _tok_cls(x: Token | Tree) -> str | None:
+    return x.value.cls if isinstance(x, Token) else None  # type: ignore[union-attr]
 
 
 def _tokens(t: Tree) -> list[Tok]:

@@ -112,17 +112,26 @@ class Resolver:
             out |= set(self.entities[i].words)
         return out
 
-    def regions(self, owner: tuple[str, ...], position: str) -> list[str]:
-        """Region-like parts at ``position`` of the owner: its own parts, or a region named after it."""
+    def regions(self, owner: tuple[str, ...], position: str, outside: bool = False) -> list[str]:
+        """Region-like parts at ``position`` of the owner: its own parts, or a region named after it.
+
+        ``outside`` ("to the right of the caddy", "behind the plate"): a place beside the owner, so
+        the owner's own compartments (the caddy's right compartment) do not count.
+        """
         pos = POSITION_SYNONYMS.get(position, position)
         owned = [
             e.id
             for e in self.entities.values()
             if e.parent in owner
             and pos in e.positions
-            and e.category in ("cabinet_top", "region", "compartment")
+            and e.category in (("region",) if outside else ("cabinet_top", "region", "compartment"))
         ]
         if owned:
+            if pos == "top" and not outside:  # "the top of the shelf": its top side, not its top layer
+                sides = [
+                    i for i in owned if self.entities[i].category == "cabinet_top" or i.endswith("_side")
+                ]
+                owned = sides or owned
             return owned
         words = self.owner_words(owner) - _REGION_FILLER
         named = [
