@@ -196,17 +196,21 @@ class Interpreter:
         if d.entity:
             ids = [d.entity]
         if not ids:
-            raise GroundingError(f"no object in the scene matches {d.text!r}", phrase=d.text)
+            misses = tuple(i for c, _ in d.heads for i in self.resolver.near_misses(c))
+            hint = f" (the nearest kinds in the scene: {', '.join(misses)})" if misses else ""
+            raise GroundingError(
+                f"no object in the scene matches {d.text!r}{hint}", phrase=d.text, candidates=misses
+            )
         ref = Ref(tuple(ids), d.text, plural=len(ids) > 1)
         self.mentions.append(ref)  # "put the cubes of the same colour as the box into it"
         return ref
 
-    def target(self, t: Tree) -> Ref | Place:
-        """A relation target or owner: a phrase or a place, resolved leniently."""
+    def target(self, t: Tree, exclude: tuple[str, ...] = ()) -> Ref | Place:
+        """A relation target or owner: a phrase or a place, resolved leniently (pronouns skip ``exclude``)."""
         if t.data in ("place_of", "place_compound"):
-            return self.place(t)
+            return self.place(t, exclude)
         if t.data == "pronoun":
-            return self.pronoun(t, None, ())
+            return self.pronoun(t, None, exclude)
         return self.np(t, lenient=True)
 
     def pronoun(self, t: Tree, need: str | None, exclude: tuple[str, ...]) -> Ref:
@@ -289,22 +293,25 @@ class Interpreter:
             return
         d.relations.append(Relation(kind, tuple(self.target(n) for n in nps)))
 
-    def _side(self, t: Tree) -> tuple[str, Ref | Place]:
+    def _side(self, t: Tree, exclude: tuple[str, ...] = ()) -> tuple[str, Ref | Place]:
         toks = [x for x in t.children if isinstance(x, Token)]
-        owner = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1])
+        owner = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1], exclude)
         if t.data == "side_behind":
             return "back", owner
         word = next(_tok(x).text for x in toks if _tok(x).cls in ("SIDE", "POS"))
         return POSITION_SYNONYMS.get(word, word), owner
 
-    def place(self, t: Tree) -> Ref | Place:
+    def place(self, t: Tree, exclude: tuple[str, ...] = ()) -> Ref | Place:
         """``the top of the cabinet`` / ``the table center``: a part or region node, else a Place."""
         toks = [_tok(x) for x in t.children if isinstance(x, Token)]
         pos = POSITION_SYNONYMS.get(
             next(x.text for x in toks if x.cls == "POS"), next(x.text for x in toks if x.cls == "POS")
         )
         if t.data == "place_of":
-            owner_ref = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1])
+            # "put the bowl on top of it": "it" is not the bowl itself
+            owner_ref = self.target(
+                [x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1], exclude
+            )
             owner = owner_ref.ids if isinstance(owner_ref, Ref) else owner_ref.owner
         else:
             noun = next(x for x in toks if x.cls == "NOUN")
@@ -345,7 +352,7 @@ class Interpreter:
                 self.mentions.append(ref)
             return self._at(ref, {"dest_in": "in", "dest_on": "on", "dest_to": "to"}[kind])
         if kind == "dest_on_top":
-            place = self.place(Tree("place_of", t.children[1:]))
+            place = self.place(Tree("place_of", t.children[1:]), own)
             if isinstance(place, Place):
                 raise GroundingError(f"there is no {place.text!r} in the scene", phrase=place.text)
             self.mentions.append(place)
@@ -361,6 +368,21 @@ class Interpreter:
             raise GroundingError(
                 "'inside' does not refer to a container mentioned before it", phrase="inside"
             )
+        if kind == "dest_under":
+            # the tabletop domain has no "under": only a bottom part of the object (a shelf's lower
+            # layer) can be the place, else the instruction cannot be stated as a goal
+            owner = self.target(kids[-1], own)
+            ids = owner.ids if isinstance(owner, Ref) else owner.owner
+            found = self.resolver.regions(ids, "bottom")
+            text = " ".join(x.text for x in _tokens(kids[-1]))
+            if len(found) != 1:
+                raise GroundingError(
+                    f"the scene graph has {'no' if not found else 'more than one'} bottom part of {text!r} to put "
+                    "things under it; the tabletop domain has no 'under' predicate",
+                    candidates=tuple(found),
+                    phrase=text,
+                )
+            return self._at(Ref((found[0],), f"under {text}"), "in")
         if kind == "dest_near":
             owner = self.target(kids[-1])
             ids = owner.ids if isinstance(owner, Ref) else owner.owner
@@ -375,7 +397,7 @@ class Interpreter:
                 )
             return Dest("at", "on", found[0])
         if kind == "dest_side":
-            word, owner = self._side(kids[0])
+            word, owner = self._side(kids[0], own)
             ids = owner.ids if isinstance(owner, Ref) else owner.owner
             # "to the right of X" / "behind X" is beside X; "on the right side of X" may be a part of X
             outside = (
@@ -417,6 +439,21 @@ class Interpreter:
             )
         target = ref.ids[0]
         aff = self.entities[target].affordances
+        levels = [
+            e.id
+            for e in self.entities.values()
+            if e.parent == target
+            and e.positions & {"top", "middle", "bottom"}
+            and e.affordances & {"container", "supporter"}
+        ]
+        if len(levels) > 1 and aff & {"container", "supporter"}:
+            # "on the shelf" when the shelf has a top side and layers: which one is not said, never guess
+            raise GroundingError(
+                f"{ref.text!r} has several levels to put things {prep}: {', '.join(levels)}; say which "
+                "(e.g. 'on top of', 'on the bottom layer of')",
+                candidates=tuple(levels),
+                phrase=ref.text,
+            )
         order = {
             "in": ("container", "supporter"),
             "on": ("supporter", "stackable", "container"),  # blocks and cups stack on each other

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from gsr.categories import is_a
+from gsr.categories import get_category, is_a
+from gsr.errors import GSRError
 from gsr.language.errors import GroundingError
 from gsr.language.lexicon import POSITION_SYNONYMS, Entity
 from gsr.pddl.model import Domain
@@ -221,19 +222,25 @@ class Resolver:
             ]
             if with_mods:
                 found = with_mods
-            else:  # "the drawer handle"-style compounds read the other way round: the modifier is the head
+            elif any(self._head_matches(m) for m in d.noun_mods):
+                # "the drawer handle"-style compounds read the other way round: the modifier is the head
                 found = [
                     e
                     for m in d.noun_mods
                     for e in self._head_matches(m)
                     if set(category.split("_")) <= e.words
                 ]
+            # else: the modifier names nothing in the scene ("the cabinet shelf" where the only furniture
+            # is a shelf): it describes the head's kind, so the head alone decides (ambiguity still errs)
         if d.colors:
             found = [e for e in found if set(d.colors) <= set(e.colors)]
         for p in d.positions:
             canon = POSITION_SYNONYMS.get(p, p)
             named = [e for e in found if canon in e.positions]
-            found = named if named or len(found) < 2 else self._extreme(found, canon)
+            if named or len(found) < 2:
+                found = named
+            else:
+                found = self._extreme(found, canon) or self._between_ends(found, canon)
         for state in d.states:
             is_open = {n.id for n in self.graph.nodes if "open" in n.states}
             found = [
@@ -280,6 +287,16 @@ class Resolver:
             )
         ]
 
+    def _between_ends(self, found: list[Entity], position: str) -> list[Entity]:
+        """``the book in the middle``: when the others are named as both ends of one axis (left and right),
+        the ones named at neither end; nothing when no axis has both ends among the candidates."""
+        if position not in ("middle", "center"):
+            return []
+        for ends in (("left", "right"), ("front", "back"), ("top", "bottom")):
+            if all(any(end in e.positions for e in found) for end in ends):
+                return [e for e in found if not (set(ends) & e.positions)]
+        return []
+
     def _owned(self, found: list[Entity], owner: Ref | Place) -> list[Entity]:
         owners = owner.ids if isinstance(owner, Ref) else owner.owner
         owned = [e for e in found if e.parent in owners]
@@ -307,7 +324,7 @@ class Resolver:
                 raise GroundingError(
                     f"no object in the scene matches {d.text!r}",
                     phrase=d.text,
-                    candidates=self._near_misses(category),
+                    candidates=self.near_misses(category),
                 )
             if not d.plural and len(found) > 1 and d.colors:
                 exact = [e for e in found if set(e.colors) == set(d.colors)]
@@ -343,8 +360,18 @@ class Resolver:
             and category in self.domain.types
         )
 
-    def _near_misses(self, category: str) -> tuple[str, ...]:
-        return tuple(e.id for e in self.entities.values() if is_a(e.category, category))
+    def near_misses(self, category: str) -> tuple[str, ...]:
+        """Objects of the category, else of its kind ("the cabinet" where there is only a shelf: furniture)."""
+        same = tuple(e.id for e in self.entities.values() if is_a(e.category, category))
+        if same or category in ("*", "thing"):
+            return same
+        try:
+            parent = get_category(category).parent
+        except GSRError:
+            return ()
+        if parent is None or parent in ("object", "thing", "entity"):
+            return ()
+        return tuple(e.id for e in self.entities.values() if not e.is_part and is_a(e.category, parent))
 
 
 def _ids(targets: tuple[Ref | Place, ...]) -> set[str]:
