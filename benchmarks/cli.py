@@ -99,6 +99,7 @@ def run(
     reference: str | None = None,
     out: str | None = None,
     split: str | None = None,
+    physical: bool = False,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
     from benchmarks.report import results_document, write_reports
@@ -116,6 +117,7 @@ def run(
                 ("--max-steps", max_steps != 200),
                 ("--retries", retries != 0),
                 ("--reference", reference is not None),
+                ("--physical", physical),
             )
             if given
         ]
@@ -127,7 +129,9 @@ def run(
         raise GSRError(f"--split applies to suites with splits (delivery), not {suite}")
     agent = agent or "planner"
     task_list = load_suite_tasks(suite, source, tasks, seed, limit)
-    config = RunConfig(agent, parse_options(agent_options or []), seed, max_steps, retries, reference)
+    config = RunConfig(
+        agent, parse_options(agent_options or []), seed, max_steps, retries, reference, physical
+    )
     progress = _Progress(len(task_list) * trials)
     try:
         results = run_tasks(task_list, config, trials, workers, backend, address, progress)

@@ -255,6 +255,7 @@ class RunConfig:
     max_steps: int = 200
     retries: int = 0
     reference: str | None = None  # a planner name: also record its plan length ("plan length vs optimal")
+    physical: bool = False  # execute steps in the PyBullet world (skills.SimExecutor), closed loop
 
 
 def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
@@ -264,7 +265,18 @@ def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> di
     task = task_from_dict(task_data, source=f"task {task_data.get('id')}")
     agent = make_agent(config.agent, config.agent_options)
     domain = load_builtin_domain("tabletop")
-    result = run_episode(task, agent, domain, config.seed, trial, config.max_steps, config.retries)
+    executor = None
+    if config.physical:  # the simulator executor implements the Executor seam (skills, 'sim' extra)
+        from skills.sim_executor import SimExecutor
+
+        executor = SimExecutor(seed=episode_seed(config.seed, task.id, trial), frame_camera=None)
+    try:
+        result = run_episode(
+            task, agent, domain, config.seed, trial, config.max_steps, config.retries, executor
+        )
+    finally:
+        if executor is not None:
+            executor.close()
     if config.reference:
         result.reference_steps = reference_length(task, domain, config.reference)
     return result.to_dict()

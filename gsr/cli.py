@@ -439,6 +439,9 @@ def bench_run_cmd(
     ] = None,
     out: Annotated[str | None, typer.Option(help="Write results.json, report.md, report.html here.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print results.json to stdout.")] = False,
+    physical: Annotated[
+        bool, typer.Option("--physical", help="Execute steps in PyBullet (skills, headless), closed loop.")
+    ] = False,
 ) -> None:
     """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
     from benchmarks.cli import run, summary_text
@@ -460,6 +463,7 @@ def bench_run_cmd(
         reference=reference,
         out=out,
         split=split,
+        physical=physical,
     )
     typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
     raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)

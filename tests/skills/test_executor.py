@@ -65,3 +65,13 @@ def test_gym_env_episode(bowl_task) -> None:
     assert reward == 1.0 and terminated and info["goal_met"]
     assert env.render().shape == (60, 80, 3)
     env.close()
+
+
+@pytest.mark.physics
+def test_runner_physical_mode(shared_data) -> None:
+    from benchmarks.runner import RunConfig, _episode_job
+    from tests.skills.conftest import libero_goal_task
+
+    task = libero_goal_task(shared_data, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
+    record = _episode_job(task.model_dump(mode="json"), 0, RunConfig(physical=True))
+    assert record["success"] and record["steps"] == 2, record["reason"]
