@@ -59,16 +59,17 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     _lift(m, transit_height(world))
     # the arm works best in the middle of the stroke; a tilted hand keeps its wrist 6 cm further back
     overshoot = axis * 0.01 * (-1 if pushing else 1)
-    m.park_for(
-        contact + travel / 2,
-        standoff=0.58 if front else 0.5,
-        poses=[(contact + back, quat), (contact, quat), (contact + travel + overshoot, quat)],
-    )
+    poses = [(contact + back, quat), (contact, quat), (contact + travel + overshoot, quat)]
+    m.park_for(contact + travel / 2, standoff=0.58 if front else 0.5, poses=poses)
     if pushing:
         m.gripper(0.0, steps=30)
     else:
         m.gripper(art.handle.width + 0.04)
     m.ignore = set()
+    # arrive on the arm configuration from which the approach and the stroke are one smooth motion
+    start = m.continuous_start(poses, m.robot.q()[:2])
+    if start is not None:
+        m.move_joint(start)
     m.move_line((contact + back, quat))
     m.ignore_links = {(obj.body, obj.links[art.link])}
     m.move_line((contact, quat))

@@ -8,6 +8,7 @@ step budget; nothing here teleports objects or welds them to the hand.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable, Sequence
 
@@ -23,6 +24,8 @@ STEPS_PER_WAYPOINT = 6  # 240 Hz: about 0.4 m/s
 #: How far in front of a target (in x) the base parks: top-down reach is best around half a metre.
 STANDOFF = 0.5
 POS_TOL, ANG_TOL = 0.008, 0.08
+MAX_JOINT_JUMP = 0.5  # rad between consecutive 1 cm waypoints: more is an IK branch flip, not a motion
+JOINT_STEP = 0.03  # rad per waypoint of a joint-space move
 
 
 class Motion:
@@ -160,7 +163,11 @@ class Motion:
         for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15, -0.2):
             for dy in (0.0, -0.08, 0.08, -0.16, 0.16, -0.25, 0.25):
                 base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
-                if self._base_clear(base) and all(self._reachable(pose, base) for pose in poses):
+                if (
+                    self._base_clear(base)
+                    and all(self._reachable(pose, base) for pose in poses)
+                    and self.continuous_start(poses, base) is not None
+                ):
                     self.move_base(float(base[0]), float(base[1]))
                     return
         raise SkillError(
@@ -184,6 +191,53 @@ class Motion:
             return True
         finally:
             r.reset(saved)
+
+    def continuous_start(self, poses: list[Pose], base: np.ndarray) -> np.ndarray | None:
+        """An arm configuration at ``poses[0]`` from which straight moves through the poses (in order)
+        need no IK branch flip (which position control cannot track), with the base at ``base``; or None."""
+        from skills.robot import ARM_FRONT, ARM_HOME
+
+        saved = self.robot.q()
+        try:
+            for seed in (ARM_HOME, ARM_FRONT):
+                start = self.robot.ik(
+                    np.asarray(poses[0][0]), poses[0][1], base, seed=np.array((*base, *seed))
+                )
+                dp, da = self.robot.fk_error(start, np.asarray(poses[0][0]), poses[0][1])
+                if dp >= POS_TOL or da >= ANG_TOL:
+                    continue
+                q, smooth = start, True
+                try:
+                    for a, b in itertools.pairwise(poses):
+                        self.robot.reset(q)
+                        for nxt in self.line(a, b, q, check=False):
+                            if float(np.max(np.abs(nxt[2:] - q[2:]))) > MAX_JOINT_JUMP:
+                                smooth = False
+                                break
+                            q = nxt
+                        if not smooth:
+                            break
+                except SkillError:
+                    continue
+                if smooth:
+                    return start
+            return None
+        finally:
+            self.robot.reset(saved)
+
+    def move_joint(self, goal: np.ndarray, check: bool = True) -> None:
+        """Move the arm in joint space to ``goal`` (base fixed), every waypoint collision-checked."""
+        q0 = self.robot.q()
+        goal = np.asarray(goal, dtype=float).copy()
+        goal[:2] = q0[:2]
+        n = max(1, math.ceil(float(np.max(np.abs(goal - q0))) / JOINT_STEP))
+        qs = [q0 + (goal - q0) * i / n for i in range(1, n + 1)]
+        if check:
+            for q in qs:
+                hit = self.collision(q)
+                if hit is not None:
+                    raise SkillError(Failure.BLOCKED, f"joint move collides with {hit}")
+        self.follow(qs)
 
     def _reachable(self, pose: Pose, base: np.ndarray) -> bool:
         from skills.robot import ARM_FRONT, ARM_HOME
