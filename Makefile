@@ -30,7 +30,7 @@ $(VENV)/.installed-test: pyproject.toml | $(PY)
 	@touch $@ $(VENV)/.installed-demo
 
 demo: sysdeps $(VENV)/.installed-demo
-	$(VENV)/bin/gsr demo --symbolic
+	$(VENV)/bin/gsr demo
 
 test: sysdeps $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
