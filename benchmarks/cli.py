@@ -193,11 +193,11 @@ def summary_text(doc: dict[str, Any]) -> str:
 
 def export(suite: str, out: str, source: str | None = None, seed: int = 0) -> int:
     """Write every task of a suite as ``OUT/<id>.json`` (atomically); the number written."""
-    from benchmarks.report import write_atomic
+    from gsr.io import write_text_atomic
     from gsr.task_spec import task_json
 
     task_list = load_suite_tasks(suite, source, None, seed, None)
     folder = Path(out)
     for t in task_list:
-        write_atomic(folder / f"{t.id}.json", task_json(t) + "\n")
+        write_text_atomic(folder / f"{t.id}.json", task_json(t) + "\n")
     return len(task_list)

@@ -10,28 +10,14 @@ import base64
 import html
 import io
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from benchmarks.metrics import by_cell, grouped, summarize
 from benchmarks.runner import OUTCOMES, EpisodeResult
+from gsr.io import write_text_atomic
 
 _COLS = ("episodes", "success_rate", "score", "executability", "goal_recall", "mean_steps", "mean_time")
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file and an atomic rename."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def results_document(results: list[EpisodeResult], suite: str, agent: str, **meta: Any) -> dict[str, Any]:
@@ -148,7 +134,7 @@ def write_reports(out_dir: str | Path, doc: dict[str, Any], markdown: str | None
     out = Path(out_dir)
     md = markdown if markdown is not None else markdown_report(doc)
     paths = [out / "results.json", out / "report.md", out / "report.html"]
-    write_atomic(paths[0], json.dumps(doc, indent=2) + "\n")
-    write_atomic(paths[1], md)
-    write_atomic(paths[2], html_report(doc, md))
+    write_text_atomic(paths[0], json.dumps(doc, indent=2) + "\n")
+    write_text_atomic(paths[1], md)
+    write_text_atomic(paths[2], html_report(doc, md))
     return paths

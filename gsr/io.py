@@ -3,12 +3,40 @@
 from __future__ import annotations
 
 import json
+import os
 import re
+import tempfile
 from pathlib import Path
 
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Problem
 from gsr.scene_graph import SceneGraph
+
+
+def write_bytes_atomic(path: str | Path, data: bytes, fsync: bool = False) -> None:
+    """Write ``data`` via a temporary file in the same folder and an atomic rename: readers see the old
+    file or the new one, never half of it. ``fsync`` also flushes to disk first (crash-safe resumes)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+            if fsync:
+                fh.flush()
+                os.fsync(fh.fileno())
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file the usual permissions
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_text_atomic(path: str | Path, text: str) -> None:
+    """Write UTF-8 ``text`` atomically (see :func:`write_bytes_atomic`)."""
+    write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def read_text(path: str | Path) -> str:

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
 
 # OpenGL camera axes (x right, y up, z backward) -> OpenCV camera axes (x right, y down, z forward).
 _GL_TO_CV = np.diag([1.0, -1.0, -1.0, 1.0])
@@ -118,19 +117,6 @@ def load_camera(path: str | Path) -> Camera:
 def save_camera(camera: Camera, path: str | Path) -> None:
     """Write a camera JSON file atomically."""
     write_text_atomic(Path(path), json.dumps(camera.to_dict(), indent=2) + "\n")
-
-
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write text via a temporary file in the same folder, then rename (never half-written)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 # ------------------------------------------------------------------ OpenGL / PyBullet conversion

@@ -10,9 +10,9 @@ import numpy as np
 
 from gsr.categories import category_of
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
 from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
 from perception.articulation import ArticulationThresholds, keypoints, part_states
-from perception.camera import write_text_atomic
 from perception.frame import Frame, InstanceLabel, load_frame
 from perception.geometry import (
     GeometryParams,

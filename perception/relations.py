@@ -30,7 +30,9 @@ class RelationThresholds:
     adjacent_gap: float = 0.05  # footprint separation for A adjacent B (same supporter)
     direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
     direction_radius: float = 0.5  # directional relations only between objects this close
-    max_support_gap: float = 0.25  # farther above every surface than this, A rests on nothing (held, in the air)
+    max_support_gap: float = (
+        0.25  # farther above every surface than this, A rests on nothing (held, in the air)
+    )
 
 
 def is_subject(inst: Instance) -> bool:

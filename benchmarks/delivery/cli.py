@@ -9,8 +9,9 @@ import json
 import sys
 from pathlib import Path
 
-from gsr.building.model import Building, save_building, write_text_atomic
+from gsr.building.model import Building, save_building
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
 
 
 def _err(message: str) -> int:

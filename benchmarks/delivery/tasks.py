@@ -16,8 +16,9 @@ from pydantic import BaseModel, ConfigDict
 
 from benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from gsr.building.catalog import COMMON_NEEDS, ROLES
-from gsr.building.model import Building, Item, Person, write_text_atomic
+from gsr.building.model import Building, Item, Person
 from gsr.building.navigation import BuildingMap
+from gsr.io import write_text_atomic
 
 SPLITS: dict[str, tuple[int, int]] = {"train": (11, 2000), "val": (12, 200), "test": (13, 1000)}
 TIME_LIMIT = 480.0  # seconds of simulated time per episode (8 minutes)

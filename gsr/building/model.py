@@ -8,14 +8,13 @@ string per row, one character per cell (``GRID_CHARS``). Coordinates are ``(row,
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
 from gsr.scene_graph import format_validation_error
 
 #: Grid cell codes: free floor, wall, furniture (blocked), door (free), stairs and elevator (blocked).
@@ -301,19 +300,3 @@ def load_building(path: str | Path) -> Building:
 def save_building(building: Building, path: str | Path) -> None:
     """Write a building atomically (temp file + rename), so a failure never leaves half a file."""
     write_text_atomic(Path(path), building.to_json() + "\n")
-
-
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temp file in the same folder and an atomic rename."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file the usual permissions
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

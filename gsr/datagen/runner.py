@@ -17,7 +17,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import sys
 import time
 from collections import Counter
@@ -28,6 +27,7 @@ from typing import Any
 
 from gsr.datagen.schema import SCHEMA_VERSION, SPLITS
 from gsr.errors import GSRError
+from gsr.io import write_bytes_atomic
 
 DEFAULT_SHARD_SIZE = 5000
 GENERATOR_VERSION = 1
@@ -60,16 +60,6 @@ class RunConfig:
             "generator_version": GENERATOR_VERSION,
             "schema_version": SCHEMA_VERSION,
         }
-
-
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` via a temporary file in the same folder and a rename."""
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    with open(tmp, "wb") as fh:
-        fh.write(data)
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
 
 
 def _marker(out: Path, shard: int) -> Path:
@@ -107,7 +97,7 @@ def run_shard(out: str, seed: int, shard: int, size: int) -> dict[str, Any]:
             path.unlink(missing_ok=True)  # a stale file from another run must not be read
             continue
         data = "".join(json.dumps(r, separators=(",", ":"), ensure_ascii=False) + "\n" for r in rows).encode()
-        write_atomic(path, data)
+        write_bytes_atomic(path, data, fsync=True)
         files[split] = {"rows": len(rows), "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}
     info = {
         "shard": shard,
@@ -116,7 +106,7 @@ def run_shard(out: str, seed: int, shard: int, size: int) -> dict[str, Any]:
         "stats": dict(result.stats),
         "seconds": time.perf_counter() - start,
     }
-    write_atomic(_marker(root, shard), json.dumps(info, indent=1).encode())
+    write_bytes_atomic(_marker(root, shard), json.dumps(info, indent=1).encode())
     return info
 
 
@@ -178,7 +168,7 @@ def prepare(cfg: RunConfig, resume: bool) -> list[int]:
     for split in SPLITS:
         (cfg.out / "data" / split).mkdir(parents=True, exist_ok=True)
     (cfg.out / ".progress").mkdir(parents=True, exist_ok=True)
-    write_atomic(run_file, json.dumps(cfg.params(), indent=1).encode())
+    write_bytes_atomic(run_file, json.dumps(cfg.params(), indent=1).encode())
     return [s for s in range(cfg.n_shards) if not shard_done(cfg.out, s)]
 
 
@@ -225,10 +215,10 @@ def generate_dataset(
         "backend": backend,
         "shards": len(todo),
     }
-    write_atomic(cfg.out / "manifest.json", json.dumps(manifest, indent=1).encode())
+    write_bytes_atomic(cfg.out / "manifest.json", json.dumps(manifest, indent=1).encode())
     from gsr.datagen.card import dataset_card
 
-    write_atomic(cfg.out / "README.md", dataset_card(manifest).encode())
+    write_bytes_atomic(cfg.out / "README.md", dataset_card(manifest).encode())
     return manifest
 
 

@@ -10,9 +10,9 @@ import glob
 import json
 from pathlib import Path
 
-from gsr.datagen.runner import write_atomic
 from gsr.datagen.schema import decode
 from gsr.errors import GSRError
+from gsr.io import write_bytes_atomic
 from gsr.task_spec import TaskSpec, task_json
 
 
@@ -56,5 +56,5 @@ def export_tasks(
     tasks = generated_tasks(data, split, heldout, limit)
     out.mkdir(parents=True, exist_ok=True)
     for task in tasks:
-        write_atomic(out / f"{task.id}.json", task_json(task).encode())
+        write_bytes_atomic(out / f"{task.id}.json", task_json(task).encode())
     return len(tasks)

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import os
 import sys
-import tempfile
 from pathlib import Path
 
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
 from gsr.pddl.model import Domain, Problem
 
 EXIT_SOLVED, EXIT_ERROR, EXIT_UNSOLVABLE, EXIT_TIMEOUT = 0, 1, 2, 3
@@ -43,19 +42,6 @@ def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
     return dom, load_problem(problem, dom)
 
 
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file in the same folder and os.replace."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent if str(path.parent) else ".")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def plan_command(domain: Path | None, problem: Path, planner: str, timeout: float, out: Path | None) -> int:
     """Plan and print the IPC plan (or write it to ``out``); stats on stderr; returns the exit code."""
     from gsr.plan.api import plan
@@ -79,7 +65,7 @@ def plan_command(domain: Path | None, problem: Path, planner: str, timeout: floa
         text = write_plan(result.plan, result.cost)
         try:
             if out is not None:
-                write_atomically(Path(out), text)
+                write_text_atomic(Path(out), text)
             else:
                 sys.stdout.write(text)
         except OSError as err:

@@ -132,7 +132,7 @@ def test_reports_are_written_atomically(task, tmp_path, monkeypatch) -> None:
     def boom(*a, **k):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("benchmarks.report.os.replace", boom)
+    monkeypatch.setattr("gsr.io.os.replace", boom)  # the one atomic writer all reports go through
     with pytest.raises(KeyboardInterrupt):
         write_reports(tmp_path / "out", {**doc, "success_rate": 0.0})
     assert json.loads(paths[0].read_text()) == data
