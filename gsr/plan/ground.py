@@ -476,11 +476,72 @@ def _ground_group(
             effects.extend((conj, EMPTY, ground, is_del) for conj in conjs)
 
 
+@dataclass(frozen=True, slots=True)
+class _Compiled:
+    """What grounding derives from a domain alone: normalised schemas and their per-schema tables."""
+
+    schemas: list[Schema]
+    fluent: set[str]
+    groups: list[list[_EffectGroup]]
+    alternatives: list[list[tuple[Formula, ...]]]
+    narrow: list[list[tuple[Formula, tuple[str, ...]]]]
+    parts: list[list[Part]]
+
+
+# The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
+# run of plan() calls on one domain compiles its schemas once). The domain is kept in the entry so
+# that its id stays valid; domains are treated as immutable, like the rest of gsr.pddl.model.
+_COMPILED: list[tuple[Domain, _Compiled]] = []
+_COMPILED_MAX = 4
+
+
+def _compile(domain: Domain) -> _Compiled:
+    """The domain-only grounding tables of ``domain`` (memoised on its identity)."""
+    for known, compiled in _COMPILED:
+        if known is domain:
+            return compiled
+    schemas = [normalize_action(a) for a in domain.actions.values()]
+    fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
+    # Effect groups need only the fluent predicates (literal splitting, static guards).
+    no_objects = Simplifier(_TypedObjects(domain, {}), fluent, ())
+    compiled = _Compiled(
+        schemas,
+        fluent,
+        [_effect_groups(s, no_objects) for s in schemas],
+        # Top-level disjunctions of atoms in each residual precondition, e.g. pick's (or (on ?o
+        # ?from) (in ?o ?from)): a binding with none of them reached cannot fire yet, so it is
+        # skipped before its precondition is simplified (and looked at again next round).
+        [
+            [
+                part.parts
+                for part in _conjuncts(s.residual)
+                if isinstance(part, Or) and part.parts and all(isinstance(q, Atom) for q in part.parts)
+            ]
+            for s in schemas
+        ],
+        # Top-level disjunctions over fewer variables than the action (push's "?to and ?from are
+        # parts of one thing"): simplified once per value of their variables; a false one rules
+        # the binding out.
+        [
+            [
+                (part, tuple(sorted(free_variables(part))))
+                for part in _conjuncts(s.residual)
+                if isinstance(part, Or) and len(free_variables(part)) < len(s.all_params)
+            ]
+            for s in schemas
+        ],
+        [_parts(s) for s in schemas],
+    )
+    _COMPILED.insert(0, (domain, compiled))
+    del _COMPILED[_COMPILED_MAX:]
+    return compiled
+
+
 def ground_task(domain: Domain, problem: Problem) -> Task:
     """Ground a problem: only relaxed-reachable operators, static atoms compiled away."""
     objects = _TypedObjects(domain, problem.all_objects(domain))
-    schemas = [normalize_action(a) for a in domain.actions.values()]
-    fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
+    compiled = _compile(domain)
+    schemas, fluent = compiled.schemas, compiled.fluent
     init = set(problem.init)
     simplify = Simplifier(objects, fluent, init)
 
@@ -488,30 +549,13 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in init:
         index.setdefault(a.predicate, set()).add(a.args)
-    groups = [_effect_groups(s, simplify) for s in schemas]
-    # Top-level disjunctions of atoms in each residual precondition, e.g. pick's (or (on ?o ?from)
-    # (in ?o ?from)): a binding with none of them reached cannot fire yet, so it is skipped before
-    # its precondition is simplified (and looked at again next round).
-    alternatives = [
-        [
-            part.parts
-            for part in _conjuncts(s.residual)
-            if isinstance(part, Or) and part.parts and all(isinstance(q, Atom) for q in part.parts)
-        ]
-        for s in schemas
-    ]
-    # Top-level disjunctions over fewer variables than the action (push's "?to and ?from are parts of
-    # one thing"): simplified once per value of their variables; a false one rules the binding out.
-    narrow = [
-        [
-            (part, tuple(sorted(free_variables(part))))
-            for part in _conjuncts(s.residual)
-            if isinstance(part, Or) and len(free_variables(part)) < len(s.all_params)
-        ]
-        for s in schemas
-    ]
+    groups, alternatives, narrow, parts = (
+        compiled.groups,
+        compiled.alternatives,
+        compiled.narrow,
+        compiled.parts,
+    )
     narrow_memo: dict[tuple, bool] = {}
-    parts = [_parts(s) for s in schemas]
     part_memo: dict[tuple, Formula] = {}
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
@@ -651,16 +695,24 @@ def _intern(
             if key:
                 by_cond.setdefault(key, ([], []))[is_del].append(aid)
         for disjunct in disjuncts:
-            pre = tuple(sorted(ids[a] for a, pos in disjunct if pos and a in ids))
-            neg = tuple(sorted(ids[a] for a, pos in disjunct if not pos and a in ids))
+            pre_ids: list[int] = []
+            neg_ids: list[int] = []
+            for a, pos in disjunct:
+                i = ids.get(a)
+                if i is not None:
+                    (pre_ids if pos else neg_ids).append(i)
+            pre_ids.sort()
+            neg_ids.sort()
+            pre, neg = tuple(pre_ids), tuple(neg_ids)
             pre_set, neg_set = set(pre), set(neg)
             add: set[int] = set()
             dele: set[int] = set()
             cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
             for (cpos, cneg), (adds, dels) in by_cond.items():
                 if cpos or cneg:  # ids are sorted, so the filtered tuples are too
-                    cp = tuple(i for i in cpos if i not in pre_set) if pre_set else cpos
-                    cn = tuple(i for i in cneg if i not in neg_set) if neg_set else cneg
+                    # Usually disjoint from the precondition: no filtering (C-level test first).
+                    cp = cpos if pre_set.isdisjoint(cpos) else tuple(i for i in cpos if i not in pre_set)
+                    cn = cneg if neg_set.isdisjoint(cneg) else tuple(i for i in cneg if i not in neg_set)
                     if not neg_set.isdisjoint(cp) or not pre_set.isdisjoint(cn):
                         continue  # contradicts the precondition: never fires
                     if cp or cn:

@@ -131,6 +131,9 @@ class Relaxation:
         self._ref_zero = sorted(
             (u for u, k in enumerate(self._ref_unsat) if not k), key=self._rank.__getitem__
         )
+        # The last h_add result: plan()'s reachability check and the search's first evaluation are
+        # both of the initial state. Callers only read the returned lists.
+        self._last: tuple[int, tuple[list[float], list[int]]] | None = None
 
     def _facts(self, state: int) -> list[int]:
         """The facts true in ``state``: its atoms, the always-true fact and the true complements."""
@@ -157,8 +160,15 @@ class Relaxation:
 
     def hadd(self, state: int) -> tuple[list[float], list[int]]:
         """h_add costs of all facts (stopping once G is settled) and each fact's best supporter."""
-        if self.integral:
-            return self._hadd_buckets(state)
+        last = self._last
+        if last is not None and last[0] == state:
+            return last[1]
+        found = self._hadd_buckets(state) if self.integral else self._hadd_heap(state)
+        self._last = (state, found)
+        return found
+
+    def _hadd_heap(self, state: int) -> tuple[list[float], list[int]]:
+        """h_add with a binary heap (non-integer operator costs)."""
         cost = self._inf[:]
         sup = self._none[:]
         unsat = self.npre[:]
