@@ -54,12 +54,17 @@ class Relaxation:
         # and the sum distributes over the min); h_max can only get lower (max(c + h(pre),
         # h(cond)) <= c + max(h(pre), h(cond))), so it stays admissible.
         users: dict[tuple[tuple[int, ...], tuple[int, ...]], list[int]] = {}
+        keys: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]] | None] = {}  # per distinct effect
         for i, o in enumerate(task.ops):
-            for cp, cn, ca, cd in o.cond:
-                ga = (*ca, *(comp[d] for d in cd if d in comp))
-                if ga:
-                    key = ((*cp, *(comp[a] for a in cn)), ga)
-                    ops_of = users.setdefault(key, [])
+            for ce in o.cond:
+                if ce in keys:
+                    ukey = keys[ce]
+                else:
+                    cp, cn, ca, cd = ce
+                    ga = (*ca, *(comp[d] for d in cd if d in comp))
+                    ukey = keys[ce] = ((*cp, *(comp[a] for a in cn)), ga) if ga else None
+                if ukey is not None:
+                    ops_of = users.setdefault(ukey, [])
                     if not ops_of or ops_of[-1] != i:
                         ops_of.append(i)
         aux_of: dict[tuple[int, ...], int] = {}  # operator set -> its "one of them fired" fact

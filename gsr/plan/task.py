@@ -76,9 +76,15 @@ class Task:
         self.neg_mask = [mask(o.neg) for o in self.ops]
         self.add_mask = [mask(o.add) for o in self.ops]
         self.del_mask = [mask(o.delete) for o in self.ops]
-        self.cond_mask = [
-            tuple((mask(p), mask(n), mask(a), mask(d)) for p, n, a, d in o.cond) for o in self.ops
-        ]
+        # Conditional effects repeat across operators (the cube-counting groups of every pick and
+        # place): each distinct one is converted once.
+        cond_masks: dict[CondEffect, tuple[int, int, int, int]] = {}
+        for o in self.ops:
+            for ce in o.cond:
+                if ce not in cond_masks:
+                    p, n, a, d = ce
+                    cond_masks[ce] = (mask(p), mask(n), mask(a), mask(d))
+        self.cond_mask = [tuple(map(cond_masks.__getitem__, o.cond)) for o in self.ops]
         self.goal_masks = [(mask(p), mask(n)) for p, n in self.goals]
         self.has_cond = any(o.cond for o in self.ops)
         self.has_neg = any(o.neg for o in self.ops) or any(n for _, n in self.goals)
