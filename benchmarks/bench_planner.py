@@ -39,10 +39,11 @@ from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E40
 from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
 from gsr.plan import plan  # noqa: E402
 from gsr.plan.fast_downward import run_fast_downward  # noqa: E402
+from gsr.resources import shared_data_dir  # noqa: E402
 from gsr.scene_graph import SceneGraph  # noqa: E402
 from gsr.validate import validate_plan  # noqa: E402
 
-DATA = Path(os.environ.get("GSR_SHARED_DATA", REPO.parent / "shared" / "data"))
+DATA = shared_data_dir()
 IPC_SETS = ("blocks", "gripper", "miconic-simpleadl")
 TABLETOP_SETS = ("libero", "tabletop-long")
 SETS = IPC_SETS + TABLETOP_SETS

@@ -6,7 +6,6 @@ lands; it exercises the whole symbolic pipeline on a real LIBERO task file.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import typer
@@ -20,9 +19,9 @@ DEFAULT_TASK = (
 
 def default_task_path() -> Path:
     """The demo's LIBERO task inside the shared reference data (``$GSR_SHARED_DATA`` or ``../shared/data``)."""
-    root = os.environ.get("GSR_SHARED_DATA")
-    base = Path(root) if root else Path(__file__).resolve().parents[2] / "shared" / "data"
-    return base / "libero" / DEFAULT_TASK
+    from gsr.resources import shared_data_dir
+
+    return shared_data_dir() / "libero" / DEFAULT_TASK
 
 
 def run_demo(task: Path | None = None, planner: str = "lazy-ff") -> int:

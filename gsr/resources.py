@@ -43,6 +43,13 @@ def data_dir() -> Path:
     raise GSRError(f"GSR data folder not found (tried {tried}); set GSR_DATA")
 
 
+def shared_data_dir() -> Path:
+    """Third-party reference data (LIBERO, IPC PDDL, BEHAVIOR, GSR-Bench): ``$GSR_SHARED_DATA``, else
+    ``../shared/data`` beside the checkout."""
+    env = os.environ.get("GSR_SHARED_DATA")
+    return Path(env).expanduser() if env else _PACKAGE_DIR.parents[1] / "shared" / "data"
+
+
 def domain_path(name: str = "tabletop") -> Path:
     """The path of a built-in domain file ``data/domains/<name>.pddl``."""
     path = data_dir() / "domains" / f"{name}.pddl"

@@ -9,7 +9,6 @@ metrics (``benchmarks.runner.EpisodeSuite``).
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import import_module
@@ -17,14 +16,13 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.resources import shared_data_dir
 from gsr.task_spec import TaskSpec, load_task
-
-_REPO = Path(__file__).resolve().parents[2]
 
 
 def shared_data() -> Path:
     """Where the third-party reference data lies: $GSR_SHARED_DATA or ../shared/data beside the checkout."""
-    return Path(os.environ.get("GSR_SHARED_DATA", _REPO.parent / "shared" / "data"))
+    return shared_data_dir()
 
 
 @dataclass(frozen=True)
