@@ -11,8 +11,7 @@ pulls in nothing heavy until a name is used::
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from gsr.lazy import lazy_exports
 
 __version__ = "0.1.0"
 
@@ -74,16 +73,4 @@ _EXPORTS: dict[str, str] = {
 }
 
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'gsr' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports("gsr", _EXPORTS, globals())

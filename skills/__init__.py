@@ -6,8 +6,7 @@ access (``skills.build_world``) imports the module that defines it.
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from gsr.lazy import lazy_exports
 
 _EXPORTS = {
     "build_world": "skills.build",
@@ -33,9 +32,4 @@ _EXPORTS = {
 }
 
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(_EXPORTS[name]), name)
-    raise AttributeError(f"module 'skills' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_exports("skills", _EXPORTS, globals())

@@ -6,8 +6,7 @@ builds on it. Names are re-exported lazily so ``import gsr.building`` stays chea
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from gsr.lazy import lazy_exports
 
 _EXPORTS: dict[str, str] = {
     "Building": "gsr.building.model",
@@ -33,12 +32,4 @@ _EXPORTS: dict[str, str] = {
 }
 
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'gsr.building' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
+__getattr__, __dir__ = lazy_exports("gsr.building", _EXPORTS, globals())
