@@ -6,31 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from gsr.facts import problem_from_graph
-from gsr.pddl.model import Domain, Formula
-from gsr.plan.ground import _TypedObjects
-from gsr.plan.normalize import ground_simplify, nnf, to_dnf
+from gsr.language.equivalence import ground_dnf
+from gsr.pddl.model import Domain
 from gsr.resources import load_builtin_domain
-from gsr.scene_graph import SceneGraph
-from gsr.semantics import compile_domain
 
-
-def ground_dnf(formula: Formula, graph: SceneGraph, domain: Domain | None = None) -> frozenset:
-    """The goal over the graph's objects as a set of conjunctions of fluent literals.
-
-    Quantifiers are expanded over the typed objects and static atoms (colours, affordances, part_of)
-    evaluated in the graph, exactly as the planner compiles a goal. Two goals with the same DNF have
-    the same satisfying states among the states reachable from the graph (statics never change).
-    """
-    domain = domain or load_builtin_domain("tabletop")
-    problem = problem_from_graph(graph, formula, domain=domain)
-    fluents = compile_domain(domain).fluents
-    objects = _TypedObjects(domain, problem.all_objects(domain))
-
-    def static(atom):
-        return None if atom.predicate in fluents else atom in problem.init
-
-    return frozenset(to_dnf(ground_simplify(nnf(formula), {}, objects, static)))
+__all__ = ["ground_dnf"]
 
 
 @pytest.fixture(scope="session")

@@ -1,0 +1,140 @@
+"""How often the grounder recovers the dataset generator's goals from its instructions.
+
+``python -m gsr.language.measure --samples 14000 --seed 7`` generates the rows that
+``gsr datagen --samples 14000 --seed 7`` writes (same shards, in memory) — or reads a dataset with
+``--data DIR`` — takes every ``goal_interpretation`` row (an instruction, the start graph and the
+reference PDDL goal) and grounds the instruction. Each row is one of:
+
+* ``equivalent``: the grounded goal has the reference goal's ground DNF (gsr.language.equivalence);
+* ``wrong_goal``: a goal, but a different one;
+* ``unknown_word``: a word outside the lexicon (GroundingError.unknown_words);
+* ``not_understood``: known words the grammar does not accept;
+* ``ambiguous``: a reference (or the readings) could mean several things — the grounder refuses to
+  guess; whether the graph really leaves it open is judged by reading the examples;
+* ``no_match`` / ``other_error``: a reference that matches nothing, any other GroundingError.
+
+Prints a JSON report (counts, fractions, the most frequent unknown words, a few examples per kind).
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import json
+import sys
+from collections import Counter
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from gsr.errors import GSRError
+
+KINDS = ("equivalent", "wrong_goal", "unknown_word", "not_understood", "ambiguous", "no_match", "other_error")
+
+
+def generated_rows(samples: int, seed: int) -> Iterator[dict[str, Any]]:
+    """The goal_interpretation rows of ``gsr datagen --samples N --seed S`` (default shard size), in order."""
+    from gsr.datagen.generate import generate_shard
+    from gsr.datagen.runner import RunConfig
+
+    cfg = RunConfig(Path("."), samples, seed)
+    for shard in range(cfg.n_shards):
+        result = generate_shard(seed, shard, cfg.shard_rows(shard))
+        for split in ("train", "val", "test"):
+            yield from (r for r in result.rows[split] if r["type"] == "goal_interpretation")
+
+
+def dataset_rows(data: Path) -> Iterator[dict[str, Any]]:
+    """The goal_interpretation rows of a dataset directory written by ``gsr datagen``."""
+    files = sorted(glob.glob(str(data / "data" / "*" / "*.jsonl")))
+    if not files:
+        raise GSRError(f"{data}: no data/*/*.jsonl files (not a gsr datagen output directory)")
+    for path in files:
+        with open(path, encoding="utf-8") as fh:
+            for n, line in enumerate(fh, 1):
+                try:
+                    row = json.loads(line)
+                except json.JSONDecodeError as exc:
+                    raise GSRError(f"{path}:{n}: not JSON: {exc.msg}") from None
+                if row.get("type") == "goal_interpretation":
+                    yield row
+
+
+def classify(instruction: str, graph, reference) -> tuple[str, str]:
+    """(kind, detail) for one instruction against its reference goal formula."""
+    from gsr.language import GroundingError, ground
+    from gsr.language.equivalence import equivalent_goals
+    from gsr.pddl.writer import write_formula
+
+    try:
+        goal = ground(instruction, graph)
+    except GroundingError as exc:
+        if exc.unknown_words:
+            return "unknown_word", " ".join(exc.unknown_words)
+        msg = exc.message
+        if "ambiguous" in msg or "readings with different goals" in msg or "several levels" in msg:
+            return "ambiguous", msg
+        if msg.startswith("cannot understand"):
+            return "not_understood", msg
+        if msg.startswith("no object in the scene matches"):
+            return "no_match", msg
+        return "other_error", msg
+    if equivalent_goals(goal.formula, reference, graph):
+        return "equivalent", ""
+    return "wrong_goal", write_formula(goal.formula)
+
+
+def measure(rows: Iterator[dict[str, Any]], limit: int | None = None, examples: int = 5) -> dict[str, Any]:
+    """Classify up to ``limit`` rows; the report (counts, fractions, unknown words, examples)."""
+    from gsr.datagen.schema import decode
+    from gsr.pddl.parser import parse_formula
+
+    counts: Counter[str] = Counter()
+    words: Counter[str] = Counter()
+    shown: dict[str, list[dict[str, str]]] = {k: [] for k in KINDS}
+    n = 0
+    for row in rows:
+        if limit is not None and n >= limit:
+            break
+        n += 1
+        _, inp, out = decode(row)
+        kind, detail = classify(inp.instruction, inp.graph, parse_formula(out.goal, f"row {row['id']}"))
+        counts[kind] += 1
+        if kind == "unknown_word":
+            words.update(detail.split())
+        if kind != "equivalent" and len(shown[kind]) < examples:
+            shown[kind].append(
+                {"row": row["id"], "instruction": inp.instruction, "reference": out.goal, "got": detail}
+            )
+    return {
+        "rows": n,
+        "counts": {k: counts[k] for k in KINDS},
+        "fractions": {k: round(counts[k] / n, 4) if n else 0.0 for k in KINDS},
+        "unknown_words": dict(words.most_common(20)),
+        "examples": {k: v for k, v in shown.items() if v},
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: print the JSON report; exit 1 with a one-line message on bad input."""
+    ap = argparse.ArgumentParser(prog="python -m gsr.language.measure", description=__doc__.split("\n")[0])
+    src = ap.add_mutually_exclusive_group()
+    src.add_argument("--data", type=Path, help="a gsr datagen output directory")
+    src.add_argument("--samples", type=int, default=14000, help="rows to generate (as gsr datagen --samples)")
+    ap.add_argument("--seed", type=int, default=7, help="generator seed (as gsr datagen --seed)")
+    ap.add_argument("--limit", type=int, default=None, help="classify at most this many instructions")
+    ap.add_argument("--examples", type=int, default=5, help="examples shown per failure kind")
+    args = ap.parse_args(argv)
+    try:
+        rows = dataset_rows(args.data) if args.data else generated_rows(args.samples, args.seed)
+        report = measure(rows, args.limit, args.examples)
+    except GSRError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    report["source"] = str(args.data) if args.data else {"samples": args.samples, "seed": args.seed}
+    print(json.dumps(report, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
