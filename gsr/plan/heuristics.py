@@ -97,6 +97,11 @@ class Relaxation:
             cost.append(0)
             owner.append(-1)
         self.pre, self.add, self.cost, self.owner = pre, add, cost, owner
+        # With one goal disjunct, G has one achiever: its cost and supporter are final as soon as
+        # that operator fires (all goal atoms settled), so h_add stops there instead of settling
+        # every fact cheaper than the sum of the goal atoms' costs. h_add(G), h_FF and the relaxed
+        # plan are unchanged: they only read settled facts, whose costs and supporters are final.
+        self.goal_stop = self.goal_fact if len(task.goals) == 1 else -1
         self.npre = [len(p) for p in pre]
         self.pre_of: list[list[int]] = [[] for _ in range(self.n_facts)]
         for u, p in enumerate(pre):
@@ -205,7 +210,7 @@ class Relaxation:
         sup = self._none[:]
         acc = self.cost[:]
         pre_of, add, goal = self.pre_of, self.add, self.goal_fact
-        comp_of = self.comp_of
+        comp_of, stop = self.comp_of, self.goal_stop
         buckets: list[list[int]] = [[]]
         top = 0  # highest bucket index in use
         diff = state ^ self.ref
@@ -226,6 +231,8 @@ class Relaxation:
                             if v < cost[g]:
                                 cost[g] = v
                                 sup[g] = u
+                                if g == stop:
+                                    return cost, sup
                                 if v > top:
                                     buckets.extend([] for _ in range(v - top))
                                     top = v
@@ -264,6 +271,8 @@ class Relaxation:
                     if v < cost[g]:
                         cost[g] = v
                         sup[g] = u
+                        if g == stop:
+                            return cost, sup
                         if v > top:
                             buckets.extend([] for _ in range(v - top))
                             top = v
@@ -282,6 +291,8 @@ class Relaxation:
                         if v < cost[g]:
                             cost[g] = v
                             sup[g] = u
+                            if g == stop:
+                                return cost, sup
                             if v > top:
                                 buckets.extend([] for _ in range(v - top))
                                 top = v
@@ -304,6 +315,8 @@ class Relaxation:
                         if v < cost[g]:
                             cost[g] = v
                             sup[g] = u
+                            if g == stop:
+                                return cost, sup
                             if v > top:
                                 buckets.extend([] for _ in range(v - top))
                                 top = v
