@@ -100,6 +100,7 @@ def run(
     out: str | None = None,
     split: str | None = None,
     physical: bool = False,
+    perceive: bool = False,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
     from benchmarks.report import results_document, write_reports
@@ -118,6 +119,7 @@ def run(
                 ("--retries", retries != 0),
                 ("--reference", reference is not None),
                 ("--physical", physical),
+                ("--perceive", perceive),
             )
             if given
         ]
@@ -129,8 +131,19 @@ def run(
         raise GSRError(f"--split applies to suites with splits (delivery), not {suite}")
     agent = agent or "planner"
     task_list = load_suite_tasks(suite, source, tasks, seed, limit)
+    if perceive and not physical:
+        raise GSRError("--perceive needs --physical (perception observes the simulated world)")
+    frames_dir = str(Path(out) / "frames") if out and physical else None  # a few RGB frames per episode
     config = RunConfig(
-        agent, parse_options(agent_options or []), seed, max_steps, retries, reference, physical
+        agent,
+        parse_options(agent_options or []),
+        seed,
+        max_steps,
+        retries,
+        reference,
+        physical,
+        perceive=perceive,
+        frames_dir=frames_dir,
     )
     progress = _Progress(len(task_list) * trials)
     try:
@@ -147,6 +160,8 @@ def run(
         workers=workers,
         max_steps=max_steps,
         retries=retries,
+        physical=physical,
+        perceive=perceive,
     )
     if out:
         write_reports(out, doc)

@@ -22,7 +22,6 @@ from benchmarks.demo_report import DemoRecord, write_report
 from gsr.errors import GSRError
 
 T = TypeVar("T")
-VIEWS = ("front", "top", "left", "right")
 
 
 def _stage(rec: DemoRecord, name: str, fn: Callable[[], T], note: Callable[[T], str] = lambda _: "") -> T:
@@ -45,6 +44,7 @@ def run_demo(
     mode: str = "goal",
 ) -> int:
     """Run the physical demo; writes ``out`` and returns the exit code (0 only when the goal is verified)."""
+    from benchmarks.perceived_scene import PerceivedScene, contradicted_effects
     from benchmarks.suites.libero_suite import task_from_bddl
     from gsr.demo import default_task_path
     from gsr.facts import state_from_graph
@@ -54,8 +54,7 @@ def run_demo(
     from gsr.reason import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
-    from perception import update_belief
-    from skills import build_world, default_views, render, render_frame, run_step, scene_graph_from_sim
+    from skills import build_world, default_views, render, run_step, scene_graph_from_sim
 
     path = task_path or default_task_path()
     if not path.is_file():
@@ -69,18 +68,15 @@ def run_demo(
     )
     try:
         views = default_views(world)
+        # cameras + perception, the known map, the gripper and object permanence (shared with the runner)
+        scene = PerceivedScene(world)
 
         def observe(label: str) -> Any:
-            frames = [render_frame(world, views[v]) for v in VIEWS]
             picture = dataclasses.replace(
                 views["front"], width=640, height=480
             )  # larger, for the report only
             rec.images[f"rgb_{label}"] = render(world, picture).rgb
-            if not use_perception:
-                return scene_graph_from_sim(world)
-            from perception import perceive
-
-            return perceive(frames)
+            return scene.observe() if use_perception else scene_graph_from_sim(world)
 
         def summary(g: Any) -> str:
             return f"{len(g.nodes)} nodes, {len(g.edges)} edges"
@@ -116,8 +112,8 @@ def run_demo(
                 lambda s=checked.step: run_step(world, s),
                 lambda r: "ok" if r.ok else f"{r.failure}: {r.message}",
             )
-            belief = update_belief(belief, observe("after"))  # closed loop: what the camera sees now
-            missing = _unobserved_effects(checked.diagnosis, belief, domain)
+            belief = observe("after")  # closed loop: what the sensors show now (merged into the belief)
+            missing = contradicted_effects(checked.diagnosis, belief, domain)
             rec.steps.append(
                 {
                     "step": str(checked.step),
@@ -150,19 +146,6 @@ def run_demo(
         return _finish(rec, out, before, after, scene_graph_svg)
     finally:
         world.close()
-
-
-_OBSERVABLE = frozenset({"on", "in", "open", "turned_on"})  # what a camera can confirm
-
-
-def _unobserved_effects(diagnosis: Any, graph: Any, domain: Any) -> list[str]:
-    """The step's true effects on observable relations/states that the observed graph contradicts."""
-    from gsr.facts import state_from_graph
-
-    atoms = state_from_graph(graph, domain).atoms
-    wrong = [f"{a}" for a in diagnosis.add if a.predicate in _OBSERVABLE and a not in atoms]
-    wrong += [f"(not {a})" for a in diagnosis.delete if a.predicate in _OBSERVABLE and a in atoms]
-    return sorted(wrong)
 
 
 def _finish(

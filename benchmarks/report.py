@@ -74,10 +74,63 @@ def markdown_report(doc: dict[str, Any]) -> str:
         *_table(doc["by_cell"], "cell"),
         "",
     ]
+    lines.extend(_observation_lines(doc))
     failures = [t for t in doc["tasks"] if not t["success"]]
     lines.append(f"## Failures ({len(failures)})")
     lines.extend(f"- `{t['id']}` (trial {t['trial']}): {t['outcome']}: {t['reason']}" for t in failures[:200])
+    lines.extend(_frame_lines(doc))
     return "\n".join(lines) + "\n"
+
+
+def _observation_lines(doc: dict[str, Any]) -> list[str]:
+    """Physical runs: what the agent observed, and how its final belief compares with the world."""
+    if not doc.get("physical"):
+        return []
+    tasks = doc["tasks"]
+    if not doc.get("perceive"):
+        return ["Physical execution (PyBullet); the agent observed the simulator's ground-truth graph.", ""]
+    rows = [t for t in tasks if t.get("perceived_success") is not None]
+    both = sum(t["success"] and t["perceived_success"] for t in rows)
+    believed = sum(t["perceived_success"] and not t["success"] for t in rows)
+    missed = sum(t["success"] and not t["perceived_success"] for t in rows)
+    return [
+        "Physical execution (PyBullet); the agent observed **perceived** scene graphs (cameras + perception, "
+        "the known map, the gripper, object permanence). Success is judged on the simulator's ground truth.",
+        "",
+        f"Goal held in the world and in the agent's perceived graph: {both}/{len(rows)}; "
+        f"only in the perceived graph (perception believed a goal the world lacks): {believed}; "
+        f"only in the world (perception missed it): {missed}.",
+        "",
+    ]
+
+
+def _frame_lines(doc: dict[str, Any]) -> list[str]:
+    """Links to the saved RGB frames (paths relative to the report's folder)."""
+    rows = [t for t in doc.get("tasks", []) if isinstance(t, dict) and t.get("frames")]
+    if not rows:
+        return []
+    lines = ["", f"## Frames ({len(rows)} episodes: first, middle and last RGB frame)"]
+    for t in rows:
+        images = " ".join(f"![{t['id']} frame {k}]({path})" for k, path in enumerate(t["frames"]))
+        lines.append(
+            f"- `{t['id']}` (trial {t['trial']}, {'success' if t['success'] else t['outcome']}): {images}"
+        )
+    return lines
+
+
+def _frame_html(doc: dict[str, Any]) -> str:
+    """The saved frames as <img> rows, one per episode."""
+    rows = [t for t in doc.get("tasks", []) if isinstance(t, dict) and t.get("frames")]
+    if not rows:
+        return ""
+    parts = ["<h2>Frames</h2>"]
+    for t in rows:
+        caption = html.escape(
+            f"{t['id']} (trial {t['trial']}): {'success' if t['success'] else t['outcome']}"
+        )
+        imgs = "".join(f'<img alt="frame" src="{html.escape(p, quote=True)}"/>' for p in t["frames"])
+        parts.append(f"<figure>{imgs}<figcaption>{caption}</figcaption></figure>")
+    return "".join(parts)
 
 
 def _plots(doc: dict[str, Any]) -> list[str]:
@@ -123,7 +176,7 @@ def html_report(doc: dict[str, Any], markdown: str) -> str:
     return (
         "<!doctype html><html><head><meta charset='utf-8'>"
         f"<title>{html.escape(doc['suite'])} / {html.escape(doc['agent'])}</title></head><body>"
-        f"{imgs}{note}<pre>{html.escape(markdown)}</pre></body></html>\n"
+        f"{imgs}{note}<pre>{html.escape(markdown)}</pre>{_frame_html(doc)}</body></html>\n"
     )
 
 

@@ -9,6 +9,7 @@ choices derive from (seed, task id, trial), so all backends give the same result
 
 from __future__ import annotations
 
+import re
 import time
 import zlib
 from collections.abc import Callable, Iterable, Iterator
@@ -140,6 +141,8 @@ class EpisodeResult:
     failure: dict[str, Any] | None = None
     plan: list[str] = field(default_factory=list)
     reference_steps: int | None = None
+    perceived_success: bool | None = None  # --perceive: the goal held in the agent's perceived graph
+    frames: list[str] = field(default_factory=list)  # RGB frames saved for the report (paths under --out)
 
     @property
     def executability(self) -> float:
@@ -211,9 +214,15 @@ def run_episode(
         outcome_hint, reason = "planning_error", f"error: {exc}"
     # answers a reasoner rejected internally (before returning a checked step) are proposals too
     proposed += int(getattr(agent, "rejected_proposals", 0) or 0)
-    score = score_task(domain, task, state)
+    # a physical executor is judged on the world's ground truth, not on what its agent observed
+    truth = getattr(executor, "truth_state", None)
+    score = score_task(domain, task, truth() if truth is not None else state)
+    perceived = None
+    if getattr(executor, "perceive", False):
+        perceived = score_task(domain, task, executor.belief_state()).success  # type: ignore[attr-defined]
     if score.success:
-        outcome, reason = "true_success", reason or "goal reached"
+        outcome = "true_success"
+        reason = f"goal reached, although {reason}" if reason else "goal reached"
     elif outcome_hint:
         outcome = outcome_hint
     else:
@@ -242,6 +251,7 @@ def run_episode(
         best_alternative=score.best,
         failure=failure,
         plan=plan,
+        perceived_success=perceived,
     )
 
 
@@ -256,6 +266,9 @@ class RunConfig:
     retries: int = 0
     reference: str | None = None  # a planner name: also record its plan length ("plan length vs optimal")
     physical: bool = False  # execute steps in the PyBullet world (skills.SimExecutor), closed loop
+    perceive: bool = False  # physical: the agent observes perceived graphs (cameras), not ground truth
+    frames_dir: str | None = None  # physical: save a few RGB frames per episode here (PNG)
+    frames: int = 3  # how many: first, evenly spaced, last
 
 
 def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
@@ -267,19 +280,49 @@ def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> di
     domain = load_builtin_domain("tabletop")
     executor = None
     if config.physical:  # the simulator executor implements the Executor seam (skills, 'sim' extra)
-        from skills.sim_executor import SimExecutor
+        from benchmarks.perceived_executor import RunnerSimExecutor
 
-        executor = SimExecutor(seed=episode_seed(config.seed, task.id, trial), frame_camera=None)
+        frames = config.frames if config.frames_dir else 0
+        executor = RunnerSimExecutor(episode_seed(config.seed, task.id, trial), config.perceive, frames)
     try:
         result = run_episode(
             task, agent, domain, config.seed, trial, config.max_steps, config.retries, executor
         )
+        if executor is not None and config.frames_dir:
+            result.frames = save_frames(executor.frames, config.frames_dir, task.id, trial)
     finally:
         if executor is not None:
             executor.close()
     if config.reference:
         result.reference_steps = reference_length(task, domain, config.reference)
     return result.to_dict()
+
+
+def save_frames(frames: list[Any], folder: str, task_id: str, trial: int) -> list[str]:
+    """Write an episode's RGB frames as PNGs (atomically) into ``folder``; paths relative to its parent."""
+    from pathlib import Path
+
+    from gsr.io import write_bytes_atomic
+
+    out = Path(folder)
+    stem = re.sub(r"[^A-Za-z0-9._-]+", "_", task_id)[:120]
+    names = []
+    for k, rgb in enumerate(frames):
+        name = f"{stem}-t{trial}-{k}.png"
+        write_bytes_atomic(out / name, png_bytes(rgb))
+        names.append(f"{out.name}/{name}")
+    return names
+
+
+def png_bytes(rgb: Any) -> bytes:
+    """An RGB array (HxWx3 uint8) encoded as PNG."""
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(rgb).save(buf, format="PNG")
+    return buf.getvalue()
 
 
 def reference_length(
@@ -374,6 +417,8 @@ def run_tasks(
 ) -> list[EpisodeResult]:
     """Run every task ``trials`` times; results come back in task order whatever the backend."""
     config = config or RunConfig()
+    if config.perceive and not config.physical:
+        raise GSRError("--perceive needs --physical (perception observes the simulated world)")
     make_agent(config.agent, config.agent_options)  # fail fast on a bad agent, before any worker starts
     jobs = _jobs(list(tasks), trials)
     out: list[EpisodeResult] = []

@@ -162,3 +162,74 @@ def test_reasoner_agent_with_backends(task, domain) -> None:
     assert not bad.success and bad.proposed >= 3 and bad.executability < 1.0
     with pytest.raises(GSRError, match="cannot import"):
         make_agent("reasoner", {"backend": "nowhere:fn"})
+
+
+def test_frames_are_saved_and_linked_from_the_reports(task, tmp_path) -> None:
+    import numpy as np
+    from PIL import Image
+
+    from benchmarks.runner import save_frames
+
+    out = tmp_path / "out"
+    rgb = [np.full((24, 32, 3), k * 60, dtype=np.uint8) for k in range(3)]
+    [result] = run_tasks([task], RunConfig(agent="planner"))
+    result.frames = save_frames(rgb, str(out / "frames"), "libero/odd id:1", 0)
+    result.perceived_success = False
+    assert result.frames == [f"frames/libero_odd_id_1-t0-{k}.png" for k in range(3)]
+    for k, rel in enumerate(result.frames):
+        img = np.asarray(Image.open(out / rel))
+        assert img.shape == (24, 32, 3) and int(img[0, 0, 0]) == k * 60  # the real frame, not a placeholder
+    assert sorted(p.name for p in (out / "frames").iterdir()) == [p.split("/")[1] for p in result.frames]
+    doc = results_document([result], suite="unit", agent="planner", physical=True, perceive=True)
+    md_path, html_path = write_reports(out, doc)[1:]
+    md, page = md_path.read_text(), html_path.read_text()
+    assert "## Frames (1 episodes" in md and "(frames/libero_odd_id_1-t0-2.png)" in md
+    assert 'src="frames/libero_odd_id_1-t0-0.png"' in page and "<figure>" in page
+    assert "perceived" in md and "only in the world (perception missed it): 1" in md
+    assert json.loads((out / "results.json").read_text())["tasks"][0]["frames"] == result.frames
+
+
+def test_reports_without_frames_have_no_frame_section(task, tmp_path) -> None:
+    doc = results_document(run_tasks([task], RunConfig()), suite="unit", agent="planner")
+    md_path, html_path = write_reports(tmp_path, doc)[1:]
+    assert "## Frames" not in md_path.read_text() and "<figure>" not in html_path.read_text()
+
+
+def test_perceive_needs_physical(task) -> None:
+    with pytest.raises(GSRError, match="--perceive needs --physical"):
+        run_tasks([task], RunConfig(perceive=True))
+
+
+@pytest.fixture()
+def libero_goal_tasks(shared_data):
+    from benchmarks.suites import get_suite
+
+    return get_suite("libero").tasks(str(shared_data / "libero" / "libero_goal"), 0)
+
+
+@pytest.mark.physics
+def test_physical_run_saves_first_middle_last_frames(libero_goal_tasks, tmp_path) -> None:
+    pytest.importorskip("pybullet")
+    from PIL import Image
+
+    task = next(t for t in libero_goal_tasks if t.id.endswith("put_the_bowl_on_the_plate"))
+    config = RunConfig(physical=True, frames_dir=str(tmp_path / "frames"))
+    [result] = run_tasks([task], config)
+    assert result.success, result.reason
+    assert len(result.frames) == 3  # pick + place: 3 observations, all kept (first, middle, last)
+    first, last = (Image.open(tmp_path / p) for p in (result.frames[0], result.frames[-1]))
+    assert first.size == last.size and first.tobytes() != last.tobytes()  # the bowl moved in between
+    assert not [p for p in (tmp_path / "frames").iterdir() if p.name.startswith(".")]  # no temporaries
+
+
+@pytest.mark.physics
+def test_physical_run_from_perception(libero_goal_tasks) -> None:
+    pytest.importorskip("pybullet")
+    pytest.importorskip("open3d")
+    wanted = ("put_the_bowl_on_the_plate", "turn_on_the_stove", "push_the_plate_to_the_front_of_the_stove")
+    tasks = [t for t in libero_goal_tasks if t.id.endswith(wanted)]
+    results = run_tasks(tasks, RunConfig(physical=True, perceive=True))
+    assert [r.success for r in results] == [True] * 3, [r.reason for r in results]
+    # the goal also holds in what the agent perceived: the region from the map, the stove's power
+    # state carried from its own turn_on (no camera shows it)
+    assert all(r.perceived_success for r in results)

@@ -1,0 +1,122 @@
+"""The physical runner's executor: ``skills.SimExecutor`` with perceived graphs, saved frames and a truth verdict.
+
+``RunnerSimExecutor`` implements ``benchmarks.runner.Executor``. With ``perceive=False`` it is the
+simulator executor of ``skills`` (the agent observes the simulator's ground-truth graph). With
+``perceive=True`` the agent's initial graph and the graph re-derived after every step come from
+:class:`benchmarks.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,
+object permanence), and the closed loop compares the expected next graph with the perceived one only on
+what the sensors confirm (:func:`benchmarks.perceived_scene.observable_view`). Either way
+:meth:`RunnerSimExecutor.truth_state` is the simulator's ground truth, which is what the runner scores:
+physical success means the goal holds in the world, not in the agent's belief.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
+from gsr.pddl.model import Domain
+from gsr.state import State
+from gsr.step import Step
+from gsr.task_spec import TaskSpec
+from skills.executor import PhysicalExecutor, StepOutcome
+from skills.sim_executor import SimExecutor
+
+
+class PerceivingPhysicalExecutor(PhysicalExecutor):
+    """``PhysicalExecutor`` whose observed graph is perceived (``PerceivedScene``) instead of read from the simulator."""
+
+    def __init__(self, world: Any, domain: Domain, scene: PerceivedScene, keep_frames: bool = False) -> None:
+        super().__init__(world, domain)  # its ground-truth initial graph is replaced just below
+        self.scene = scene
+        self.keep_frames = keep_frames
+        self.graph = self._observe()
+
+    def _observe(self, expected: Any = None) -> Any:
+        graph = self.scene.observe(expected)
+        if self.keep_frames and self.scene.last_rgb is not None:
+            self.frames.append(self.scene.last_rgb)  # the perceived front view: no second rendering
+        return graph
+
+    def step(self, step: Step, index: int = 1) -> StepOutcome:
+        """Check the step on the perceived graph, run its skill, re-perceive, compare what is observable.
+
+        Same contract as ``PhysicalExecutor.step``; it is restated here because the parent reads the
+        simulator's graph directly, and the comparison is restricted to sensor-confirmed facts."""
+        from gsr.graph_diff import diff_graphs
+        from gsr.transition import StepRejected, apply_step
+        from skills.library import run_step
+
+        name = str(step)
+        try:
+            expected = apply_step(self.graph, step, self.domain)
+        except StepRejected as exc:
+            return StepOutcome(
+                index, name, None, None, f"step {index} {name} is invalid in the perceived state: {exc}"
+            )
+        result = run_step(self.world, step, self.budget)
+        self.graph = self._observe(expected)
+        confirmed = observed_ids(self.graph)
+        diff = diff_graphs(observable_view(expected, confirmed), observable_view(self.graph, confirmed))
+        why = ""
+        if not result.ok:
+            failure = result.failure.value if result.failure else "?"
+            why = f"step {index} {name}: skill {result.skill} failed ({failure}): {result.message}"
+        if not diff.is_empty:
+            delta = str(diff).replace("\n", "; ")
+            why = (
+                why + "; " if why else f"step {index} {name}: "
+            ) + f"perception diverges from the expected graph: {delta}"
+        return StepOutcome(index, name, result, diff, why)
+
+
+class RunnerSimExecutor(SimExecutor):
+    """The runner's physical executor: ground-truth or perceived observations, frames kept, truth scored."""
+
+    def __init__(
+        self,
+        seed: int = 0,
+        perceive: bool = False,
+        frames: int = 0,
+        views: tuple[str, ...] = VIEWS,
+    ) -> None:
+        # frames > 0: keep the first view's RGB after every step; SimExecutor.frames samples `frames` of them
+        super().__init__(seed=seed, frame_camera=views[0] if frames else None, max_frames=max(frames, 1))
+        self.perceive = perceive
+        self.views = views
+
+    def reset(self, task: TaskSpec, domain: Domain) -> State:
+        """Build the task's world; the observed initial state (perceived when ``perceive``)."""
+        from gsr.facts import state_from_graph
+        from skills.world import build_world
+
+        if not self.perceive:
+            return super().reset(task, domain)
+        self.close()
+        self.domain = domain
+        world = build_world(task, seed=self.seed)
+        try:
+            scene = PerceivedScene(world, self.views)
+            self.ex = PerceivingPhysicalExecutor(
+                world, domain, scene, keep_frames=self.frame_camera is not None
+            )
+        except BaseException:
+            world.close()
+            raise
+        self.outcomes = []
+        return state_from_graph(self.ex.graph, domain)
+
+    def truth_state(self) -> State:
+        """The simulator's ground-truth state now (what physical success is judged on)."""
+        from gsr.facts import state_from_graph
+        from skills.sim_graph import scene_graph_from_sim
+
+        assert self.ex is not None and self.domain is not None, "call reset() first"
+        return state_from_graph(scene_graph_from_sim(self.ex.world), self.domain)
+
+    def belief_state(self) -> State:
+        """The agent's final observed state (perceived or ground truth)."""
+        from gsr.facts import state_from_graph
+
+        assert self.ex is not None and self.domain is not None, "call reset() first"
+        return state_from_graph(self.ex.graph, self.domain)

@@ -1,0 +1,221 @@
+"""A perception-backed scene-graph source for a simulated world: what the robot's sensors say, not the truth.
+
+Shared by the demo (``benchmarks/demo.py``) and the physical runner (``gsr bench run --physical --perceive``,
+:mod:`benchmarks.perceived_executor`). Each :meth:`PerceivedScene.observe` call
+
+1. renders RGB-D and instance masks from the world's cameras (``skills.render_frame``; the masks stand in
+   for a detector: ids and labels, no geometry) and runs :func:`perception.perceive` on them (fused views);
+2. adds the robot's *known map*: the table's named regions (LIBERO ``stove_front_region`` ...) are not
+   visible things, so their nodes come from the map and an object perceived on the table inside a region's
+   rectangle is on that region (the same rule as the simulator's ground truth);
+3. adds *proprioception*: an object both fingers touch is held (grasp state, not vision): it gets the
+   ``held`` state and loses any support edge; if the hand hides it, its node comes from the last belief;
+4. merges the result into the previous belief with :func:`perception.update_belief` (objects inside a
+   container that is now closed are remembered, marked ``observed: False``).
+
+:func:`observable_view` is the comparison rule of the closed loop: only facts a sensor can confirm now
+(support edges and open/on states of nodes seen in this observation, plus ``held`` from the gripper).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gsr.scene_graph import Edge, Node, SceneGraph
+
+if TYPE_CHECKING:
+    from perception import Frame, PerceptionParams
+    from skills.world import World
+
+#: The cameras perceived (skills.camera.default_views names); the first one's RGB is kept for reports.
+VIEWS = ("front", "top", "left", "right")
+_SUPPORT = ("on", "in")
+#: Node states the sensors confirm: articulation (cameras) and the grasp (gripper).
+SENSED_STATES = frozenset({"open", "held"})
+#: Node states no camera here can see (power: nothing in the rendering shows a stove or lamp is on); the
+#: belief keeps them from its prior (the last belief, or the graph the robot's own step should produce).
+UNSENSED_STATES = frozenset({"on", "off"})
+
+
+class PerceivedScene:
+    """Scene graphs of one world from its cameras, the known map and the gripper; keeps the belief."""
+
+    def __init__(
+        self, world: World, views: Sequence[str] = VIEWS, params: PerceptionParams | None = None
+    ) -> None:
+        from skills.camera import default_views
+
+        specs = default_views(world)
+        unknown = [v for v in views if v not in specs]
+        if unknown or not views:
+            raise ValueError(f"unknown camera view(s) {unknown}; choose from {sorted(specs)}")
+        self.world = world
+        self.specs = [specs[v] for v in views]
+        self.params = params
+        self.belief: SceneGraph | None = None
+        self.last_rgb: np.ndarray | None = None  # the first view's RGB of the latest observation
+        self.observations = 0
+
+    def frames(self) -> list[Frame]:
+        """Render RGB-D + instance masks from every camera now."""
+        from skills.camera import render_frame
+
+        return [render_frame(self.world, spec) for spec in self.specs]
+
+    def observe(self, expected: SceneGraph | None = None) -> SceneGraph:
+        """Perceive the world now and merge it into the belief; the new belief.
+
+        ``expected`` (the graph the robot's last step should have produced) is the prior for states no
+        sensor sees (``UNSENSED_STATES``); without it the previous belief is."""
+        from perception import perceive, update_belief
+
+        frames = self.frames()
+        self.last_rgb = frames[0].rgb
+        observed = perceive(frames, self.params)
+        observed = with_map_regions(observed, self.world)
+        observed = with_held(observed, held_objects(self.world), self.belief, self.world.graph)
+        prior = expected if expected is not None else self.belief
+        self.belief = with_unsensed_states(update_belief(self.belief, observed), prior)
+        self.observations += 1
+        return self.belief
+
+
+def held_objects(world: World) -> set[str]:
+    """Objects both fingers touch now (the gripper's grasp state, not vision)."""
+    from skills.sim_graph import support_of
+
+    # boxes=[]: skip the containment test, only the finger contacts matter here
+    return {
+        oid
+        for oid, o in world.objects.items()
+        if not o.model.fixed and support_of(world, oid, boxes=[]) == ("held", "")
+    }
+
+
+def with_map_regions(graph: SceneGraph, world: World) -> SceneGraph:
+    """Add the table's named regions (map nodes) and move objects on the table onto the region they are in."""
+    regions = [nid for nid in sorted(world.regions) if world.graph.has_node(nid)]
+    if not regions:
+        return graph
+    ids = {n.id for n in graph.nodes}
+    added = [
+        world.graph.node(nid).model_copy(
+            update={"attributes": {**world.graph.node(nid).attributes, "map": True}}
+        )
+        for nid in regions
+        if nid not in ids
+    ]
+    nodes = graph.node_map()
+    edges = []
+    for e in graph.edges:
+        node = nodes.get(e.source)
+        if e.relation == "on" and e.target == world.table_id and node is not None and node.pose is not None:
+            p = node.pose.position
+            region = next((r for r in regions if _inside(world.regions[r].bounds, p.x, p.y)), None)
+            if region is not None:
+                e = Edge(source=e.source, relation="on", target=region)
+        edges.append(e)
+    return graph.model_copy(
+        update={
+            "nodes": tuple(sorted((*graph.nodes, *added), key=lambda n: n.id)),
+            "edges": tuple(sorted(set(edges), key=Edge.key)),
+        }
+    )
+
+
+def _inside(bounds: tuple[float, float, float, float], x: float, y: float) -> bool:
+    x0, y0, x1, y1 = bounds
+    return x0 <= x <= x1 and y0 <= y <= y1
+
+
+def with_held(
+    graph: SceneGraph, held: set[str], belief: SceneGraph | None, fallback: SceneGraph | None = None
+) -> SceneGraph:
+    """Mark ``held`` objects (from the gripper) held and unsupported; a hidden held object comes from memory."""
+    if not held:
+        return graph
+    nodes = graph.node_map()
+    known = belief.node_map() if belief is not None else {}
+    spare = fallback.node_map() if fallback is not None else {}
+    out: list[Node] = [n for n in graph.nodes if n.id not in held]
+    for oid in sorted(held):
+        node = nodes.get(oid) or known.get(oid) or spare.get(oid)
+        if node is None:
+            continue
+        states = tuple(sorted({*node.states, "held"}))
+        out.append(node.model_copy(update={"states": states}))
+    edges = [e for e in graph.edges if not (e.source in held and e.relation in _SUPPORT)]
+    return graph.model_copy(
+        update={
+            "nodes": tuple(sorted(out, key=lambda n: n.id)),
+            "edges": tuple(sorted(set(edges), key=Edge.key)),
+        }
+    )
+
+
+def with_unsensed_states(graph: SceneGraph, prior: SceneGraph | None) -> SceneGraph:
+    """Each node's unsensed states (power) taken from ``prior``; sensed states stay as observed."""
+    if prior is None:
+        return graph
+    before = prior.node_map()
+    nodes = []
+    for n in graph.nodes:
+        old = before.get(n.id)
+        carried = {s for s in old.states if s in UNSENSED_STATES} if old is not None else set()
+        states = tuple(sorted({s for s in n.states if s not in UNSENSED_STATES} | carried))
+        nodes.append(n if states == n.states else n.model_copy(update={"states": states}))
+    return graph.model_copy(update={"nodes": tuple(nodes)})
+
+
+def observed_ids(graph: SceneGraph) -> set[str]:
+    """Nodes the latest observation confirms: seen now (not remembered, not a map node) or held."""
+    return {
+        n.id
+        for n in graph.nodes
+        if "held" in n.states
+        or (n.attributes.get("observed", True) is not False and not n.attributes.get("map"))
+    }
+
+
+def observable_view(graph: SceneGraph, confirmed: set[str]) -> SceneGraph:
+    """The symbolic part a sensor can confirm: confirmed nodes' open/on/held states and support edges."""
+    from skills.executor import symbolic_view
+
+    sym = symbolic_view(graph)
+    sym = sym.model_copy(
+        update={
+            "nodes": tuple(
+                n.model_copy(
+                    update={"attributes": {}, "states": tuple(s for s in n.states if s in SENSED_STATES)}
+                )
+                for n in sym.nodes
+            )
+        }
+    )
+    edges = tuple(e for e in sym.edges if e.source in confirmed)
+    targets = {e.target for e in edges}
+    # an edge's unconfirmed target stays as a bare node (its own states are not confirmed)
+    nodes = tuple(
+        n if n.id in confirmed else n.model_copy(update={"states": ()})
+        for n in sym.nodes
+        if n.id in confirmed or n.id in targets
+    )
+    return SceneGraph(nodes=nodes, edges=edges)
+
+
+#: Predicates a sensor confirms: support and articulation from the cameras, holding from the gripper.
+#: (``turned_on`` is not among them: nothing in the rendering shows whether a stove or lamp is on.)
+OBSERVABLE_PREDICATES = frozenset({"on", "in", "open", "holding"})
+
+
+def contradicted_effects(diagnosis: Any, graph: SceneGraph, domain: Any) -> list[str]:
+    """A checked step's true effects on observable predicates that the observed graph contradicts."""
+    from gsr.facts import state_from_graph
+
+    atoms = state_from_graph(graph, domain).atoms
+    wrong = [f"{a}" for a in diagnosis.add if a.predicate in OBSERVABLE_PREDICATES and a not in atoms]
+    wrong += [f"(not {a})" for a in diagnosis.delete if a.predicate in OBSERVABLE_PREDICATES and a in atoms]
+    return sorted(wrong)

@@ -1,0 +1,129 @@
+"""The perception-backed graph source's graph rules: map regions, the gripper, unsensed states, what is compared."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import pytest
+
+pytest.importorskip(
+    "pybullet"
+)  # observable_view uses skills.executor.symbolic_view (skills imports pybullet)
+
+from benchmarks.perceived_scene import (
+    contradicted_effects,
+    observable_view,
+    observed_ids,
+    with_held,
+    with_map_regions,
+    with_unsensed_states,
+)
+from gsr.graph_diff import diff_graphs
+from gsr.scene_graph import Edge, Node, Pose, SceneGraph, Vec3
+
+
+def _node(nid: str, category: str, x: float = 0.0, y: float = 0.0, **kw) -> Node:
+    pose = Pose(position=Vec3(x=x, y=y, z=0.8), orientation=(0.0, 0.0, 0.0, 1.0))
+    return Node(id=nid, category=category, pose=pose, **kw)
+
+
+def _graph(nodes: list[Node], edges: list[tuple[str, str, str]]) -> SceneGraph:
+    return SceneGraph(
+        nodes=tuple(nodes), edges=tuple(Edge(source=a, relation=r, target=b) for a, r, b in edges)
+    )
+
+
+@dataclass
+class _Region:
+    bounds: tuple[float, float, float, float]
+
+
+@dataclass
+class _MapWorld:
+    """What with_map_regions reads of a skills World: the task graph, the table id, the region map."""
+
+    graph: SceneGraph
+    table_id: str = "table"
+    regions: dict[str, _Region] = field(default_factory=dict)
+
+
+def test_objects_on_the_table_inside_a_region_are_on_the_region() -> None:
+    region = Node(id="table/front_region", category="region", parent="table")
+    truth = _graph([_node("table", "table"), region], [])
+    world = _MapWorld(truth, regions={"table/front_region": _Region((0.0, 0.0, 0.2, 0.2))})
+    seen = _graph(
+        [_node("table", "table"), _node("plate", "plate", 0.1, 0.1), _node("cup", "cup", 0.5, 0.5)],
+        [("plate", "on", "table"), ("cup", "on", "table")],
+    )
+    out = with_map_regions(seen, world)
+    edges = {e.key() for e in out.edges}
+    assert ("plate", "on", "table/front_region") in edges and ("cup", "on", "table") in edges
+    assert out.node("table/front_region").attributes["map"] is True
+    assert "table/front_region" not in observed_ids(out)  # a map node is not an observation
+    assert with_map_regions(seen, _MapWorld(truth)) == seen  # no regions: unchanged
+
+
+def test_held_objects_come_from_the_gripper_and_lose_their_support() -> None:
+    seen = _graph([_node("table", "table"), _node("cup", "cup")], [("cup", "on", "table")])
+    out = with_held(seen, {"cup"}, None)
+    assert "held" in out.node("cup").states and not out.edges
+    # the hand hides the cup from every camera: its node comes from the last belief
+    belief = out
+    hidden = _graph([_node("table", "table")], [])
+    again = with_held(hidden, {"cup"}, belief)
+    assert again.has_node("cup") and "held" in again.node("cup").states
+    assert "cup" in observed_ids(again)  # the gripper confirms what it holds
+    assert with_held(seen, set(), None) is seen
+
+
+def test_power_states_are_carried_from_the_prior_not_perceived() -> None:
+    prior = _graph([_node("stove", "stove", states=("on",)), _node("lamp", "lamp")], [])
+    seen = _graph([_node("stove", "stove"), _node("lamp", "lamp", states=("on",))], [])
+    out = with_unsensed_states(seen, prior)
+    assert out.node("stove").states == ("on",)  # no camera shows a stove is on: the prior's value
+    assert out.node("lamp").states == ()  # and no camera can claim it is on either
+    assert with_unsensed_states(seen, None) is seen
+
+
+def test_observable_view_compares_only_what_sensors_confirm() -> None:
+    expected = _graph(
+        [
+            _node("table", "table"),
+            _node("cup", "cup", attributes={"points": 10}),
+            _node("stove", "stove", states=("on",)),
+            _node("drawer", "drawer", states=("open",)),
+            _node("bowl", "bowl", attributes={"observed": False}),
+        ],
+        [("cup", "on", "table"), ("bowl", "in", "drawer")],
+    )
+    observed = _graph(
+        [
+            _node("table", "table"),
+            _node("cup", "cup", attributes={"points": 99}),  # geometry differs: not a divergence
+            _node("stove", "stove"),  # power unseen: not a divergence
+            _node("drawer", "drawer", states=("open",)),
+        ],
+        [("cup", "on", "table")],
+    )
+    confirmed = observed_ids(observed)
+    assert diff_graphs(observable_view(expected, confirmed), observable_view(observed, confirmed)).is_empty
+    moved = observed.model_copy(
+        update={"edges": (Edge(source="cup", relation="on", target="drawer"),)}
+    )  # the cup is somewhere else: that is a divergence
+    diff = diff_graphs(observable_view(expected, confirmed), observable_view(moved, confirmed))
+    assert not diff.is_empty and "cup" in str(diff)
+    shut = observed.model_copy(update={"nodes": (*observed.nodes[:3], _node("drawer", "drawer"))})
+    assert not diff_graphs(
+        observable_view(expected, confirmed), observable_view(shut, observed_ids(shut))
+    ).is_empty
+
+
+def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
+    from gsr.check import check_step
+    from gsr.facts import state_from_graph
+    from gsr.step import Step
+
+    graph = _graph([_node("table", "table"), _node("stove", "stove")], [("stove", "on", "table")])
+    diagnosis = check_step(domain, state_from_graph(graph, domain), Step(action="turn_on", args=("stove",)))
+    assert diagnosis.ok, diagnosis.message
+    assert contradicted_effects(diagnosis, graph, domain) == []  # turned_on is not camera-observable
