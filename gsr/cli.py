@@ -127,8 +127,15 @@ def demo_cmd(
         Path | None, typer.Option(help="A LIBERO BDDL task file (default: the black-bowl drawer task).")
     ] = None,
     seed: Annotated[int, typer.Option(help="Simulator seed.")] = 0,
+    perceive: Annotated[
+        bool,
+        typer.Option(
+            "--perceive/--no-perceive",
+            help="Scene graphs from the cameras (perception), or the simulator's ground truth.",
+        ),
+    ] = True,
     ground_truth: Annotated[
-        bool, typer.Option("--ground-truth", help="Use the simulator's scene graph instead of perception.")
+        bool, typer.Option("--ground-truth", help="Same as --no-perceive.")
     ] = False,
     symbolic: Annotated[
         bool, typer.Option("--symbolic", help="Symbolic only: parse, plan, check (no simulator needed).")
@@ -145,7 +152,7 @@ def demo_cmd(
         raise _fail(
             f"the physical demo needs the 'sim' and 'vision' extras ({exc}); try --symbolic"
         ) from None
-    raise typer.Exit(run_physical(out, task, seed=seed, use_perception=not ground_truth))
+    raise typer.Exit(run_physical(out, task, seed=seed, use_perception=perceive and not ground_truth))
 
 
 @app.command("serve")
@@ -442,6 +449,10 @@ def bench_run_cmd(
     physical: Annotated[
         bool, typer.Option("--physical", help="Execute steps in PyBullet (skills, headless), closed loop.")
     ] = False,
+    perceive: Annotated[
+        bool,
+        typer.Option("--perceive", help="With --physical: the agent sees perceived graphs (cameras), not truth."),
+    ] = False,
 ) -> None:
     """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
     from benchmarks.cli import run, summary_text
@@ -464,6 +475,7 @@ def bench_run_cmd(
         out=out,
         split=split,
         physical=physical,
+        perceive=perceive,
     )
     typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
     raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)
