@@ -134,9 +134,7 @@ def demo_cmd(
             help="Scene graphs from the cameras (perception), or the simulator's ground truth.",
         ),
     ] = True,
-    ground_truth: Annotated[
-        bool, typer.Option("--ground-truth", help="Same as --no-perceive.")
-    ] = False,
+    ground_truth: Annotated[bool, typer.Option("--ground-truth", help="Same as --no-perceive.")] = False,
     symbolic: Annotated[
         bool, typer.Option("--symbolic", help="Symbolic only: parse, plan, check (no simulator needed).")
     ] = False,
@@ -451,7 +449,9 @@ def bench_run_cmd(
     ] = False,
     perceive: Annotated[
         bool,
-        typer.Option("--perceive", help="With --physical: the agent sees perceived graphs (cameras), not truth."),
+        typer.Option(
+            "--perceive", help="With --physical: the agent sees perceived graphs (cameras), not truth."
+        ),
     ] = False,
 ) -> None:
     """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
