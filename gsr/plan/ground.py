@@ -14,21 +14,19 @@ from gsr.pddl.model import (
     Domain,
     Formula,
     Increase,
-    Not,
     Or,
     Problem,
     TypedVar,
     is_variable,
 )
 from gsr.plan.normalize import (
-    DNF_LIMIT,
     Conjunction,
-    GroundLiteral,
     Schema,
     nnf,
     normalize_action,
     to_dnf,
 )
+from gsr.plan.precondition import FormulaCache, fast_dnf, id_dnf, relaxed, relaxed_core
 from gsr.plan.simplify import Simplifier, free_variables
 from gsr.plan.task import GroundOp, Task
 
@@ -47,19 +45,9 @@ class _Variant:
     pre: Formula
     binding: dict[str, str]
     schema: Schema
+    need: Formula  # what the delete relaxation tests of ``pre`` (see relaxed_core)
     effects: list[GroundEffect] | None = None
     fired: bool = False
-
-
-def _relaxed(formula: Formula, reached: set[Atom]) -> bool:
-    """Whether a ground NNF formula can hold in the delete relaxation (negative literals ignored)."""
-    if isinstance(formula, Atom):
-        return formula in reached
-    if isinstance(formula, And):
-        return all(_relaxed(p, reached) for p in formula.parts)
-    if isinstance(formula, Or):
-        return any(_relaxed(p, reached) for p in formula.parts)
-    return True  # a negative literal
 
 
 def _conjuncts(formula: Formula) -> list[Formula]:
@@ -98,116 +86,6 @@ def _ruled_out(
         if false:
             return True
     return False
-
-
-def _prune(formula: Formula, reached: set[Atom]) -> Formula:
-    """Unreachable atoms are false: simplify a ground NNF formula before its DNF is taken."""
-    if isinstance(formula, Atom):
-        return formula if formula in reached else FALSE
-    if isinstance(formula, Not):
-        return formula if formula.formula in reached else TRUE
-    if isinstance(formula, (And, Or)):
-        return Simplifier.combine(isinstance(formula, And), (_prune(p, reached) for p in formula.parts))
-    return formula
-
-
-def _alternative(formula: Formula, reached: set[Atom]) -> list[GroundLiteral] | None:
-    """The literals of a literal or conjunction of literals, unreached atoms pruned; None if false."""
-    out: list[GroundLiteral] = []
-    stack = [formula]
-    while stack:
-        p = stack.pop()
-        if isinstance(p, And):
-            stack.extend(p.parts)
-        elif isinstance(p, Atom):
-            if p not in reached:
-                return None
-            out.append((p, True))
-        elif isinstance(p, Not) and isinstance(p.formula, Atom):
-            if p.formula in reached:
-                out.append((p.formula, False))
-        else:
-            raise TypeError  # not a conjunction of literals: the general path handles it
-    return out
-
-
-def _fast_dnf(formula: Formula, reached: set[Atom]) -> list[Conjunction] | None:
-    """``minimal_dnf(_prune(formula))`` for conjunctions of literals and of disjunctions of such.
-
-    Those are nearly all ground preconditions (the general path walks the formula three times);
-    None for any other shape.
-    """
-    literals: list[GroundLiteral] = []
-    choices: list[list[Conjunction]] = []
-    stack = [formula]
-    try:
-        while stack:
-            p = stack.pop()
-            if isinstance(p, And):
-                stack.extend(p.parts)
-            elif isinstance(p, Or):
-                alts: list[Conjunction] | None = []
-                for q in p.parts:
-                    if isinstance(q, Atom):  # the common alternative, inline
-                        if q in reached:
-                            alts.append(frozenset(((q, True),)))  # type: ignore[union-attr]
-                        continue
-                    alt = _alternative(q, reached)
-                    if alt is None:
-                        continue
-                    if not alt:
-                        alts = None  # a true alternative: the disjunction holds
-                        break
-                    alts.append(frozenset(alt))  # type: ignore[union-attr]
-                if alts is None:
-                    continue
-                if not alts:
-                    return []
-                choices.append(alts)
-            elif isinstance(p, Atom):
-                if p not in reached:
-                    return []
-                literals.append((p, True))
-            elif isinstance(p, Not) and isinstance(p.formula, Atom):
-                if p.formula in reached:
-                    literals.append((p.formula, False))
-            else:
-                return None
-    except TypeError:
-        return None
-    base = frozenset(literals)
-    if any((a, not pos) in base for a, pos in base):
-        return []
-    acc = [base]
-    for alts in choices:
-        nxt: list[Conjunction] = []
-        seen: set[Conjunction] = set()
-        for left in acc:
-            for right in alts:
-                merged = left | right
-                if merged in seen or any((a, not pos) in merged for a, pos in right):
-                    continue
-                seen.add(merged)
-                nxt.append(merged)
-        if len(nxt) > DNF_LIMIT:
-            return None  # the general path reports it
-        acc = nxt
-    acc.sort(key=len)
-    kept: list[Conjunction] = []
-    for d in acc:
-        if not any(k <= d for k in kept):
-            kept.append(d)
-    return kept
-
-
-def minimal_dnf(formula: Formula) -> list[Conjunction]:
-    """DNF without subsumed disjuncts (a superset of another disjunct adds no operator worth having)."""
-    disjuncts = sorted(to_dnf(formula), key=len)
-    kept: list[Conjunction] = []
-    for d in disjuncts:
-        if not any(k <= d for k in kept):
-            kept.append(d)
-    return kept
 
 
 class _TypedObjects:
@@ -317,6 +195,7 @@ def _variant(
     binding: dict[str, str],
     simplify: Simplifier,
     memo: dict[tuple, Formula],
+    cores: FormulaCache,
 ) -> _Variant | None:
     """Ground one action's precondition; None when it is statically false.
 
@@ -338,7 +217,7 @@ def _variant(
             kept.append(g)
     pre = Simplifier.combine(True, kept)
     args = tuple(binding[p.name] for p in schema.params)
-    return _Variant(schema.name, args, pre, binding, schema)
+    return _Variant(schema.name, args, pre, binding, schema, relaxed_core(pre, cores))
 
 
 Literals = tuple[tuple[Atom, bool], ...]
@@ -557,6 +436,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     )
     narrow_memo: dict[tuple, bool] = {}
     part_memo: dict[tuple, Formula] = {}
+    cores: FormulaCache = {}
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
     # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
@@ -592,10 +472,10 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 if key in cache:
                     v = cache[key]
                 else:
-                    v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo)
+                    v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo, cores)
                 if v is None or v.fired:
                     continue
-                if not _relaxed(v.pre, reached):
+                if not relaxed(v.need, reached):
                     still.append(binding)
                 else:
                     v.fired = True
@@ -661,10 +541,11 @@ def _intern(
     # Condition parts over atom ids, by object (parts are shared by many effects and actions;
     # every part is referenced from the fired actions, so ids stay unique).
     converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
+    scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
     for v in fired:
-        disjuncts = _fast_dnf(v.pre, reached)
+        disjuncts = fast_dnf(v.pre, ids, scanned)
         if disjuncts is None:
-            disjuncts = minimal_dnf(_prune(v.pre, reached))
+            disjuncts = id_dnf(v.pre, reached, ids)
         if not disjuncts:
             continue
         # The variant's effects over atom ids, once for all its disjuncts, grouped by condition;
@@ -695,15 +576,8 @@ def _intern(
             if key:
                 by_cond.setdefault(key, ([], []))[is_del].append(aid)
         for disjunct in disjuncts:
-            pre_ids: list[int] = []
-            neg_ids: list[int] = []
-            for a, pos in disjunct:
-                i = ids.get(a)
-                if i is not None:
-                    (pre_ids if pos else neg_ids).append(i)
-            pre_ids.sort()
-            neg_ids.sort()
-            pre, neg = tuple(pre_ids), tuple(neg_ids)
+            pre = tuple(sorted(x for x in disjunct if x >= 0))
+            neg = tuple(sorted(~x for x in disjunct if x < 0))
             pre_set, neg_set = set(pre), set(neg)
             add: set[int] = set()
             dele: set[int] = set()
