@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from gsr.errors import GSRError
@@ -111,22 +112,37 @@ class _TypedObjects:
         return obj in self.sets[types]
 
 
-def _bindings(schema: Schema, index: dict[str, set[tuple[str, ...]]], objects: _TypedObjects) -> list[dict]:
-    """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed."""
+def _bindings(
+    schema: Schema,
+    index: dict[str, set[tuple[str, ...]]],
+    objects: _TypedObjects,
+    disjunction: tuple[Atom, ...] = (),
+) -> list[dict]:
+    """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed.
+
+    With a ``disjunction`` of atoms (pick's ``(or (on ?o ?from) (in ?o ?from))``), only bindings
+    under which one of its atoms holds are listed: each alternative is joined like a join atom
+    instead of enumerating every object for the variables it binds and testing it afterwards.
+    """
     params = schema.all_params
     ptypes = {p.name: p.types for p in params}
     atoms = schema.join
     out: list[dict] = []
+    seen: set[tuple[str, ...]] = set()
 
-    def rec(k: int, binding: dict[str, str]) -> None:
-        if k == len(atoms):
-            free = [p for p in params if p.name not in binding]
-            for combo in itertools.product(*(objects(p.types) for p in free)):
-                full = dict(binding)
-                full.update(zip((p.name for p in free), combo, strict=True))
-                out.append(full)
-            return
-        atom = atoms[k]
+    def finish(binding: dict[str, str]) -> None:
+        free = [p for p in params if p.name not in binding]
+        for combo in itertools.product(*(objects(p.types) for p in free)):
+            full = dict(binding)
+            full.update(zip((p.name for p in free), combo, strict=True))
+            if disjunction:  # a binding may satisfy several alternatives
+                key = tuple(full[p.name] for p in params)
+                if key in seen:
+                    continue
+                seen.add(key)
+            out.append(full)
+
+    def matches(atom: Atom, binding: dict[str, str]) -> Iterator[dict[str, str]]:
         for tup in index.get(atom.predicate, ()):
             if len(tup) != len(atom.args):
                 continue
@@ -146,10 +162,31 @@ def _bindings(schema: Schema, index: dict[str, set[tuple[str, ...]]], objects: _
                 elif a != v:
                     break
             else:
-                rec(k + 1, nb)
+                yield nb
+
+    def rec(k: int, binding: dict[str, str]) -> None:
+        if k == len(atoms):
+            if not disjunction:
+                finish(binding)
+                return
+            for alt in disjunction:
+                for nb in matches(alt, binding):
+                    finish(nb)
+            return
+        for nb in matches(atoms[k], binding):
+            rec(k + 1, nb)
 
     rec(0, {})
     return out
+
+
+def _disjunction(schema: Schema, alternatives: list[tuple[Formula, ...]]) -> tuple[Atom, ...]:
+    """The first top-level disjunction of atoms each binding a variable the join atoms leave free."""
+    bound = {a for atom in schema.join for a in atom.args if is_variable(a)}
+    for alts in alternatives:
+        if all(isinstance(q, Atom) and any(is_variable(a) and a not in bound for a in q.args) for q in alts):
+            return alts  # type: ignore[return-value]
+    return ()
 
 
 def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem) -> float:
@@ -365,6 +402,8 @@ class _Compiled:
     alternatives: list[list[tuple[Formula, ...]]]
     narrow: list[list[tuple[Formula, tuple[str, ...]]]]
     parts: list[list[Part]]
+    disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see _bindings)
+    triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
@@ -410,7 +449,15 @@ def _compile(domain: Domain) -> _Compiled:
             for s in schemas
         ],
         [_parts(s) for s in schemas],
+        [],
+        [],
     )
+    for s, alts in zip(schemas, compiled.alternatives, strict=True):
+        disjunction = _disjunction(s, alts)
+        if disjunction:
+            alts.remove(disjunction)  # holds for every listed binding: no need to test it again
+        compiled.disjunctions.append(disjunction)
+        compiled.triggers.append(tuple(a.predicate for a in (*s.join, *disjunction)))
     _COMPILED.insert(0, (domain, compiled))
     del _COMPILED[_COMPILED_MAX:]
     return compiled
@@ -434,6 +481,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
         compiled.narrow,
         compiled.parts,
     )
+    disjunctions, triggers = compiled.disjunctions, compiled.triggers
     narrow_memo: dict[tuple, bool] = {}
     part_memo: dict[tuple, Formula] = {}
     cores: FormulaCache = {}
@@ -453,12 +501,12 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             names = [p.name for p in schema.all_params]
             # Bindings depend only on the join predicates' atoms: while those did not grow, only
             # the bindings that have not fired yet (and may now) are looked at again.
-            sizes = tuple(len(index.get(a.predicate, ())) for a in schema.join)
+            sizes = tuple(len(index.get(p, ())) for p in triggers[si])
             if sizes == join_sizes[si]:
                 candidates = unfired[si]
             else:
                 join_sizes[si] = sizes
-                candidates = _bindings(schema, index, objects)
+                candidates = _bindings(schema, index, objects, disjunctions[si])
             unfired[si] = still = []
             for binding in candidates:
                 key = (si, *(binding[n] for n in names))
