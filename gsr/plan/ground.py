@@ -31,9 +31,13 @@ from gsr.plan.precondition import FormulaCache, fast_dnf, id_dnf, relaxed, relax
 from gsr.plan.simplify import Simplifier, free_variables
 from gsr.plan.task import GroundOp, Task
 
-# (condition part, condition part, atom, is_delete): the condition is the union of the two parts,
-# kept apart so that a part shared by many actions (memoised instances) is interned once.
-GroundEffect = tuple[Conjunction, Conjunction, Atom, bool]
+# Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
+# a part takes effect under the union of base and inner. The parts list of a memoised effect group
+# is shared by every action with the same values of the variables it mentions (pick's cube counting
+# by ?from), so its atoms are grounded, and later interned, once for all of them.
+EffectPart = tuple[Conjunction, tuple[tuple[Atom, bool], ...]]
+EffectBlock = tuple[Conjunction, list[EffectPart]]
+EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
 EMPTY: Conjunction = frozenset()
 
 
@@ -47,7 +51,7 @@ class _Variant:
     binding: dict[str, str]
     schema: Schema
     need: Formula  # what the delete relaxation tests of ``pre`` (see relaxed_core)
-    effects: list[GroundEffect] | None = None
+    effects: list[EffectBlock] | None = None
     fired: bool = False
 
 
@@ -316,9 +320,9 @@ def _effects(
     simplify: Simplifier,
     reached: set[Atom],
     deferred: list[Deferred],
-    memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]],
+    memo: EffectMemo,
 ) -> None:
-    """Ground a fired action's effects into ``v.effects`` (see GroundEffect).
+    """Ground a fired action's effects into ``v.effects`` (see EffectBlock).
 
     A group whose binding-level condition needs an atom not reached yet (pick's cube counting
     ``(in ?o ?from)`` for an object on the table) is deferred: it is grounded once that atom is
@@ -343,8 +347,8 @@ def _ground_group(
     binding: dict[str, str],
     base: Conjunction | None,
     simplify: Simplifier,
-    effects: list[GroundEffect],
-    memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]] | None = None,
+    effects: list[EffectBlock],
+    memo: EffectMemo | None = None,
 ) -> None:
     """Append the ground effects of one effect group (``base``: its grounded binding-level literals).
 
@@ -355,9 +359,9 @@ def _ground_group(
     params, condition, guards, split, lits, _used = group
     if split is not None and base is not None and memo is not None:
         key = (id(group), *(binding.get(v, v) for v in group[5]))
-        parts = memo.get(key)
-        if parts is None:
-            parts = memo[key] = []
+        entry = memo.get(key)
+        if entry is None:
+            parts: list[EffectPart] = []
             instances = simplify.instances(params, guards, binding) if params else (binding,)
             for b in instances:
                 inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
@@ -368,13 +372,17 @@ def _ground_group(
                     for atom, is_del in lits
                 )
                 parts.append((inner, ground))
-        for inner, ground in parts:
-            if inner and any((a, not pos) in base for a, pos in inner):
-                continue
-            effects.extend((base, inner, atom, is_del) for atom, is_del in ground)
+            entry = memo[key] = (parts, frozenset(a for inner, _ in parts for a, _ in inner))
+        parts, inner_atoms = entry
+        if base and not inner_atoms.isdisjoint([a for a, _ in base]):
+            # Parts whose condition contradicts the base never fire: this action gets its own list.
+            parts = [(inner, g) for inner, g in parts if not any((a, not pos) in base for a, pos in inner)]
+        if parts:
+            effects.append((base, parts))
         return
     # Effect variables range only over objects satisfying the condition's static atoms.
     instances = simplify.instances(params, guards, binding) if params else (binding,)
+    own: list[EffectPart] = []
     for b in instances:
         if split is not None and base is not None:  # the common case: a conjunction of literals
             conj = simplify.ground_literals(split[1], b) if split[1] else base
@@ -387,9 +395,26 @@ def _ground_group(
             conjs: list[Conjunction] = [conj]
         else:
             conjs = to_dnf(simplify(condition, b))
-        for atom, is_del in lits:
-            ground = Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args)))
-            effects.extend((conj, EMPTY, ground, is_del) for conj in conjs)
+        ground = tuple(
+            (Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
+        )
+        own.extend((conj, ground) for conj in conjs)
+    if own:
+        effects.append((EMPTY, own))
+
+
+def _new_adds(
+    blocks: list[EffectBlock], reached: set[Atom], pending: list[tuple[tuple[Atom, ...], Atom]]
+) -> None:
+    """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
+    for base, parts in blocks:
+        outer: tuple[Atom, ...] | None = None
+        for inner, ground in parts:
+            for atom, is_del in ground:
+                if not is_del and atom not in reached:
+                    if outer is None:
+                        outer = tuple(a for a, pos in base if pos)
+                    pending.append((outer + tuple(a for a, pos in inner if pos), atom))
 
 
 @dataclass(frozen=True, slots=True)
@@ -491,7 +516,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     # only scans these, not every effect of every fired operator again.
     pending: list[tuple[tuple[Atom, ...], Atom]] = []
     deferred: list[Deferred] = []
-    effect_memo: dict[tuple, list[tuple[Conjunction, tuple[tuple[Atom, bool], ...]]]] = {}
+    effect_memo: EffectMemo = {}
     join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
     unfired: list[list[dict[str, str]]] = [[] for _ in schemas]
     changed = True
@@ -529,11 +554,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     v.fired = True
                     _effects(v, groups[si], simplify, reached, deferred, effect_memo)
                     fired.append(v)
-                    pending.extend(
-                        (tuple(a for c in cond for a, pos in c if pos), atom)
-                        for *cond, atom, is_del in v.effects
-                        if not is_del and atom not in reached
-                    )
+                    _new_adds(v.effects, reached, pending)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
@@ -542,11 +563,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 continue
             start = len(v.effects)
             _ground_group(group, binding, base, simplify, v.effects, effect_memo)
-            pending.extend(
-                (tuple(a for c in cond for a, pos in c if pos), atom)
-                for *cond, atom, is_del in v.effects[start:]
-                if not is_del and atom not in reached
-            )
+            _new_adds(v.effects[start:], reached, pending)
         deferred = blocked
         # Fire the add effects of reached operators whose (positive) conditions are reached.
         waiting = []
@@ -580,6 +597,25 @@ def _condition_ids(
     return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
 
 
+# An effect part over atom ids: (condition ids, whether the part has its own condition, add ids,
+# delete ids).
+_PartIds = tuple[tuple[tuple[int, ...], tuple[int, ...]], bool, tuple[int, ...], tuple[int, ...]]
+
+
+def _parts_ids(parts: list[EffectPart], ids: dict[Atom, int]) -> list[_PartIds]:
+    """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
+    out: list[_PartIds] = []
+    for inner, ground in parts:
+        r = _condition_ids(inner, ids)
+        if not r:
+            continue
+        adds = tuple(i for a, is_del in ground if not is_del and (i := ids.get(a)) is not None)
+        dels = tuple(i for a, is_del in ground if is_del and (i := ids.get(a)) is not None)
+        if adds or dels:
+            out.append((r, bool(inner), adds, dels))  # type: ignore[arg-type]
+    return out
+
+
 def _intern(
     domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
 ) -> Task:
@@ -590,6 +626,7 @@ def _intern(
     # every part is referenced from the fired actions, so ids stay unique).
     converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
     scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
+    parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds]]] = {}  # effect parts, by list
     for v in fired:
         disjuncts = fast_dnf(v.pre, ids, scanned)
         if disjuncts is None:
@@ -599,30 +636,27 @@ def _intern(
         # The variant's effects over atom ids, once for all its disjuncts, grouped by condition;
         # effects on never-reached atoms, or needing one, never matter.
         by_cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[list[int], list[int]]] = {}
-        last: tuple[Conjunction, Conjunction] | None = None
-        key: tuple[tuple[int, ...], tuple[int, ...]] | None = None
-        for base, rest, atom, is_del in v.effects or ():
-            aid = ids.get(atom)
-            if aid is None:
-                continue
-            if last is None or base is not last[0] or rest is not last[1]:
-                # The atoms of one grouped effect share their condition objects.
-                last, key = (base, rest), None
-                b = converted.get(id(base))
-                if b is None:
-                    b = converted[id(base)] = _condition_ids(base, ids)
-                r = converted.get(id(rest))
-                if r is None:
-                    r = converted[id(rest)] = _condition_ids(rest, ids)
-                if b and r:
-                    if not rest:
-                        key = b
-                    elif not base:
-                        key = r
-                    else:
-                        key = (tuple(sorted({*b[0], *r[0]})), tuple(sorted({*b[1], *r[1]})))
-            if key:
-                by_cond.setdefault(key, ([], []))[is_del].append(aid)
+        for base, parts in v.effects or ():
+            b = converted.get(id(base))
+            if b is None:
+                b = converted[id(base)] = _condition_ids(base, ids)
+            if not b:
+                continue  # needs an atom never reached
+            hit = parts_ids.get(id(parts))
+            if hit is None:
+                hit = parts_ids[id(parts)] = (parts, _parts_ids(parts, ids))
+            for r, has_inner, adds, dels in hit[1]:
+                if not has_inner:
+                    key = b
+                elif not base:
+                    key = r
+                else:
+                    key = (tuple(sorted({*b[0], *r[0]})), tuple(sorted({*b[1], *r[1]})))
+                entry = by_cond.get(key)
+                if entry is None:
+                    entry = by_cond[key] = ([], [])
+                entry[0].extend(adds)
+                entry[1].extend(dels)
         for disjunct in disjuncts:
             pre = tuple(sorted(x for x in disjunct if x >= 0))
             neg = tuple(sorted(~x for x in disjunct if x < 0))
