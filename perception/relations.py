@@ -52,11 +52,19 @@ def bottom_z(inst: Instance) -> float:
 
 
 def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
-    """Share of A's points inside B's upright box (grown upward by the rim allowance)."""
+    """How much of A lies inside B's upright box (grown upward by the rim allowance), in [0, 1].
+
+    The larger of two measures: the share of A's points inside, and A's share over B's footprint times
+    the share of A's height span inside B's z range. Cameras see mostly the top of a tall object whose
+    lower part B's walls hide (a bottle in a basket), so counting points undercounts; the span does not."""
     pts = a.points
+    lo, hi = b.aabb_min[2] - 0.01, b.aabb_max[2] + th.in_rim
     inside_xy = b.footprint_contains(pts[:, :2], margin=0.005)
-    inside_z = (pts[:, 2] >= b.aabb_min[2] - 0.01) & (pts[:, 2] <= b.aabb_max[2] + th.in_rim)
-    return float(np.mean(inside_xy & inside_z))
+    inside_z = (pts[:, 2] >= lo) & (pts[:, 2] <= hi)
+    by_points = float(np.mean(inside_xy & inside_z))
+    bottom, top = bottom_z(a), float(np.percentile(pts[:, 2], 98.0))
+    span_inside = max(0.0, min(top, hi) - max(bottom, lo)) / max(top - bottom, 1e-3)
+    return max(by_points, float(np.mean(inside_xy)) * span_inside)
 
 
 def surface_under(a: Instance, b: Instance, a_bottom: float, th: RelationThresholds) -> float | None:
@@ -120,8 +128,11 @@ def supports(
             below.append((top, g.key))
             if abs(a_bottom - top) <= th.on_gap:
                 strict.append((top, g.key))
-        # fallback for noise: the highest surface under A, unless A floats clearly above it (held by the robot)
-        near = [b for b in below if a_bottom - b[0] <= th.max_support_gap]
+        # fallback for noise: the highest surface under A, unless A floats clearly above it (held by the
+        # robot). Furniture cannot float: a fixture seen only from above (a cabinet's top) rests on the
+        # highest surface under it however high its visible bottom is.
+        fixed = "movable" not in affordances(a.label.category)
+        near = [b for b in below if fixed or a_bottom - b[0] <= th.max_support_gap]
         pick = max(strict) if strict else (max(near) if near else None)
         if pick is not None:
             out[a.key] = ("on", pick[1])

@@ -101,3 +101,45 @@ def test_adjacent_and_directions_follow_the_robot_frame():
     turned = np.diag([-1.0, -1.0, 1.0, 1.0])
     rel_turned = set(descriptive_relations(insts, sup, TH, turned))
     assert ("l", "right_of", "a") in rel_turned and ("a", "behind", "f") in rel_turned
+
+
+def _top_heavy(inst: Instance, below_z: float) -> Instance:
+    """Keep all points above ``below_z`` but only every 10th below: walls hide a tall object's lower part."""
+    keep = (inst.points[:, 2] >= below_z) | (np.arange(len(inst.points)) % 10 == 0)
+    out = Instance(inst.key, inst.label, inst.points[keep], inst.rgb[keep])
+    fit_boxes(out)
+    return out
+
+
+def test_tall_object_mostly_seen_above_the_rim_is_in_the_basket():
+    t = table()
+    basket = box_cloud("basket", "basket", (0.5, 0.0, 0.05), (0.1, 0.08, 0.05), top=False)
+    # a 14 cm bottle standing in a 10 cm basket, its lower part mostly hidden by the walls
+    bottle = _top_heavy(box_cloud("bottle", "bottle", (0.5, 0.0, 0.075), (0.025, 0.025, 0.07)), 0.09)
+    by_points = float(
+        np.mean(
+            basket.footprint_contains(bottle.points[:, :2], margin=0.005)
+            & (bottle.points[:, 2] <= basket.aabb_max[2] + TH.in_rim)
+        )
+    )
+    assert by_points < TH.in_ratio  # counting points alone would call it "on"
+    assert in_ratio(bottle, basket, TH) >= TH.in_ratio  # most of its height span is inside
+    sup = supports([t, basket, bottle], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["bottle"] == ("in", "basket")
+    beside = box_cloud("b2", "bottle", (0.5, 0.2, 0.065), (0.025, 0.025, 0.065))
+    assert in_ratio(beside, basket, TH) == 0.0  # outside the footprint: not in, however tall
+
+
+def test_furniture_seen_only_from_above_rests_on_the_table():
+    t = table()
+    # only the top face of a 32 cm cabinet is visible (a top camera): its visible bottom is 32 cm up
+    top = box_cloud("cab", "cabinet", (0.5, 0.0, 0.16), (0.15, 0.15, 0.16))
+    top_only = top.points[top.points[:, 2] > 0.319]
+    cab = Instance("cab", top.label, top_only, np.zeros((len(top_only), 3), np.uint8))
+    fit_boxes(cab)
+    sup = supports([t, cab], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["cab"] == ("on", "table")  # furniture cannot float
+    # the same surface as a movable object (held high by the robot) rests on nothing
+    bowl = Instance("bowl", InstanceLabel(id="bowl", category="bowl"), top_only, cab.rgb)
+    fit_boxes(bowl)
+    assert "bowl" not in supports([t, bowl], np.array([0, 0, 1.0, 0]), TH)
