@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 from gsr.errors import GSRError
@@ -116,11 +116,29 @@ class _TypedObjects:
         return obj in self.sets[types]
 
 
+# Reached and initial atoms by (predicate, argument position, value): a join atom with a bound
+# argument scans only the atoms with that value there (pick's ``(on ?o ?from)`` once ``?o`` is bound).
+ArgIndex = dict[tuple[str, int, str], list[tuple[str, ...]]]
+
+
+def _index_atom(index: dict[str, set[tuple[str, ...]]], by_arg: ArgIndex, atom: Atom) -> None:
+    """Add a new atom to both indexes."""
+    index.setdefault(atom.predicate, set()).add(atom.args)
+    for k, v in enumerate(atom.args):
+        key = (atom.predicate, k, v)
+        found = by_arg.get(key)
+        if found is None:
+            by_arg[key] = [atom.args]
+        else:
+            found.append(atom.args)
+
+
 def _bindings(
     schema: Schema,
     index: dict[str, set[tuple[str, ...]]],
     objects: _TypedObjects,
     disjunction: tuple[Atom, ...] = (),
+    by_arg: ArgIndex | None = None,
 ) -> list[dict]:
     """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed.
 
@@ -147,7 +165,16 @@ def _bindings(
             out.append(full)
 
     def matches(atom: Atom, binding: dict[str, str]) -> Iterator[dict[str, str]]:
-        for tup in index.get(atom.predicate, ()):
+        tuples: Iterable[tuple[str, ...]] | None = None
+        if by_arg is not None:
+            for k, a in enumerate(atom.args):
+                v = binding.get(a) if is_variable(a) else a
+                if v is not None:
+                    tuples = by_arg.get((atom.predicate, k, v), ())
+                    break
+        if tuples is None:
+            tuples = index.get(atom.predicate, ())
+        for tup in tuples:
             if len(tup) != len(atom.args):
                 continue
             nb = binding
@@ -498,8 +525,9 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
 
     reached: set[Atom] = set(init)
     index: dict[str, set[tuple[str, ...]]] = {}
+    by_arg: ArgIndex = {}
     for a in init:
-        index.setdefault(a.predicate, set()).add(a.args)
+        _index_atom(index, by_arg, a)
     groups, alternatives, narrow, parts = (
         compiled.groups,
         compiled.alternatives,
@@ -531,7 +559,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 candidates = unfired[si]
             else:
                 join_sizes[si] = sizes
-                candidates = _bindings(schema, index, objects, disjunctions[si])
+                candidates = _bindings(schema, index, objects, disjunctions[si], by_arg)
             unfired[si] = still = []
             for binding in candidates:
                 key = (si, *(binding[n] for n in names))
@@ -572,7 +600,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 continue
             if all(a in reached for a in cond):
                 reached.add(atom)
-                index.setdefault(atom.predicate, set()).add(atom.args)
+                _index_atom(index, by_arg, atom)
                 changed = True
             else:
                 waiting.append((cond, atom))
