@@ -13,8 +13,10 @@ from gsr.pddl.model import (
     And,
     Atom,
     Domain,
+    Equals,
     Formula,
     Increase,
+    Not,
     Or,
     Problem,
     TypedVar,
@@ -243,16 +245,34 @@ def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem
     return total
 
 
-Part = tuple[Formula, tuple[str, ...] | None]  # a precondition conjunct; its free variables if fewer
+# A precondition conjunct, its free variables if fewer than the action's (memo key), and its kind:
+# the common shapes are grounded directly instead of through the Simplifier.
+Part = tuple[Formula, tuple[str, ...] | None, int]
+_GENERIC, _SKIP, _FLUENT, _NOT_FLUENT, _DISTINCT = range(5)
 
 
-def _parts(schema: Schema) -> list[Part]:
-    """The precondition conjuncts; those over fewer variables than the action carry them (memo key)."""
+def _part_kind(part: Formula, join: bool, fluent: set[str]) -> int:
+    """How ``_variant`` grounds one conjunct (see Part)."""
+    if isinstance(part, Atom):
+        if part.predicate in fluent:
+            return _FLUENT
+        # A static join atom holds for every listed binding: the join matched it in the initial state.
+        return _SKIP if join else _GENERIC
+    if isinstance(part, Not) and isinstance(part.formula, Atom) and part.formula.predicate in fluent:
+        return _NOT_FLUENT
+    if isinstance(part, Not) and isinstance(part.formula, Equals):
+        return _DISTINCT
+    return _GENERIC
+
+
+def _parts(schema: Schema, fluent: set[str]) -> list[Part]:
+    """The precondition conjuncts with their memo keys and kinds (see Part)."""
     n = len(schema.all_params)
     out: list[Part] = []
-    for part in (*schema.join, *_conjuncts(schema.residual)):
+    for k, part in enumerate((*schema.join, *_conjuncts(schema.residual))):
         free = free_variables(part)
-        out.append((part, tuple(sorted(free)) if len(free) < n and not isinstance(part, Atom) else None))
+        memo = tuple(sorted(free)) if len(free) < n and not isinstance(part, Atom) else None
+        out.append((part, memo, _part_kind(part, k < len(schema.join), fluent)))
     return out
 
 
@@ -271,7 +291,27 @@ def _variant(
     place_in) are simplified once per value of their variables.
     """
     kept: list[Formula] = []
-    for k, (part, free) in enumerate(parts):
+    core: list[Formula] = []  # the relaxed core of each kept conjunct (see relaxed_core)
+    for k, (part, free, kind) in enumerate(parts):
+        if kind == _FLUENT:
+            g = Atom(part.predicate, tuple(map(binding.get, part.args, part.args)))  # type: ignore[union-attr]
+            kept.append(g)
+            core.append(g)
+            continue
+        if kind == _NOT_FLUENT:
+            a = part.formula  # type: ignore[union-attr]
+            kept.append(Not(Atom(a.predicate, tuple(map(binding.get, a.args, a.args)))))
+            continue
+        if kind == _DISTINCT:
+            eq = part.formula  # type: ignore[union-attr]
+            left, right = binding.get(eq.left, eq.left), binding.get(eq.right, eq.right)
+            if left.startswith("?") or right.startswith("?"):
+                raise GSRError(f"free variable in equality ({left} = {right})")
+            if left == right:
+                return None
+            continue
+        if kind == _SKIP:
+            continue
         if free is None:
             g = simplify(part, binding)
         else:
@@ -283,9 +323,13 @@ def _variant(
             return None
         if g is not TRUE:
             kept.append(g)
+            c = relaxed_core(g, cores)
+            if c is not TRUE:
+                core.append(c)
     pre = Simplifier.combine(True, kept)
+    need = Simplifier.combine(True, core)
     args = tuple(binding[p.name] for p in schema.params)
-    return _Variant(schema.name, args, pre, binding, schema, relaxed_core(pre, cores))
+    return _Variant(schema.name, args, pre, binding, schema, need)
 
 
 Literals = tuple[tuple[Atom, bool], ...]
@@ -500,7 +544,7 @@ def _compile(domain: Domain) -> _Compiled:
             ]
             for s in schemas
         ],
-        [_parts(s) for s in schemas],
+        [_parts(s, fluent) for s in schemas],
         [],
         [],
     )
