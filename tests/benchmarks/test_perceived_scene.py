@@ -127,3 +127,40 @@ def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
     diagnosis = check_step(domain, state_from_graph(graph, domain), Step(action="turn_on", args=("stove",)))
     assert diagnosis.ok, diagnosis.message
     assert contradicted_effects(diagnosis, graph, domain) == []  # turned_on is not camera-observable
+
+
+@pytest.mark.physics
+def test_perceived_scene_in_a_real_world(shared_data) -> None:
+    """Held from the gripper, regions from the map, a bowl in a closed drawer remembered."""
+    pytest.importorskip("open3d")
+    from benchmarks.perceived_scene import PerceivedScene
+    from benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.step import Step
+    from skills import build_world, run_step
+
+    task = task_from_bddl(
+        shared_data
+        / "libero"
+        / "libero_10"
+        / "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
+    )
+    world = build_world(task, seed=0)
+    try:
+        scene = PerceivedScene(world)
+        first = scene.observe()
+        assert first.metadata["source"] == "perception" and scene.last_rgb is not None
+        bowl, drawer = "akita_black_bowl_1", "white_cabinet_1/bottom_drawer"
+        support = next(e.target for e in first.edges if e.source == bowl and e.relation == "on")
+        assert run_step(world, Step("pick", (bowl, support))).ok
+        held = scene.observe()
+        assert "held" in held.node(bowl).states
+        assert not [e for e in held.edges if e.source == bowl and e.relation in ("on", "in")]
+        assert run_step(world, Step("place_in", (bowl, drawer))).ok
+        assert ("akita_black_bowl_1", "in", drawer) in {e.key() for e in scene.observe().edges}
+        assert run_step(world, Step("close", (drawer,))).ok
+        closed = scene.observe()
+        assert closed.node(bowl).attributes["observed"] is False  # hidden by the closed drawer
+        assert (bowl, "in", drawer) in {e.key() for e in closed.edges}
+        assert bowl not in observed_ids(closed) and scene.observations == 4
+    finally:
+        world.close()
