@@ -112,3 +112,36 @@ def test_missing_file_and_float_masks(frame_files, tmp_path):
 def test_perceive_eval_rejects_bad_options():
     res = _gsr("perceive-eval", "--scenes", "0")
     assert res.returncode == 1 and "--scenes" in res.stderr
+
+
+@pytest.mark.physics
+@pytest.mark.parametrize("flag", ["--perceive", "--no-perceive"])
+def test_demo_perceive_flag(flag, tmp_path, shared_data) -> None:
+    import json
+
+    res = _gsr("demo", flag, "--out", str(tmp_path / "demo"))
+    assert res.returncode == 0, res.stdout + res.stderr
+    summary = json.loads((tmp_path / "demo" / "summary.json").read_text())
+    assert summary["verified"] and summary["perceived"] is (flag == "--perceive")
+    assert ("perceive RGB-D" in res.stdout) is (flag == "--perceive")
+
+
+@pytest.mark.physics
+def test_bench_run_physical_perceive_writes_frames(tmp_path, shared_data) -> None:
+    import json
+
+    tasks = shared_data / "libero" / "libero_goal"
+    out = tmp_path / "run"
+    res = _gsr(
+        "bench", "run", "libero", "--source", str(tasks), "--physical", "--perceive", "--limit", "1",
+        "--out", str(out),
+    )  # fmt: skip
+    doc = json.loads((out / "results.json").read_text())
+    assert res.returncode == (0 if doc["success_rate"] == 1.0 else 1)
+    row = doc["tasks"][0]
+    assert doc["perceive"] and row["perceived_success"] is not None and len(row["frames"]) >= 2
+    assert all((out / p).is_file() for p in row["frames"])
+    assert row["frames"][0] in (out / "report.md").read_text()
+    bad = _gsr("bench", "run", "libero", "--source", str(tasks), "--perceive", "--limit", "1")
+    assert bad.returncode != 0 and "--perceive needs --physical" in bad.stdout + bad.stderr
+    assert "Traceback" not in bad.stderr
