@@ -85,6 +85,9 @@ class Interpreter:
             dest = self.dest(next(c for c in trees if c.data.startswith("dest_")), placed)
             self.intents.append(Intent("place", placed, dest))
             return
+        if kind == "state_cmd":
+            self.state(trees)
+            return
         verb = {
             "place_cmd": "place",
             "push_cmd": "place",
@@ -113,13 +116,37 @@ class Interpreter:
         dest = self.dest(dest_tree, objs) if dest_tree is not None else None
         for ref in objs:
             self._check_affordance(verb, ref)
-        self.intents.append(Intent(verb, objs, dest))
+        stated = _tok_cls(t.children[0]) == "LEAVE"  # "leave the drawer open": the end state is the goal
+        self.intents.append(Intent(verb, objs, dest, stated=stated))
         for gap in (c for c in trees if c.data == "gapped"):  # the verb is elided: same verb, new objects
             parts = [c for c in gap.children if isinstance(c, Tree) and c.data != "comma"]
             gap_objs = self.objects(parts[0], need)
             for ref in gap_objs:
                 self._check_affordance(verb, ref)
             self.intents.append(Intent(verb, gap_objs, self.dest(parts[1], gap_objs)))
+
+    def state(self, trees: list[Tree]) -> None:
+        """``make sure X ends up in Y`` / ``X should be closed``: the stated end state as a goal."""
+        objs_tree = next(c for c in trees if c.data in ("objects", "both_list", "np_list"))
+        st = next(c for c in trees if c.data in ("state_place", "state_flag"))
+        if st.data == "state_place":
+            objs = self.objects(objs_tree, "movable")
+            for ref in objs:
+                self._check_affordance("place", ref)
+            dest = self.dest(next(c for c in st.children if isinstance(c, Tree)), objs)
+            self.intents.append(Intent("place", objs, dest))
+            return
+        classes = [_tok_cls(x) for x in st.children]
+        if "ON" in classes or "OFF" in classes:
+            verb = "turn_on" if ("ON" in classes) != ("NOT" in classes) else "turn_off"
+        else:
+            opened = bool({"OPEN", "OPENED"} & set(classes))
+            verb = "open" if opened != ("NOT" in classes) else "close"
+        need = "switchable" if verb.startswith("turn") else "openable"
+        objs = self.objects(objs_tree, need)
+        for ref in objs:
+            self._check_affordance(verb, ref)
+        self.intents.append(Intent(verb, objs, None, stated=True))
 
     def _check_affordance(self, verb: str, ref: Ref) -> None:
         need = {
@@ -192,7 +219,10 @@ class Interpreter:
         """All matches of a description (for owners and relation targets, which only filter)."""
         ids: list[str] = []
         for category, _ in d.heads:
-            ids.extend(e.id for e in self.resolver.candidates(d, category) if e.id not in ids)
+            found = self.resolver.candidates(d, category)
+            if not d.plural and len(found) > 1:  # "on top of the crate": the crate, if the words say which
+                found = self.resolver.best_named(found, d, category)
+            ids.extend(e.id for e in found if e.id not in ids)
         if d.entity:
             ids = [d.entity]
         if not ids:
@@ -235,6 +265,10 @@ class Interpreter:
                 tok = _tok(c)
                 if tok.cls == "ONE":
                     d.heads.append(("thing", tok.plural))
+                elif tok.cls == "COLORNOUN":  # "the orange": the noun, not the colour
+                    d.heads.append((tok.value, tok.plural))
+                    if not tok.plural:
+                        d.head_words[tok.value] = tok.text
                 elif tok.cls == "NAME":  # a name word as the head: any node with that word
                     d.names.append(tok.value)
                     d.heads.append(("*", tok.plural or tok.value in MASS_NOUNS))
@@ -250,10 +284,14 @@ class Interpreter:
                     tok = _tok(h)
                     if tok.cls == "NOUN":
                         d.heads.append((tok.value, tok.plural))
+                        if not tok.plural:
+                            d.head_words[tok.value] = tok.text
                     elif tok.cls == "ENTITY":
                         d.entity = tok.value
             elif c.data == "part_of":
                 d.owner = self.target(c.children[-1])
+            elif c.data == "called":  # "the cube called red_cube_3": the node, if it is what the head says
+                d.entity = _tok(c.children[-1]).value
             elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
                 d.names.append(_tok(c.children[-1]).text)
             elif c.data == "same_color":
@@ -268,13 +306,15 @@ class Interpreter:
 
     def _premod(self, c: Tree | Token, d: Description) -> None:
         if isinstance(c, Tree) and c.data == "colors":
-            d.colors.extend(_tok(x).value for x in c.children if _tok(x).cls == "COLOR")
+            d.colors.extend(_tok(x).value for x in c.children if _tok(x).cls in ("COLOR", "COLORNOUN"))
         elif isinstance(c, Tree) and c.data == "noun_mod":
             d.noun_mods.append(_tok(c.children[0]).value)
         else:
             tok = _tok(c)
             if tok.cls in ("POS", "SIDE"):
                 d.positions.append(tok.text)
+            elif tok.cls == "SIZE":
+                d.sizes.append(tok.text)
             elif tok.cls in ("OPENED", "CLOSED"):
                 d.states.append("open" if tok.cls == "OPENED" else "closed")
             else:

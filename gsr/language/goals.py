@@ -1,7 +1,8 @@
 """Intents -> one PDDL goal formula: placements, quantifiers, colour pairings, assignments, towers.
 
 Two readings of the whole instruction are applied here: opening a container that a later clause puts
-something into is the means, not a goal, and picking up an object that a later clause places is only
+something into is the means, not a goal (unless the open state is said as an end state: "make sure
+the drawer is open", "leave it open"), and picking up an object that a later clause places is only
 a step. See docs/language.md for the encodings.
 """
 
@@ -28,7 +29,7 @@ def goal_formula(intents: list[Intent], resolver: Resolver, types: dict[str, str
         later_into = {i.dest.target for i in later if i.verb == "place" and i.dest and i.dest.kind == "at"}
         ids = [x for r in intent.objects for x in r.ids]
         if intent.verb == "open":
-            parts.extend(Atom("open", (x,)) for x in ids if x not in later_into)
+            parts.extend(Atom("open", (x,)) for x in ids if intent.stated or x not in later_into)
         elif intent.verb == "close":
             parts.extend(Not(Atom("open", (x,))) for x in ids)
         elif intent.verb == "turn_on":

@@ -25,3 +25,4 @@ class Intent:
     verb: str
     objects: list[Ref]
     dest: Dest | None = None
+    stated: bool = False  # an end state said as such ("make sure X is open", "leave X open"): never a means

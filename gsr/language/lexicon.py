@@ -13,217 +13,29 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from gsr.categories import ancestors, canonical, categories, category_of, get_category, is_part_category
+from gsr.categories import (
+    ancestors,
+    canonical,
+    categories,
+    category_of,
+    get_category,
+    is_category,
+    is_part_category,
+)
 from gsr.facts import node_affordances, node_colors
+from gsr.language.words import DRAWER_WORDS, FILLER, FUNCTION_WORDS, POSITION_SYNONYMS
 from gsr.scene_graph import Node, SceneGraph
 
-#: Function words: word -> (token class, value). Multi-word entries are matched before single words.
-FUNCTION_WORDS: dict[str, str] = {
-    # verbs
-    "put": "PLACE",
-    "place": "PLACE",
-    "move": "PLACE",
-    "set": "PLACE",
-    "drop": "PLACE",
-    "insert": "PLACE",
-    "transfer": "PLACE",
-    "bring": "PLACE",
-    "store": "PLACE",
-    "stow": "PLACE",
-    "load": "PLACE",
-    "position": "PLACE",
-    "relocate": "PLACE",
-    "sort": "PLACE",
-    "lay": "PLACE",
-    "stack": "STACK",
-    "empty": "EMPTY",
-    "unload": "EMPTY",
-    "unstack": "PLACE",
-    "pick": "PICK",
-    "grab": "PICK",
-    "take": "PICK",
-    "lift": "PICK",
-    "grasp": "PICK",
-    "get": "PICK",
-    "fetch": "PICK",
-    "retrieve": "PICK",
-    "open": "OPEN",
-    "opened": "OPEN",
-    "closed": "CLOSED",
-    "close": "CLOSE",
-    "shut": "CLOSE",
-    "turn": "TURN",
-    "switch": "TURN",
-    "activate": "ACTIVATE",
-    "ignite": "ACTIVATE",
-    "deactivate": "DEACTIVATE",
-    "push": "PUSH",
-    "slide": "PUSH",
-    "shove": "PUSH",
-    "press": "PRESS",
-    # particles and prepositions
-    "up": "UP",
-    "out": "OUT",
-    "on": "ON",
-    "onto": "ON",
-    "upon": "ON",
-    "on to": "ON",
-    "off": "OFF",
-    "in": "IN",
-    "into": "IN",
-    "within": "IN",
-    "in to": "IN",
-    "inside of": "IN",
-    "inside": "INSIDE",
-    "to": "TO",
-    "towards": "TO",
-    "toward": "TO",
-    "of": "OF",
-    "from": "FROM",
-    "out of": "FROM",
-    "off of": "FROM",
-    "between": "BETWEEN",
-    "near": "NEAR",
-    "beside": "NEAR",
-    "next to": "NEAR",
-    "close to": "NEAR",
-    "adjacent to": "NEAR",
-    "nearby": "NEAR",
-    "by the side of": "NEAR",
-    "at": "AT",
-    "with": "WITH",
-    "behind": "BEHIND",
-    "under": "UNDER",
-    "underneath": "UNDER",
-    "beneath": "UNDER",
-    "below": "UNDER",
-    "per": "PER",
-    "by": "BY",
-    "as": "AS",
-    # determiners, quantifiers, pronouns
-    "the": "DET",
-    "a": "DET",
-    "an": "DET",
-    "some": "DET",
-    "their": "POSS",
-    "its": "POSS",
-    "all": "ALL",
-    "every": "ALL",
-    "each": "EACH",
-    "both": "BOTH",
-    "it": "IT",
-    "them": "THEM",
-    "this": "THIS",
-    "that": "THAT",
-    "which": "THAT",
-    "who": "THAT",
-    "is": "BE",
-    "are": "BE",
-    "has": "BE",
-    "have": "BE",
-    "sits": "BE",
-    "sit": "BE",
-    "lies": "BE",
-    "one": "ONE",
-    "ones": "ONE",
-    # colour-matching words
-    "same": "SAME",
-    "color": "COLORWORD",
-    "colour": "COLORWORD",
-    "colors": "COLORWORD",
-    "colours": "COLORWORD",
-    "corresponding": "CORRESPONDING",
-    "matching": "CORRESPONDING",
-    "respective": "CORRESPONDING",
-    "colored": "COLORED",
-    "coloured": "COLORED",
-    "color-coded": "COLORED",
-    "different": "DIFFERENT",
-    "separate": "DIFFERENT",
-    "distinct": "DIFFERENT",
-    # connectives
-    "and": "AND",
-    "then": "THEN",
-    "also": "ALSO",
-    "as well as": "AND",
-    "and then": "THEN",
-    "afterwards": "THEN",
-    "after that": "THEN",
-    ",": "COMMA",
-    ";": "COMMA",
-    ".": "PERIOD",
-    # sides and positions
-    "leftmost": "SIDE",
-    "rightmost": "SIDE",
-    "left": "SIDE",
-    "right": "SIDE",
-    "top": "POS",
-    "bottom": "POS",
-    "middle": "POS",
-    "upper": "POS",
-    "lower": "POS",
-    "uppermost": "POS",
-    "lowest": "POS",
-    "highest": "POS",
-    "topmost": "POS",
-    "high": "POS",
-    "low": "POS",
-    "mid": "POS",
-    "front": "POS",
-    "back": "POS",
-    "rear": "POS",
-    "center": "POS",
-    "centre": "POS",
-    "side": "POS",
-    "corner": "POS",
-    "edge": "POS",
-    "first": "POS",
-    "second": "POS",
-    "third": "POS",
-}
-#: Words dropped before parsing: politeness and adverbs that do not change the goal.
-FILLER = frozenset(
-    {
-        "please",
-        "carefully",
-        "gently",
-        "now",
-        "too",
-        "kindly",
-        "robot",
-        "then,",
-        "again",
-        "just",
-        "quickly",
-        "slowly",
-        "you",
-        "can",
-        "could",
-        "would",
-        "will",
-    }
-)
-#: Normalised position words: each maps to a canonical word matched against node descriptions.
-POSITION_SYNONYMS: dict[str, str] = {
-    "upper": "top",
-    "uppermost": "top",
-    "highest": "top",
-    "topmost": "top",
-    "high": "top",
-    "third": "top",
-    "lower": "bottom",
-    "lowest": "bottom",
-    "low": "bottom",
-    "first": "bottom",
-    "mid": "middle",
-    "leftmost": "left",
-    "rightmost": "right",
-    "second": "middle",
-    "centre": "center",
-    "rear": "back",
-}
-#: Extra nouns for drawers: "the top layer of the cabinet", "different drawer layers".
-DRAWER_WORDS = ("layer", "level", "tier", "drawer")
+__all__ = [
+    "DRAWER_WORDS",
+    "FILLER",
+    "FUNCTION_WORDS",
+    "POSITION_SYNONYMS",
+    "Entity",
+    "Lexicon",
+    "build_lexicon",
+]
+
 _LEVEL_NAMES = {0: ("bottom",), 1: ("middle",), 2: ("top",)}
 _WORD = re.compile(r"[a-z]+")
 
@@ -242,6 +54,8 @@ class Entity:
     parent: str | None
     affordances: frozenset[str]
     is_part: bool
+    own_words: frozenset[str] = frozenset()  # words of the node's own id, asset and material only
+    extent: tuple[float, float, float] | None = None  # bounding-box size (x, y, z), when the graph has one
 
 
 @dataclass(slots=True)
@@ -296,6 +110,14 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
     asset = node.attributes.get("asset")
     if isinstance(asset, str):
         words |= _name_words(asset)
+    material = node.attributes.get("material")
+    if isinstance(material, str):  # "the wooden box", "the plastic crate"
+        words |= _name_words(material)
+    own = frozenset(words)
+    raw = node.category.lower()
+    unregistered = raw != cat and not is_category(raw)
+    if unregistered:  # a category the registry does not know ("orange", "toy_car"): its own words name it
+        words |= set(raw.split("_"))
     for c in (cat, *get_category(cat).synonyms):
         words |= set(c.split("_"))
     region = node.attributes.get("region")
@@ -310,7 +132,7 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
         words |= set(DRAWER_WORDS)
     if cat == "cabinet_top":
         positions.add("top")
-    kinds = {cat, *ancestors(cat)}
+    kinds = {cat, *ancestors(cat)} | ({raw} if unregistered else set())
     affs = node_affordances(node)
     if "box" in kinds and "openable" in affs:  # GSR-Bench ``red_lid_box``: a box with a lid is a lidded box
         kinds.add("lidded_box")
@@ -326,7 +148,16 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
         parent=node.parent,
         affordances=affs,
         is_part=node.parent is not None or is_part_category(cat),
+        own_words=own,
+        extent=_extent(node),
     )
+
+
+def _extent(node: Node) -> tuple[float, float, float] | None:
+    if node.bbox is None:
+        return None
+    lo, hi = node.bbox.min.as_tuple(), node.bbox.max.as_tuple()
+    return (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
 
 
 def build_lexicon(graph: SceneGraph) -> Lexicon:
@@ -362,6 +193,12 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
         ("cookies boxes", "cookie_box#pl"),
     ):
         add(tuple(extra.split()), "NOUN", cat, override=True)
+    # categories the registry does not know, named by the graph's nodes ("the orange", "the toy car")
+    raw_nouns = {c for e in entities.values() for c in e.kinds if not is_category(c)}
+    for raw in raw_nouns:
+        words = tuple(raw.split("_"))
+        add(words, "NOUN", raw)
+        add((*words[:-1], _plural(words[-1])), "NOUN", raw + "#pl")
     # colours
     from gsr.categories import _COLOR_SYNONYMS, COLORS
 
@@ -372,6 +209,10 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
     # function words win over everything single-word except multi-word nouns ("orange juice" stays a noun)
     for phrase, cls in FUNCTION_WORDS.items():
         add(tuple(phrase.split()), cls, phrase, override=True)
+    # a word that is both a colour and a noun of this scene ("the orange" fruit, "the orange cube")
+    for raw in raw_nouns:
+        if (raw,) in phrases and phrases[(raw,)][0] == "COLOR":
+            phrases[(raw,)] = ("COLORNOUN", raw)
     max_phrase = max(len(k) for k in phrases)
     return Lexicon(entities=entities, phrases=phrases, max_phrase=max_phrase)
 

@@ -17,7 +17,20 @@ from gsr.language.lexicon import FILLER, Lexicon
 _PUNCT = re.compile(r"[—–;:!?]")
 _SPLIT = re.compile(r"\s+|(?=[,.])|(?<=[,.])")
 #: Classes after which "switch" is a verb ("switch on the lamp"), elsewhere the noun ("press the switch").
-_CLAUSE_START = {None, "AND", "THEN", "COMMA", "ALSO"}
+_CLAUSE_START = {None, "AND", "THEN", "COMMA", "ALSO", "PERIOD", "OPENER", "FIRST"}
+#: Contractions written out before splitting ("don't forget to" -> "do not forget to").
+_CONTRACTIONS = (
+    (re.compile(r"\bcan't\b"), "can not"),
+    (re.compile(r"\bwon't\b"), "will not"),
+    (re.compile(r"\blet's\b"), "let us"),
+    (re.compile(r"n't\b"), " not"),
+    (re.compile(r"'d\b"), " would"),
+    (re.compile(r"'ll\b"), " will"),
+    (re.compile(r"'re\b"), " are"),
+    (re.compile(r"\bi'm\b"), "i am"),
+)
+#: Ordinals that, at the start of a clause, order the clauses ("First, open the drawer") rather than objects.
+_SEQUENCE_ORDINALS = frozenset({"first"})
 #: Classes after which "open" is the adjective (the state), not the verb.
 _ADJECTIVE_CONTEXT = {
     "DET",
@@ -74,7 +87,10 @@ def _singular(word: str) -> list[str]:
 
 def tokenize(text: str, lex: Lexicon) -> list[Tok]:
     """Word-class tokens of an instruction; GroundingError naming every unknown word."""
-    clean = _PUNCT.sub(" , ", text.strip().lower()).replace("'s ", " ")
+    clean = text.strip().lower().replace("\u2019", "'")
+    for pattern, full in _CONTRACTIONS:
+        clean = pattern.sub(full, clean)
+    clean = _PUNCT.sub(" , ", clean).replace("'s ", " ")
     raws = [r for r in _SPLIT.split(clean) if r and r.strip()]
     words: list[tuple[str, str | None]] = []  # (word, entity id if the raw token named a node)
     for raw in raws:
@@ -95,7 +111,6 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
             words.append((raw, None))
         else:
             words.extend((w, None) for w in raw.split("-") if w)
-    words = [(w, e) for w, e in words if e is not None or w not in FILLER]
     toks: list[Tok] = []
     unknown: list[str] = []
     i = 0
@@ -108,6 +123,10 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
             continue
         matched = False
         for n in range(min(lex.max_phrase, len(words) - i), 0, -1):
+            if n == 1 and word in FILLER:  # politeness and adverbs, unless part of a phrase ("could you")
+                matched = True
+                i += 1
+                break
             span = tuple(w for w, _ in words[i : i + n])
             if any(e is not None for _, e in words[i : i + n]):
                 continue
@@ -119,6 +138,8 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
                     cls, value = "NOUN", "switch"
                 if cls == "OPEN" and prev in _ADJECTIVE_CONTEXT:  # "the open drawer", "that is open"
                     cls = "OPENED"
+                if span[0] in _SEQUENCE_ORDINALS and n == 1 and prev in _CLAUSE_START:
+                    cls = "FIRST"
                 plural = value.endswith("#pl")
                 toks.append(Tok(cls, value.removesuffix("#pl"), " ".join(span), plural))
                 i += n

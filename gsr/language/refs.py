@@ -47,6 +47,8 @@ class Description:
     owner: Ref | Place | None = None  # "of the cabinet"
     relations: list[Relation] = field(default_factory=list)
     same_color_as: Ref | None = None
+    sizes: list[str] = field(default_factory=list)  # "small", "tall", ...
+    head_words: dict[str, str] = field(default_factory=dict)  # category -> singular head as written ("crate")
     text: str = ""
 
     @property
@@ -210,6 +212,11 @@ class Resolver:
     def candidates(self, d: Description, category: str) -> list[Entity]:
         """Entities matching the description with this head category."""
         found = self._head_matches(category)
+        said = set(d.head_words.get(category, "").split())
+        if said and said != set(category.split("_")):
+            # a synonym that names a kind of its own ("kettle", "saucer" for pot, plate) does not fit an
+            # object of another registered subkind (a moka pot) unless its own name says so
+            found = [e for e in found if e.category == category or said <= e.own_words]
         if d.noun_mods:
             mod_words = {w for m in d.noun_mods for w in m.split("_")}
             with_mods = [
@@ -264,7 +271,31 @@ class Resolver:
             ]
         for rel in d.relations:
             found = [e for e in found if e.id not in _ids(rel.targets) and self._relation_holds(e, rel)]
+        for word in d.sizes:
+            found = self._sized(found, word, d)
         return found
+
+    def _sized(self, found: list[Entity], word: str, d: Description) -> list[Entity]:
+        """``the small box``: the candidate at that end of the size scale, by bounding boxes.
+
+        One candidate: the adjective only describes it ("the short cabinet" in a scene with one cabinet).
+        Several, with sizes in the graph: the one strictly smallest (largest, tallest, ...); several
+        without sizes: a singular phrase stays ambiguous (the caller lists them), a plural one is an error.
+        """
+        if len(found) < 2:
+            return found
+        if any(e.extent is None for e in found):
+            if d.plural:
+                raise GroundingError(
+                    f"the scene graph has no sizes to tell which of {', '.join(e.id for e in found)} are {word!r}",
+                    candidates=tuple(e.id for e in found),
+                    phrase=d.text,
+                )
+            return found
+        measure, smallest = SIZE_SCALES[word]
+        values = [(measure(e.extent), e) for e in found]  # type: ignore[arg-type]
+        best = min(v for v, _ in values) if smallest else max(v for v, _ in values)
+        return [e for v, e in values if v == best]
 
     def _extreme(self, found: list[Entity], side: str) -> list[Entity]:
         """``the left plate`` from relation edges: the candidate left of every other candidate."""
@@ -315,6 +346,17 @@ class Resolver:
     def resolve(self, d: Description) -> Ref:
         """The reference a description makes; GroundingError when nothing or (singular) more than one matches."""
         if d.entity is not None:
+            e = self.entities[d.entity]
+            for rel in d.relations:  # "the milk called milk_1 inside the crate": the name must fit the rest
+                if not self._relation_holds(e, rel):
+                    raise GroundingError(f"no object in the scene matches {d.text!r}", phrase=d.text)
+            wrong = [c for c, _ in d.heads if c not in ("*", "thing") and c not in e.kinds]
+            if wrong:
+                raise GroundingError(
+                    f"{d.text!r}: {d.entity} is a {e.category}, not a {wrong[0]}",
+                    candidates=(d.entity,),
+                    phrase=d.text,
+                )
             return Ref((d.entity,), d.text, plural=False)
         ids: list[str] = []
         forall: list[tuple[str, tuple[str, ...]]] = []
@@ -326,9 +368,8 @@ class Resolver:
                     phrase=d.text,
                     candidates=self.near_misses(category),
                 )
-            if not d.plural and len(found) > 1 and d.colors:
-                exact = [e for e in found if set(e.colors) == set(d.colors)]
-                found = exact or found
+            if not d.plural and len(found) > 1:
+                found = self.best_named(found, d, category)
             if not d.plural and len(found) > 1:
                 raise GroundingError(
                     f"{d.text!r} is ambiguous: it could be any of {', '.join(e.id for e in found)}",
@@ -349,6 +390,33 @@ class Resolver:
         return Ref(
             tuple(ids), d.text, plural=d.plural, forall=tuple(forall) if quantified else None, generic=generic
         )
+
+    def best_named(self, found: list[Entity], d: Description, category: str) -> list[Entity]:
+        """Among several matches of a singular phrase, those the words fit most exactly, if that narrows them.
+
+        In turn: exactly the named colours (``the white mug`` is the all-white one, not the
+        white-and-yellow one); the head noun as written in the node's own name or material (``the crate``
+        is ``crate_4``, not ``box_6``, though both are boxes; ``the plate`` is ``plate_2``, not
+        ``saucer_1``), unless another candidate has the words beyond its category in its own name or
+        material (``the glass cup`` also fits a cup made of glass); the category itself rather than a
+        subcategory (``the box``, not the lidded box). A preference applies only when it keeps some
+        but not all candidates; when none narrows them, the phrase stays ambiguous.
+        """
+        exact = [e for e in found if d.colors and set(e.colors) == set(d.colors)]
+        found = exact if 0 < len(exact) < len(found) else found
+        said = set(d.head_words.get(category, "").split())
+        named = [e for e in found if said and said <= e.own_words]
+        # only if no other is called that by its own words too: "the glass cup" also fits a cup made of
+        # glass; "the plate" does not fit a saucer better for being a plate by category
+        others_fit = any(
+            (said - set(e.category.split("_"))) and (said - set(e.category.split("_"))) <= e.own_words
+            for e in found
+            if e not in named
+        )
+        if 0 < len(named) < len(found) and not others_fit:
+            found = named
+        same = [e for e in found if e.category == category]
+        return same if 0 < len(same) < len(found) else found
 
     def _quantifiable(self, d: Description, category: str) -> bool:
         """A quantifier over static properties only (category, colour) becomes a PDDL forall."""
@@ -372,6 +440,22 @@ class Resolver:
         if parent is None or parent in ("object", "thing", "entity"):
             return ()
         return tuple(e.id for e in self.entities.values() if not e.is_part and is_a(e.category, parent))
+
+
+def _volume(x: tuple[float, float, float]) -> float:
+    return x[0] * x[1] * x[2]
+
+
+#: Size words: (the measure of a bounding-box extent, whether the word picks the smallest).
+SIZE_SCALES = {
+    **dict.fromkeys(("small", "smaller", "smallest", "little", "tiny"), (_volume, True)),
+    **dict.fromkeys(("big", "bigger", "biggest", "large", "larger", "largest", "huge"), (_volume, False)),
+    **dict.fromkeys(("tall", "taller", "tallest"), (lambda x: x[2], False)),
+    **dict.fromkeys(("short", "shorter", "shortest"), (lambda x: x[2], True)),
+    **dict.fromkeys(("long", "longer", "longest"), (lambda x: max(x[0], x[1]), False)),
+    "wide": (lambda x: max(x[0], x[1]), False),
+    "narrow": (lambda x: min(x[0], x[1]), True),
+}
 
 
 def _ids(targets: tuple[Ref | Place, ...]) -> set[str]:
