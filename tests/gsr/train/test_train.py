@@ -135,5 +135,5 @@ def test_bad_options_are_clear_errors(data, tmp_path) -> None:
     assert r.exit_code == 1
     from gsr.train.sft import train
 
-    with pytest.raises(GSRError, match="not 'tiny' and not a local checkpoint"):
+    with pytest.raises(GSRError, match="not 'tiny' or 'small' and not a local checkpoint"):
         train(_cfg(data, tmp_path / "x", model=str(tmp_path / "missing")), log=lambda _: None)

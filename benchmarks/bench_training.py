@@ -1,0 +1,156 @@
+"""Checker ablation for a trained reasoner model: what the checker, the repair loop and constrained
+decoding buy, measured with the suites runner (issue 6).
+
+Every condition is one ``gsr bench run tasks`` call on the same task folders with the same model:
+
+- ``open-loop``: ``gsr.train.openloop:OpenLoopAgent`` — the model's steps go straight to execution,
+  the first inapplicable one ends the episode (no checker).
+- ``checker``: ``--agent reasoner`` with ``max_repairs=0`` — a rejected step ends the episode, but it
+  is never executed.
+- ``checker+repair``: the reasoner with ``max_repairs=R`` — the diagnosis goes back to the model.
+- ``open-loop+constrained``, ``checker+repair+constrained``: the same with the token-trie logits
+  processor over the checker's applicable steps.
+
+    python benchmarks/bench_training.py --model MODEL_DIR --tasks gen=GEN_TASKS --tasks gsr-bench=GB_TASKS \\
+        --workers 8 --max-steps 24 --out ablation.json --markdown
+
+Task folders come from ``gsr datagen-tasks`` (held-out generated tasks) and ``gsr bench export gsr-bench``.
+The JSON (written atomically) holds every condition's runner metrics; ``--markdown`` prints the table
+that docs/training.md records.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+CONDITIONS: dict[str, tuple[str, list[str]]] = {
+    "open-loop": ("gsr.train.openloop:OpenLoopAgent", []),
+    "checker": ("reasoner", ["max_repairs=0"]),
+    "checker+repair": ("reasoner", ["max_repairs={repairs}"]),
+    "open-loop+constrained": ("gsr.train.openloop:OpenLoopAgent", ["constrained=true"]),
+    "checker+repair+constrained": ("reasoner", ["max_repairs={repairs}", "constrained=true"]),
+}
+
+
+def gsr_command() -> list[str]:
+    """How to call the gsr CLI from this interpreter (works without the console script on PATH)."""
+    return [sys.executable, "-c", "from gsr.cli import main; main()"]
+
+
+def run_condition(
+    name: str, model: str, tasks: str, workers: int, max_steps: int, repairs: int
+) -> dict[str, Any]:
+    """One runner call; its results.json plus wall time and mean valid steps."""
+    agent, opts = CONDITIONS[name]
+    cmd = [
+        *gsr_command(),
+        "bench",
+        "run",
+        "tasks",
+        "--tasks",
+        tasks,
+        "--agent",
+        agent,
+        "--agent-opt",
+        f"backend=transformers:{model}",
+        "--workers",
+        str(workers),
+        "--max-steps",
+        str(max_steps),
+        "--json",
+    ]
+    for opt in opts:
+        cmd += ["--agent-opt", opt.format(repairs=repairs)]
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - start
+    if proc.returncode not in (0, 1):  # 1 = some episodes failed, which is a result
+        raise SystemExit(f"{name}: runner exited {proc.returncode}: {proc.stderr.strip()[-2000:]}")
+    try:
+        results = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        raise SystemExit(f"{name}: runner printed no JSON: {proc.stderr.strip()[-2000:]}") from None
+    episodes = results["tasks"]
+    m = results["metrics"]
+    return {
+        "condition": name,
+        "episodes": len(episodes),
+        "successes": sum(1 for e in episodes if e["success"]),
+        "success_rate": m["success_rate"],
+        "executability": m["executability"],
+        "mean_valid_steps": round(sum(e["valid"] for e in episodes) / max(1, len(episodes)), 2),
+        "mean_proposed": round(sum(e["proposed"] for e in episodes) / max(1, len(episodes)), 2),
+        "wall_seconds": round(wall, 1),
+        "by_category": {k: v["success_rate"] for k, v in results["by_category"].items()},
+    }
+
+
+def markdown(table: dict[str, list[dict[str, Any]]]) -> str:
+    """The ablation table: one row per condition, success / executability / valid steps per task set."""
+    sets = list(table)
+    head = "| condition | " + " | ".join(f"{s}: success | exec. | valid steps" for s in sets) + " |"
+    lines = [head, "|---|" + "---:|---:|---:|" * len(sets)]
+    for i, name in enumerate(r["condition"] for r in table[sets[0]]):
+        cells = []
+        for s in sets:
+            r = table[s][i]
+            cells.append(
+                f"{100 * r['success_rate']:.0f}% ({r['successes']}/{r['episodes']}) | "
+                f"{r['executability']:.2f} | {r['mean_valid_steps']:.1f}"
+            )
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse options, run every condition on every task set, write JSON, print the table."""
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--model", required=True, help="A checkpoint folder written by gsr train.")
+    ap.add_argument(
+        "--tasks", action="append", required=True, help="NAME=FOLDER of TaskSpec files (repeatable)."
+    )
+    ap.add_argument("--conditions", default=",".join(CONDITIONS), help="Comma-separated subset.")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--max-steps", type=int, default=24)
+    ap.add_argument("--repairs", type=int, default=2, help="max_repairs of the repair conditions.")
+    ap.add_argument("--out", type=Path, help="Write all figures as JSON here (atomically).")
+    ap.add_argument("--markdown", action="store_true")
+    args = ap.parse_args(argv)
+    if not (Path(args.model) / "config.json").is_file():
+        ap.error(f"--model {args.model}: no config.json (not a checkpoint folder)")
+    sets: dict[str, str] = {}
+    for spec in args.tasks:
+        name, sep, folder = spec.partition("=")
+        if not sep or not Path(folder).is_dir():
+            ap.error(f"--tasks {spec}: expected NAME=FOLDER with an existing folder")
+        sets[name] = folder
+    names = [c.strip() for c in args.conditions.split(",") if c.strip()]
+    unknown = [c for c in names if c not in CONDITIONS]
+    if unknown:
+        ap.error(f"--conditions: unknown {unknown}; choose from {', '.join(CONDITIONS)}")
+    table: dict[str, list[dict[str, Any]]] = {s: [] for s in sets}
+    for name in names:
+        for s, folder in sets.items():
+            row = run_condition(name, args.model, folder, args.workers, args.max_steps, args.repairs)
+            table[s].append(row)
+            print(json.dumps({"set": s, **row}), file=sys.stderr, flush=True)
+    if args.out:
+        from gsr.io import write_text_atomic
+
+        info = {"model": str(args.model), "max_steps": args.max_steps, "repairs": args.repairs}
+        write_text_atomic(args.out, json.dumps({**info, "sets": table}, indent=1))
+    if args.markdown:
+        print(markdown(table))
+    return 0
+
+
+if __name__ == "__main__":
+    os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
+    raise SystemExit(main())
