@@ -9,9 +9,12 @@ Units and frame. The benchmark's 3D desk is a three.js/cannon scene in centimetr
 camera (and robot) look at the desk from the +z side. Our world frame is metres with +x forward (away
 from the robot), +y left, +z up, so a benchmark point (x, y, z) maps to
 ``(-z / 100, -x / 100, y / 100)`` (a proper rotation), and a benchmark yaw about +y becomes the same
-yaw about our +z. Benchmark positions are body centres; ours are base centres, so the primitive's half
-height is subtracted (cube 7 cm, mug 9 cm, box 13 cm tall); LIBERO assets resting on the table get base
-height 0, others keep their centre height (their extents are not in the file).
+yaw about our +z. Benchmark positions are body centres; ours are base centres, so the desk top (2 cm:
+the desk is 4 cm thick, centred at 0) and the primitive's half height are subtracted. The config file
+gives no sizes; they are the benchmark's own (``3Ddesk/modular_project/src/objects``: ``Cube.js`` 3 cm,
+``Mug.js`` radius 2.2 cm x 5 cm, ``Box.js`` 25 x 17 cm outside, 1 cm walls, 8.5 cm tall, long side along
+the benchmark's x = our y). LIBERO assets resting on the table get base height 0, others keep their
+centre height (their extents are not in the file).
 
 Node names follow the benchmark's naming (``ObjectNaming.js``): colour index 0/1/2/3/4 = red, yellow,
 blue, green, white; the k-th object of a colour in list order is ``<colour>_cube<k>``; boxes are
@@ -32,13 +35,16 @@ from gsr.scene_graph import SceneGraph
 from gsr.task_spec import Layout, PlacedObject, TaskSpec, task_from_dict
 
 COLORS = ("red", "yellow", "blue", "green", "white")
-#: Primitive kind -> (asset, size x/y/z in m).
+#: Primitive kind -> (asset, size x/y/z in m), from the benchmark's object sources (see above).
 PRIMITIVES: dict[str, tuple[str, tuple[float, float, float]]] = {
-    "cubes": ("cube", (0.07, 0.07, 0.07)),
-    "mugs": ("mug", (0.08, 0.08, 0.09)),
-    "boxes": ("box", (0.20, 0.20, 0.13)),
-    "boxes_with_lid": ("box_with_lid", (0.20, 0.20, 0.13)),
+    "cubes": ("cube", (0.03, 0.03, 0.03)),
+    "mugs": ("mug", (0.044, 0.044, 0.05)),
+    "boxes": ("box", (0.17, 0.25, 0.085)),
+    "boxes_with_lid": ("box_with_lid", (0.17, 0.25, 0.085)),
 }
+DESK_TOP = 0.02  # m: the benchmark's desk top above its origin (cube centres rest at y = 3.5 cm)
+#: Body centre to bottom (m) where it is not half the height: a box's floor reaches 4.5 cm below its centre
+CENTRE_TO_BOTTOM = {"boxes": 0.045, "boxes_with_lid": 0.045}
 TABLE_SIZE = (0.6, 1.2)  # the desk is about 120 cm wide (benchmark x) and 60 cm deep (benchmark z)
 SUITE = "gsr-bench"
 
@@ -96,7 +102,11 @@ def _layout(config: Mapping[str, Any], graph: SceneGraph, where: str) -> tuple[L
                 PlacedObject(
                     id=node_id,
                     asset=asset,
-                    position=(x, y, round(max(0.0, z - size[2] / 2), 5)),
+                    position=(
+                        x,
+                        y,
+                        round(max(0.0, z - DESK_TOP - CENTRE_TO_BOTTOM.get(kind, size[2] / 2)), 5),
+                    ),
                     yaw=float(entry.get("rotation") or 0.0),
                     color=node_id.split("_", 1)[0],
                     size=size,

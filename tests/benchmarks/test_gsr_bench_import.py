@@ -72,7 +72,7 @@ def test_corresponding_boxes_and_drawer_alternatives(gsr_bench_tasks: list) -> N
 def test_layout_is_metres_in_our_frame(gsr_bench_tasks: list, gsr_bench_file) -> None:
     t = _by_number(gsr_bench_tasks, 1)
     box = t.layout.object("blue_box")
-    # benchmark (x, y, z) = (-11.70, 6.50, 7.14) cm, box 13 cm tall -> (-z, -x, y - h/2) / 100
+    # benchmark (x, y, z) = (-11.70, 6.50, 7.14) cm; desk top 2 + box floor 4.5 below centre -> (-z, -x, y - 6.5) / 100
     assert box.position == pytest.approx((-0.07139, 0.11698, 0.0), abs=1e-4)
     assert to_world({"x": 100, "y": 0, "z": -50}, "p") == (0.5, -1.0, 0.0)
     cab = _by_number(gsr_bench_tasks, 107).layout.object("short_cabinet")
