@@ -95,6 +95,81 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.ignore = set()
 
 
+#: Door angles (rad) tried as the end of an opening stroke, widest first; all are past half travel.
+DOOR_STEP = 0.05  # rad between the arc's waypoints (1.7 cm at a 33 cm handle radius)
+
+
+def _door_arc(
+    world: World, obj: SimObject, part: str, art: Articulation, target: float
+) -> list[tuple[np.ndarray, tuple[float, float, float, float]]]:
+    """Hand poses on the handle from the door's angle now to ``target``: the handle's arc about the
+    hinge, the tilted hand turning with the door so it keeps pointing into it."""
+    link = obj.links[art.link]
+    hinge = world.to_world(obj.body, link, (0.0, 0.0, 0.0))  # the joint frame's origin lies on the axis
+    up = float(world.joint_axis(obj, part)[2]) * (1 if art.open > art.closed else -1)  # +1: about +z
+    handle, _ = _handle(world, obj, art)
+    q0 = world.joint_position(obj, part)
+    yaw0 = world.yaw_of(obj.body, link)  # the door's outward normal is its link's -x: point along +x
+    n = max(1, math.ceil(abs(target - q0) / DOOR_STEP))
+    poses = []
+    for i in range(n + 1):
+        d = up * (target - q0) * i / n
+        c, s_ = math.cos(d), math.sin(d)
+        r = handle[:2] - hinge[:2]
+        xy = hinge[:2] + np.array([c * r[0] - s_ * r[1], s_ * r[0] + c * r[1]])
+        poses.append((np.array([xy[0], xy[1], handle[2]]), angled(yaw0 + d, fingers_vertical=False)))
+    return poses
+
+
+def _swing(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
+    """Open or close a revolute door: grasp its vertical pull bar with the tilted hand, carry the bar
+    along its arc about the hinge (the wrist turning with the door), let go and back off.
+
+    Opening tries the widest end angle the arm can follow without an IK branch flip first; any end past
+    half travel makes the door open.
+    """
+    assert art.handle is not None
+    span = art.open - art.closed
+    if target == art.open or (art.open - target) * (1 if span > 0 else -1) < 0:
+        ends = [art.closed + span * f for f in (1.0, 0.85, 0.7)]
+    else:
+        ends = [target]
+    _lift(m, transit_height(world))
+    errors = []
+    for end in ends:
+        arc = _door_arc(world, obj, part, art, end)
+        quat = arc[0][1]
+        back = -approach_axis(quat) * 0.1
+        key = [(arc[0][0] + back, quat), *arc[:: max(1, len(arc) // 6)], arc[-1]]
+        try:
+            m.park_for((arc[0][0] + arc[-1][0]) / 2, standoff=0.58, poses=key)
+            break
+        except SkillError as exc:
+            errors.append(f"to {end:.2f} rad: {exc.message}")
+    else:
+        raise SkillError(Failure.UNREACHABLE, f"no base position follows the door of {obj.id}: {errors[0]}")
+    contact = arc[0][0]
+    m.gripper(art.handle.width + 0.04)
+    m.ignore = set()
+    start = m.continuous_start(key, m.robot.q()[:2])
+    if start is not None:
+        m.move_joint(start)
+    m.move_line((contact + back, quat))
+    m.ignore_links = {(obj.body, obj.links[art.link])}
+    m.move_line((contact, quat))
+    m.ignore_links = set()
+    if m.gripper(0.0, force=60.0, steps=90) < 0.002:
+        raise SkillError(Failure.GRASP_MISSED, f"missed the door handle of {obj.id}")
+    m.ignore = {obj.body}  # the door moves with the hand; the rest of the world is still checked
+    for pose in arc[1:]:
+        m.move_line(pose, check=True)
+    m.step(30)
+    m.gripper(0.08, steps=48)
+    pos, quat = m.pose()
+    m.move_line((pos - approach_axis(quat) * 0.06 + np.array([0, 0, 0.04]), quat), check=False)
+    m.ignore = set()
+
+
 def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
     """Grasp a knob from above and turn it (with the wrist) to joint position ``target``."""
     import pybullet as p
@@ -178,6 +253,8 @@ def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
         goal = art.open if kind == "open" else art.closed - 0.01 * np.sign(art.open - art.closed)
         if art.kind in ("drawer", "lid"):
             _slide(world, m, obj, part, art, float(goal))
+        elif art.kind == "door":
+            _swing(world, m, obj, part, art, float(goal))
         else:
             raise SkillError(Failure.UNSUPPORTED, f"opening a {art.kind} ({node_id}) is not implemented")
         m.step(30)

@@ -157,6 +157,10 @@ def make_mug(size: Vec | None, rgba: RGBA) -> AssetModel:
     m.links = [Link("base", (*m.links[0].shapes, *handle), 0.12)]
     m.keypoints = {"handle": ("base", (0, sx / 2 + 0.025, sz * 0.5))}
     m.extent = (sx, sx + 0.06, sz)
+    if sx <= 0.06:
+        # a small mug (GSR-Bench's is 4.4 cm): a finger inside would touch the far wall, so the whole
+        # body is held, closing along x (the handle sticks out along +y, clear of the fingers)
+        m.grasps = [GraspSite("base", (0, 0, max(sz - 0.02, sz * 0.5)), 0.0, width=sx)]
     return m
 
 

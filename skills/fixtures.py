@@ -128,15 +128,17 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
         "door",
         (
             box((-T / 2, door_w / 2, sz / 2), (T, door_w, sz - 0.01), (0.2, 0.2, 0.25, 1)),
-            box((-0.03, door_w - 0.03, sz / 2), (0.012, 0.012, 0.1), METAL),
-            box((-0.017, door_w - 0.03, sz / 2 - 0.045), (0.026, 0.01, 0.01), METAL),
-            box((-0.017, door_w - 0.03, sz / 2 + 0.045), (0.026, 0.01, 0.01), METAL),
+            # a vertical pull bar 4.5 cm off the door (as on the drawers: room for a tilted hand's fingers)
+            box((-0.045, door_w - 0.04, sz / 2), (0.012, 0.012, 0.1), METAL),
+            box((-0.024, door_w - 0.04, sz / 2 - 0.045), (0.04, 0.01, 0.01), METAL),
+            box((-0.024, door_w - 0.04, sz / 2 + 0.045), (0.04, 0.01, 0.01), METAL),
         ),
         0.3,
         "base",
-        Joint("revolute", (-sx / 2, -sy / 2, 0.0), (0, 0, -1), 0.0, 1.9, damping=0.5, friction=0.05),
+        # about +z: the free (+y) edge swings out towards the front (-x), away from the cavity
+        Joint("revolute", (-sx / 2, -sy / 2, 0.0), (0, 0, 1), 0.0, 1.9, damping=0.5, friction=0.05),
     )
-    handle = GraspSite("door", (-0.03, door_w - 0.03, sz / 2), 0.0, approach="front", width=0.012)
+    handle = GraspSite("door", (-0.045, door_w - 0.04, sz / 2), 0.0, approach="front", width=0.012)
     return AssetModel(
         "microwave",
         [

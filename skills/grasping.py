@@ -29,7 +29,27 @@ def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
     x, y, z = site.xyz
     r = math.hypot(x, y)
     if r < 1e-6:
-        return [site, GraspSite(site.link, site.xyz, site.yaw + math.pi / 2, site.approach, site.width)]
+        sx, sy = obj.model.extent[:2]
+        if obj.model.name == "mug":
+            # a mug held whole closes across its body, never on its handle (at +90 deg): up to 30 deg off x
+            turns = [0.0, math.pi, math.pi / 6, -math.pi / 6, math.pi * 5 / 6, -math.pi * 5 / 6]
+        elif abs(sx - sy) < 1e-6 and math.hypot(sx, sy) < 0.06:
+            # a small square solid (GSR-Bench's 3 cm cube): the face-aligned grasps first; the hand is
+            # 22 cm long along its closing axis, so beside a box wall at 45 deg to the cube's faces both
+            # collide, and a grasp across the corners (the parallel fingers square the cube up) is tried
+            turns = [0.0, math.pi / 2, math.pi / 4, -math.pi / 4, math.pi / 8, -math.pi / 8, 3 * math.pi / 8]
+        else:
+            turns = [0.0, math.pi / 2]
+        return [
+            GraspSite(
+                site.link,
+                site.xyz,
+                site.yaw + t,
+                site.approach,
+                max(site.width, abs(math.cos(t)) * sx + abs(math.sin(t)) * sy) if t else site.width,
+            )
+            for t in turns
+        ]
     base = math.atan2(y, x)
     n = 8 if obj.model.name in ("bowl", "plate", "mug", "cup", "ramekin", "pan") else 4
     return [
@@ -87,7 +107,7 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     centre = world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5
     m.ignore = {obj.body}
     errors = []
-    for site in sites[:6]:
+    for site in sites[:7]:
         pos, yaw = _site_pose(world, obj, site)
         quat = top_down(yaw)
         try:
@@ -100,7 +120,8 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
                 if hit is not None:
                     raise SkillError(Failure.BLOCKED, f"grasp pose collides with {hit}")
             m.gripper(min(0.08, site.width + 0.035))
-            m.move_line((np.array([pos[0], pos[1], z_transit]), quat))
+            above = (np.array([pos[0], pos[1], z_transit]), quat)
+            m.move_continuous(above, [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)])
             m.move_line((pos + np.array([0, 0, APPROACH]), quat))
             m.move_line((pos, quat))
             break
@@ -284,6 +305,20 @@ def _free_spot(
     return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)])
 
 
+def _recentre(
+    world: World, m: Motion, obj: SimObject, spot: np.ndarray, goal: np.ndarray, quat: tuple, z: float
+) -> np.ndarray:
+    """The hand goal corrected for where the held object really is now; the hand moves over it at ``z``."""
+    m.step(10)
+    lo, hi = world.body_aabb(obj.body)
+    err = spot[:2] - (lo[:2] + hi[:2]) / 2
+    if float(np.linalg.norm(err)) <= 0.003:
+        return goal
+    goal = goal + np.array([err[0], err[1], 0.0])
+    m.move_line((np.array([goal[0], goal[1], z]), quat))
+    return goal
+
+
 def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
     """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome."""
     import pybullet as p
@@ -311,15 +346,13 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     m.ignore = {obj.body}
     _lift(m, z_transit)
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
-    m.move_line((np.array([goal[0], goal[1], z_transit]), quat))
+    above = (np.array([goal[0], goal[1], z_transit]), quat)
+    m.move_continuous(above, [above, (goal + np.array([0, 0, 0.04]), quat), (goal, quat)])
+    # the object shifts in the fingers on the way (the two fingers are not coupled, and the wrist turned):
+    # re-measure it above the spot, before descending past neighbours and walls, and again just above
+    goal = _recentre(world, m, obj, spot, goal, quat, z_transit)
     m.move_line((goal + np.array([0, 0, 0.04]), quat))
-    # the object may have shifted in the fingers on the way: re-measure and correct before lowering it
-    m.step(10)
-    lo, hi = world.body_aabb(obj.body)
-    err = spot[:2] - (lo[:2] + hi[:2]) / 2
-    if float(np.linalg.norm(err)) > 0.003:
-        goal = goal + np.array([err[0], err[1], 0.0])
-        m.move_line((goal + np.array([0, 0, 0.04]), quat), check=False)
+    goal = _recentre(world, m, obj, spot, goal, quat, goal[2] + 0.04)
     m.move_line((goal, quat), check=False)
     m.step(10)
     # open just enough to let go: wide-open fingers would sweep into neighbours (packed boxes)

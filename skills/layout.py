@@ -16,8 +16,8 @@ from skills.assets import asset_category, make_asset
 
 #: Fixture slots (x, y, yaw) on a 0.9 x 1.2 table: back row, then the back corners.
 FIXTURE_SLOTS: tuple[tuple[float, float], ...] = (
-    (0.2, -0.3),
-    (0.2, 0.3),
+    (0.2, -0.4),
+    (0.2, 0.4),
     (0.24, 0.0),
     (-0.05, -0.45),
     (-0.05, 0.45),
@@ -25,6 +25,28 @@ FIXTURE_SLOTS: tuple[tuple[float, float], ...] = (
 TABLE = (0.9, 1.2)
 #: Where movable objects are sampled (x range, y range), in front of the fixtures.
 FREE_X, FREE_Y = (-0.25, -0.03), (-0.35, 0.35)
+
+
+def _fixture_spot(
+    extent: tuple[float, float, float], slot: int, rects: list[tuple[float, float, float, float]]
+) -> tuple[float, float]:
+    """The first slot (from ``slot`` on, then shifted sideways by up to 15 cm) where a fixture of this
+    extent stays on the table and 2 cm clear of the fixtures already placed; else slot ``slot`` itself.
+
+    Fixtures overlapping each other would interpenetrate, and a door hinged inside a neighbour is
+    pushed open by the contact solver.
+    """
+    hx, hy = extent[0] / 2, extent[1] / 2
+    order = [FIXTURE_SLOTS[(slot + k) % len(FIXTURE_SLOTS)] for k in range(len(FIXTURE_SLOTS))]
+    for x0, y0 in order:
+        for dy in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15, 0.15):
+            x, y = x0, y0 + dy
+            inside = abs(x) + hx <= TABLE[0] / 2 and abs(y) + hy <= TABLE[1] / 2
+            if inside and all(
+                abs(x - rx) >= hx + rhx + 0.02 or abs(y - ry) >= hy + rhy + 0.02 for rx, ry, rhx, rhy in rects
+            ):
+                return x, y
+    return order[0]
 
 
 def _support(graph: SceneGraph) -> dict[str, tuple[str, str]]:
@@ -49,14 +71,16 @@ def layout_from_graph(graph: SceneGraph, seed: int = 0) -> Layout:
     placed: list[PlacedObject] = []
     footprints: list[tuple[float, float, float]] = []  # x, y, radius
     slot = 0
+    rects: list[tuple[float, float, float, float]] = []  # fixtures placed so far: x, y, half sizes
     regions: list[Region] = []
     for n in roots:
         if not _is_fixture(graph, n.id) or (n.id in support and support[n.id][1] not in tables):
             continue
         asset = str(n.attributes.get("asset") or n.category)
         model = make_asset(asset)
-        x, y = FIXTURE_SLOTS[slot % len(FIXTURE_SLOTS)]
+        x, y = _fixture_spot(model.extent, slot, rects)
         slot += 1
+        rects.append((x, y, model.extent[0] / 2, model.extent[1] / 2))
         placed.append(PlacedObject(id=n.id, asset=asset, position=(x, y, 0.0), fixed=True, color=n.color))
         footprints.append((x, y, max(model.extent[:2]) / 2 + 0.03))
         if any(a.kind in ("drawer", "door") for a in model.articulations.values()):

@@ -93,7 +93,7 @@ class Motion:
             t = i / n
             pos = start[0] + (goal[0] - start[0]) * t
             quat = p.getQuaternionSlerp(start[1], goal[1], t)
-            q = self.solve(pos, quat, seed=q)
+            q = self._continuous(q, pos, quat, self.solve(pos, quat, seed=q), goal[0])
             if check:
                 hit = self.collision(q)
                 if hit is not None:
@@ -102,6 +102,40 @@ class Motion:
                     )
             out.append(q)
         return out
+
+    def _continuous(
+        self, prev: np.ndarray, pos: np.ndarray, quat: Sequence[float], q: np.ndarray, goal: np.ndarray
+    ) -> np.ndarray:
+        """``q``, or when it jumps from ``prev`` (an IK branch flip) a solution refined locally from
+        ``prev``; IK_FLIP if there is none. Position control would swing the arm wildly through a flip."""
+        jump = np.abs(q[2:] - prev[2:])
+        if float(np.max(jump)) <= MAX_JOINT_JUMP:
+            return q
+        # damped least squares from the previous configuration stays on its branch when one exists
+        again = self.robot.refine(prev, np.asarray(pos), quat, iters=80)
+        dp, da = self.robot.fk_error(again, np.asarray(pos), quat)
+        if dp < POS_TOL and da < ANG_TOL and float(np.max(np.abs(again[2:] - prev[2:]))) <= MAX_JOINT_JUMP:
+            return again
+        j = int(np.argmax(jump))
+        raise SkillError(
+            Failure.IK_FLIP,
+            f"the straight path to {np.round(goal, 3).tolist()} needs an IK branch flip "
+            f"(arm joint {j + 1} jumps {float(jump[j]):.2f} rad between waypoints)",
+        )
+
+    def move_continuous(self, goal: Pose, poses: list[Pose], check: bool = True) -> None:
+        """A straight move to ``goal``; if it needs an IK branch flip, a collision-checked joint-space
+        move to the configuration at ``goal`` from which the straight moves through ``poses`` (which
+        start at ``goal``) stay continuous instead."""
+        try:
+            self.move_line(goal, check=check)
+        except SkillError as exc:
+            if exc.failure is not Failure.IK_FLIP:
+                raise
+            start = self.continuous_start(poses, self.robot.q()[:2])
+            if start is None:
+                raise
+            self.move_joint(start, check=check)
 
     # ------------------------------------------------------------ execution
 

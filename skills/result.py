@@ -15,6 +15,7 @@ class Failure(StrEnum):
     GRASP_MISSED = "grasp_missed"  # the fingers closed on nothing
     GRASP_SLIPPED = "grasp_slipped"  # the object fell out of the hand while moving
     TIMEOUT = "timeout"  # the step budget ran out before the motion converged
+    IK_FLIP = "ik_flip"  # a straight path needs an IK branch flip (a wild joint jump): not executed
     NOT_ACHIEVED = "not_achieved"  # the motion ran, but the sim state is not the step's effect
     UNSUPPORTED = "unsupported"  # no physical counterpart for the action or its objects
 

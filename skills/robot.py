@@ -97,6 +97,21 @@ class Robot:
                 p.changeDynamics(
                     body, link, lateralFriction=1.5, spinningFriction=0.01, physicsClientId=client
                 )
+        # the real Panda's fingers are driven by one motor through a rack: couple them (equal openings).
+        # Uncoupled, the two position-controlled fingers and a squeezed object float together along the
+        # closing axis, and a held cube drifts a centimetre or two in the hand while the arm moves
+        gear = p.createConstraint(
+            body,
+            robot.fingers[0],
+            body,
+            robot.fingers[1],
+            jointType=p.JOINT_GEAR,
+            jointAxis=(1, 0, 0),
+            parentFramePosition=(0, 0, 0),
+            childFramePosition=(0, 0, 0),
+            physicsClientId=client,
+        )
+        p.changeConstraint(gear, gearRatio=-1, erp=0.1, maxForce=50, physicsClientId=client)
         robot.reset((x_range[0], 0.0, *ARM_HOME), FINGER_OPEN)
         return robot
 
