@@ -196,9 +196,44 @@ class Simplifier:
         found = self._memo.get(key)
         if found is None:
             conj = isinstance(formula, Forall)
+            literal = self._fluent_literal(formula, guards)
+            if literal is not None:
+                found = self._memo[key] = self._instantiate_literal(formula, literal, binding)
+                return found
             parts = (self(formula.body, b) for b in self.instances(formula.params, guards, binding))
             found = self._memo[key] = self.combine(conj, parts)
         return found
+
+    def _fluent_literal(self, formula: Forall | Exists, guards: tuple[Atom, ...]) -> tuple[Atom, bool] | None:
+        """(atom, positive) when the body is one fluent literal over one unguarded variable."""
+        if guards or len(formula.params) != 1:
+            return None
+        body = formula.body
+        positive = isinstance(body, Atom)
+        atom = body if positive else body.formula if isinstance(body, Not) else None
+        if not isinstance(atom, Atom) or atom.predicate not in self.fluent:
+            return None
+        return atom, positive  # type: ignore[return-value]
+
+    def _instantiate_literal(
+        self, formula: Forall | Exists, literal: tuple[Atom, bool], binding: Mapping[str, str]
+    ) -> Formula:
+        """``forall ?z (not (on ?z ?o))`` and the like: one literal per object, in object order.
+
+        Equals the general path (fluent literals never fold to TRUE or FALSE) without a binding
+        dict and a recursive simplification per object.
+        """
+        atom, positive = literal
+        var = formula.params[0]
+        args = [None if a == var.name else binding.get(a, a) for a in atom.args]
+        slots = [k for k, a in enumerate(args) if a is None]
+        parts: list[Formula] = []
+        for obj in self.objects(var.types):
+            for k in slots:
+                args[k] = obj
+            ground = Atom(atom.predicate, tuple(args))  # type: ignore[arg-type]
+            parts.append(ground if positive else Not(ground))
+        return self.combine(isinstance(formula, Forall), parts)
 
     @staticmethod
     def combine(conj: bool, parts: Iterable[Formula]) -> Formula:
