@@ -669,12 +669,12 @@ def _condition_ids(
     return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
 
 
-# An effect part over atom ids: (condition ids, whether the part has its own condition, add ids,
-# delete ids).
-_PartIds = tuple[tuple[tuple[int, ...], tuple[int, ...]], bool, tuple[int, ...], tuple[int, ...]]
+# An effect part over atom ids: (condition positive ids, condition negative ids, add ids, delete
+# ids), all sorted; with the set of condition ids of all parts of its list.
+_PartIds = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]]
 
 
-def _parts_ids(parts: list[EffectPart], ids: dict[Atom, int]) -> list[_PartIds]:
+def _parts_ids(parts: list[EffectPart], ids: dict[Atom, int]) -> tuple[list[_PartIds], frozenset[int]]:
     """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
     out: list[_PartIds] = []
     for inner, ground in parts:
@@ -684,7 +684,19 @@ def _parts_ids(parts: list[EffectPart], ids: dict[Atom, int]) -> list[_PartIds]:
         adds = tuple(i for a, is_del in ground if not is_del and (i := ids.get(a)) is not None)
         dels = tuple(i for a, is_del in ground if is_del and (i := ids.get(a)) is not None)
         if adds or dels:
-            out.append((r, bool(inner), adds, dels))  # type: ignore[arg-type]
+            out.append((r[0], r[1], adds, dels))
+    return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
+
+
+def _filtered_parts(conv: list[_PartIds], pre: set[int], neg: set[int]) -> list[_PartIds]:
+    """The parts whose condition is consistent with a precondition, minus its literals."""
+    out: list[_PartIds] = []
+    for r0, r1, adds, dels in conv:
+        if not neg.isdisjoint(r0) or not pre.isdisjoint(r1):
+            continue  # contradicts the precondition: never fires
+        rp = r0 if pre.isdisjoint(r0) else tuple(i for i in r0 if i not in pre)
+        rn = r1 if neg.isdisjoint(r1) else tuple(i for i in r1 if i not in neg)
+        out.append((rp, rn, adds, dels))
     return out
 
 
@@ -698,16 +710,17 @@ def _intern(
     # every part is referenced from the fired actions, so ids stay unique).
     converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
     scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
-    parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds]]] = {}  # effect parts, by list
+    parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
+    filtered: dict[tuple, list[_PartIds]] = {}  # see below: parts minus a precondition's literals
     for v in fired:
         disjuncts = fast_dnf(v.pre, ids, scanned)
         if disjuncts is None:
             disjuncts = id_dnf(v.pre, reached, ids)
         if not disjuncts:
             continue
-        # The variant's effects over atom ids, once for all its disjuncts, grouped by condition;
-        # effects on never-reached atoms, or needing one, never matter.
-        by_cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[list[int], list[int]]] = {}
+        # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
+        # one, never matter.
+        blocks = []
         for base, parts in v.effects or ():
             b = converted.get(id(base))
             if b is None:
@@ -716,19 +729,9 @@ def _intern(
                 continue  # needs an atom never reached
             hit = parts_ids.get(id(parts))
             if hit is None:
-                hit = parts_ids[id(parts)] = (parts, _parts_ids(parts, ids))
-            for r, has_inner, adds, dels in hit[1]:
-                if not has_inner:
-                    key = b
-                elif not base:
-                    key = r
-                else:
-                    key = (tuple(sorted({*b[0], *r[0]})), tuple(sorted({*b[1], *r[1]})))
-                entry = by_cond.get(key)
-                if entry is None:
-                    entry = by_cond[key] = ([], [])
-                entry[0].extend(adds)
-                entry[1].extend(dels)
+                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, ids))
+            if hit[1]:
+                blocks.append((b, hit))
         for disjunct in disjuncts:
             pre = tuple(sorted(x for x in disjunct if x >= 0))
             neg = tuple(sorted(~x for x in disjunct if x < 0))
@@ -736,22 +739,34 @@ def _intern(
             add: set[int] = set()
             dele: set[int] = set()
             cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
-            for (cpos, cneg), (adds, dels) in by_cond.items():
-                if cpos or cneg:  # ids are sorted, so the filtered tuples are too
-                    # Usually disjoint from the precondition: no filtering (C-level test first).
-                    cp = cpos if pre_set.isdisjoint(cpos) else tuple(i for i in cpos if i not in pre_set)
-                    cn = cneg if neg_set.isdisjoint(cneg) else tuple(i for i in cneg if i not in neg_set)
-                    if not neg_set.isdisjoint(cp) or not pre_set.isdisjoint(cn):
-                        continue  # contradicts the precondition: never fires
+            # An effect takes effect under base | inner minus the precondition's literals; it never
+            # fires when that contradicts the precondition (which is itself consistent). The parts
+            # of a shared list are filtered once per intersection of the precondition with their
+            # condition atoms (cube counting: once per container, not per cube picked).
+            for (b0, b1), (parts, conv, atoms_of) in blocks:
+                if not neg_set.isdisjoint(b0) or not pre_set.isdisjoint(b1):
+                    continue
+                bp = b0 if pre_set.isdisjoint(b0) else tuple(i for i in b0 if i not in pre_set)
+                bn = b1 if neg_set.isdisjoint(b1) else tuple(i for i in b1 if i not in neg_set)
+                if atoms_of:
+                    fkey = (id(parts), atoms_of & pre_set, atoms_of & neg_set)
+                    kept = filtered.get(fkey)
+                    if kept is None:
+                        kept = filtered[fkey] = _filtered_parts(conv, pre_set, neg_set)
+                else:
+                    kept = conv  # unconditional parts: nothing to filter
+                for rp, rn, adds, dels in kept:
+                    cp = (tuple(sorted({*bp, *rp})) if rp else bp) if bp else rp
+                    cn = (tuple(sorted({*bn, *rn})) if rn else bn) if bn else rn
                     if cp or cn:
                         target = cond.get((cp, cn))
                         if target is None:
                             target = cond[(cp, cn)] = (set(), set())
                         target[0].update(adds)
                         target[1].update(dels)
-                        continue
-                add.update(adds)
-                dele.update(dels)
+                    else:
+                        add.update(adds)
+                        dele.update(dels)
             conds = tuple(
                 (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
             )
