@@ -100,3 +100,17 @@ def test_eval_harness_single_scene_is_deterministic():
     a, b = evaluate(1, seed=11, world="procedural"), evaluate(1, seed=11, world="procedural")
     for key in ("nodes", "relations", "states"):
         assert a[key] == b[key]
+
+
+@pytest.mark.physics
+def test_view_study_more_cameras_see_more() -> None:
+    from benchmarks.perception_views import markdown, study
+
+    report = study(2, 0, {"top": ("top",), "top+back": ("top", "back")})
+    one, two = report["sets"]["top"], report["sets"]["top+back"]
+    assert two["node_recall"] >= one["node_recall"] > 0.5
+    assert set(one["f1"]) == {"on", "in"} and 0.0 <= one["visible_f1"]["on"] <= 1.0
+    hidden = report["unseen_support_edges"]["top+back"]
+    assert all(k.split()[0] in ("on", "in") for k in hidden)
+    text = markdown(report)
+    assert "| top+back (top, back) |" in text and "no camera of 'top+back' sees" in text
