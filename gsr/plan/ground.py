@@ -37,7 +37,10 @@ from gsr.plan.task import GroundOp, Task
 # a part takes effect under the union of base and inner. The parts list of a memoised effect group
 # is shared by every action with the same values of the variables it mentions (pick's cube counting
 # by ?from), so its atoms are grounded, and later interned, once for all of them.
-EffectPart = tuple[Conjunction, tuple[tuple[Atom, bool], ...]]
+# Effect atoms are (predicate, args) keys, not Atom objects: they are hashed a few times each (reached
+# test, interning) and tuples hash in C; the few that get reached become Atoms then.
+AtomKey = tuple[str, tuple[str, ...]]
+EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
 EffectBlock = tuple[Conjunction, list[EffectPart]]
 EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
 EMPTY: Conjunction = frozenset()
@@ -428,6 +431,11 @@ def _ground_group(
     counting depends on ``?from`` only, not on the object picked.
     """
     params, condition, guards, split, lits, _used = group
+    if split == ((), ()) and not params:
+        # Unconditional: never worth memoising (the atoms mention the action's variables).
+        ground = tuple(((a.predicate, tuple(map(binding.get, a.args, a.args))), d) for a, d in lits)
+        effects.append((EMPTY, [(EMPTY, ground)]))
+        return
     if split is not None and base is not None and memo is not None:
         key = (id(group), *(binding.get(v, v) for v in group[5]))
         entry = memo.get(key)
@@ -439,7 +447,7 @@ def _ground_group(
                 if inner is None:
                     continue
                 ground = tuple(
-                    (Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
+                    ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
                     for atom, is_del in lits
                 )
                 parts.append((inner, ground))
@@ -467,7 +475,7 @@ def _ground_group(
         else:
             conjs = to_dnf(simplify(condition, b))
         ground = tuple(
-            (Atom(atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
+            ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
         )
         own.extend((conj, ground) for conj in conjs)
     if own:
@@ -475,7 +483,7 @@ def _ground_group(
 
 
 def _new_adds(
-    blocks: list[EffectBlock], reached: set[Atom], pending: list[tuple[tuple[Atom, ...], Atom]]
+    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[Atom, ...], AtomKey]]
 ) -> None:
     """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
     for base, parts in blocks:
@@ -584,9 +592,10 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     cores: FormulaCache = {}
     cache: dict[tuple, _Variant | None] = {}
     fired: list[_Variant] = []
-    # Add effects of fired operators not reached yet: (positive condition atoms, atom). Each round
-    # only scans these, not every effect of every fired operator again.
-    pending: list[tuple[tuple[Atom, ...], Atom]] = []
+    # Add effects of fired operators not reached yet: (positive condition atoms, atom key). Each
+    # round only scans these, not every effect of every fired operator again.
+    pending: list[tuple[tuple[Atom, ...], AtomKey]] = []
+    reached_keys: set[AtomKey] = {(a.predicate, a.args) for a in init}
     deferred: list[Deferred] = []
     effect_memo: EffectMemo = {}
     join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
@@ -626,7 +635,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     v.fired = True
                     _effects(v, groups[si], simplify, reached, deferred, effect_memo)
                     fired.append(v)
-                    _new_adds(v.effects, reached, pending)
+                    _new_adds(v.effects, reached_keys, pending)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
@@ -635,19 +644,21 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 continue
             start = len(v.effects)
             _ground_group(group, binding, base, simplify, v.effects, effect_memo)
-            _new_adds(v.effects[start:], reached, pending)
+            _new_adds(v.effects[start:], reached_keys, pending)
         deferred = blocked
         # Fire the add effects of reached operators whose (positive) conditions are reached.
         waiting = []
-        for cond, atom in pending:
-            if atom in reached:
+        for cond, key in pending:
+            if key in reached_keys:
                 continue
             if all(a in reached for a in cond):
+                atom = Atom(*key)
                 reached.add(atom)
+                reached_keys.add(key)
                 _index_atom(index, by_arg, atom)
                 changed = True
             else:
-                waiting.append((cond, atom))
+                waiting.append((cond, key))
         pending = waiting
     return _intern(domain, problem, fired, reached, fluent)
 
@@ -674,15 +685,17 @@ def _condition_ids(
 _PartIds = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]]
 
 
-def _parts_ids(parts: list[EffectPart], ids: dict[Atom, int]) -> tuple[list[_PartIds], frozenset[int]]:
+def _parts_ids(
+    parts: list[EffectPart], ids: dict[Atom, int], key_ids: dict[AtomKey, int]
+) -> tuple[list[_PartIds], frozenset[int]]:
     """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
     out: list[_PartIds] = []
     for inner, ground in parts:
-        r = _condition_ids(inner, ids)
+        r = _condition_ids(inner, ids) if inner else ((), ())
         if not r:
             continue
-        adds = tuple(i for a, is_del in ground if not is_del and (i := ids.get(a)) is not None)
-        dels = tuple(i for a, is_del in ground if is_del and (i := ids.get(a)) is not None)
+        adds = tuple(i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None)
+        dels = tuple(i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None)
         if adds or dels:
             out.append((r[0], r[1], adds, dels))
     return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
@@ -705,6 +718,7 @@ def _intern(
 ) -> Task:
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
+    key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
     ops: set[GroundOp] = set()
     # Condition parts over atom ids, by object (parts are shared by many effects and actions;
     # every part is referenced from the fired actions, so ids stay unique).
@@ -729,7 +743,7 @@ def _intern(
                 continue  # needs an atom never reached
             hit = parts_ids.get(id(parts))
             if hit is None:
-                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, ids))
+                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, ids, key_ids))
             if hit[1]:
                 blocks.append((b, hit))
         for disjunct in disjuncts:
