@@ -29,7 +29,7 @@ from gsr.plan.normalize import (
     normalize_action,
     to_dnf,
 )
-from gsr.plan.precondition import FormulaCache, fast_dnf, id_dnf, relaxed, relaxed_core
+from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf, relaxed, relaxed_core
 from gsr.plan.simplify import Simplifier, free_variables
 from gsr.plan.task import GroundOp, Task
 
@@ -37,9 +37,9 @@ from gsr.plan.task import GroundOp, Task
 # a part takes effect under the union of base and inner. The parts list of a memoised effect group
 # is shared by every action with the same values of the variables it mentions (pick's cube counting
 # by ?from), so its atoms are grounded, and later interned, once for all of them.
-# Effect atoms are (predicate, args) keys, not Atom objects: they are hashed a few times each (reached
-# test, interning) and tuples hash in C; the few that get reached become Atoms then.
-AtomKey = tuple[str, tuple[str, ...]]
+# Effect atoms are (predicate, args) keys (AtomKey), not Atom objects: they are hashed a few times
+# each (reached test, interning) and tuples hash and compare in C; the few that get reached become
+# Atoms then. Look-ups of Atoms go through their keys for the same reason.
 EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
 EffectBlock = tuple[Conjunction, list[EffectPart]]
 EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
@@ -68,12 +68,12 @@ def _conjuncts(formula: Formula) -> list[Formula]:
 
 
 def _any_reached(
-    alternatives: list[tuple[Formula, ...]], binding: dict[str, str], reached: set[Atom]
+    alternatives: list[tuple[Formula, ...]], binding: dict[str, str], reached: set[AtomKey]
 ) -> bool:
     """Whether each disjunction of atoms has a reached (or static initial) atom under ``binding``."""
     for atoms in alternatives:
         for a in atoms:
-            if Atom(a.predicate, tuple(map(binding.get, a.args, a.args))) in reached:  # type: ignore[union-attr]
+            if (a.predicate, tuple(map(binding.get, a.args, a.args))) in reached:  # type: ignore[union-attr]
                 break
         else:
             return False
@@ -392,7 +392,7 @@ def _effects(
     v: _Variant,
     groups: list[_EffectGroup],
     simplify: Simplifier,
-    reached: set[Atom],
+    reached: set[AtomKey],
     deferred: list[Deferred],
     memo: EffectMemo,
 ) -> None:
@@ -410,7 +410,7 @@ def _effects(
             base = simplify.ground_literals(split[0], v.binding)
             if base is None:
                 continue  # the condition is false whatever the effect variables are
-            if any(pos and a not in reached for a, pos in base):
+            if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
                 deferred.append((v, group, v.binding, base))
                 continue
         _ground_group(group, v.binding, base, simplify, v.effects, memo)
@@ -483,7 +483,7 @@ def _ground_group(
 
 
 def _new_adds(
-    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[Atom, ...], AtomKey]]
+    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[AtomKey, ...], AtomKey]]
 ) -> None:
     """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
     for base, parts in blocks:
@@ -492,8 +492,8 @@ def _new_adds(
             for atom, is_del in ground:
                 if not is_del and atom not in reached:
                     if outer is None:
-                        outer = tuple(a for a, pos in base if pos)
-                    pending.append((outer + tuple(a for a, pos in inner if pos), atom))
+                        outer = tuple((a.predicate, a.args) for a, pos in base if pos)
+                    pending.append((outer + tuple((a.predicate, a.args) for a, pos in inner if pos), atom))
 
 
 @dataclass(frozen=True, slots=True)
@@ -594,7 +594,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     fired: list[_Variant] = []
     # Add effects of fired operators not reached yet: (positive condition atoms, atom key). Each
     # round only scans these, not every effect of every fired operator again.
-    pending: list[tuple[tuple[Atom, ...], AtomKey]] = []
+    pending: list[tuple[tuple[AtomKey, ...], AtomKey]] = []
     reached_keys: set[AtomKey] = {(a.predicate, a.args) for a in init}
     deferred: list[Deferred] = []
     effect_memo: EffectMemo = {}
@@ -620,7 +620,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     if narrow[si] and _ruled_out(si, narrow[si], binding, simplify, narrow_memo):
                         cache[key] = None
                         continue
-                    if alternatives[si] and not _any_reached(alternatives[si], binding, reached):
+                    if alternatives[si] and not _any_reached(alternatives[si], binding, reached_keys):
                         still.append(binding)
                         continue
                 if key in cache:
@@ -629,17 +629,17 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo, cores)
                 if v is None or v.fired:
                     continue
-                if not relaxed(v.need, reached):
+                if not relaxed(v.need, reached_keys):
                     still.append(binding)
                 else:
                     v.fired = True
-                    _effects(v, groups[si], simplify, reached, deferred, effect_memo)
+                    _effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
                     fired.append(v)
                     _new_adds(v.effects, reached_keys, pending)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
-            if any(pos and a not in reached for a, pos in base):
+            if any(pos and (a.predicate, a.args) not in reached_keys for a, pos in base):
                 blocked.append((v, group, binding, base))
                 continue
             start = len(v.effects)
@@ -651,7 +651,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
         for cond, key in pending:
             if key in reached_keys:
                 continue
-            if all(a in reached for a in cond):
+            if all(c in reached_keys for c in cond):
                 atom = Atom(*key)
                 reached.add(atom)
                 reached_keys.add(key)
@@ -664,13 +664,13 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
 
 
 def _condition_ids(
-    cond: Conjunction, ids: dict[Atom, int]
+    cond: Conjunction, ids: dict[AtomKey, int]
 ) -> tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]:
     """(positive ids, negative ids) of a condition, sorted; () when it needs an unreached atom."""
     pos_ids: list[int] = []
     neg_ids: list[int] = []
     for a, pos in cond:
-        i = ids.get(a)
+        i = ids.get((a.predicate, a.args))
         if pos:
             if i is None:
                 return ()
@@ -685,13 +685,11 @@ def _condition_ids(
 _PartIds = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]]
 
 
-def _parts_ids(
-    parts: list[EffectPart], ids: dict[Atom, int], key_ids: dict[AtomKey, int]
-) -> tuple[list[_PartIds], frozenset[int]]:
+def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[list[_PartIds], frozenset[int]]:
     """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
     out: list[_PartIds] = []
     for inner, ground in parts:
-        r = _condition_ids(inner, ids) if inner else ((), ())
+        r = _condition_ids(inner, key_ids) if inner else ((), ())
         if not r:
             continue
         adds = tuple(i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None)
@@ -727,9 +725,9 @@ def _intern(
     parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
     filtered: dict[tuple, list[_PartIds]] = {}  # see below: parts minus a precondition's literals
     for v in fired:
-        disjuncts = fast_dnf(v.pre, ids, scanned)
+        disjuncts = fast_dnf(v.pre, key_ids, scanned)
         if disjuncts is None:
-            disjuncts = id_dnf(v.pre, reached, ids)
+            disjuncts = id_dnf(v.pre, reached, key_ids)
         if not disjuncts:
             continue
         # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
@@ -738,12 +736,12 @@ def _intern(
         for base, parts in v.effects or ():
             b = converted.get(id(base))
             if b is None:
-                b = converted[id(base)] = _condition_ids(base, ids)
+                b = converted[id(base)] = _condition_ids(base, key_ids)
             if not b:
                 continue  # needs an atom never reached
             hit = parts_ids.get(id(parts))
             if hit is None:
-                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, ids, key_ids))
+                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, key_ids))
             if hit[1]:
                 blocks.append((b, hit))
         for disjunct in disjuncts:

@@ -13,6 +13,7 @@ from gsr.plan.normalize import DNF_LIMIT, Conjunction, to_dnf
 from gsr.plan.simplify import Simplifier
 
 FormulaCache = dict[int, tuple[Formula, object]]
+AtomKey = tuple[str, tuple[str, ...]]  # (predicate, args): hashed and compared in C
 
 
 def relaxed_core(formula: Formula, cache: FormulaCache) -> Formula:
@@ -45,10 +46,13 @@ def relaxed_core(formula: Formula, cache: FormulaCache) -> Formula:
     return out
 
 
-def relaxed(formula: Formula, reached: set[Atom]) -> bool:
-    """Whether a ground NNF formula can hold in the delete relaxation (negative literals ignored)."""
+def relaxed(formula: Formula, reached: set[AtomKey]) -> bool:
+    """Whether a ground NNF formula can hold in the delete relaxation (negative literals ignored).
+
+    ``reached`` holds (predicate, args) keys: tuples hash and compare in C, Atoms do not.
+    """
     if isinstance(formula, Atom):
-        return formula in reached
+        return (formula.predicate, formula.args) in reached
     if isinstance(formula, And):
         return all(relaxed(p, reached) for p in formula.parts)
     if isinstance(formula, Or):
@@ -67,7 +71,7 @@ def prune(formula: Formula, reached: set[Atom]) -> Formula:
     return formula
 
 
-def _alternative(formula: Formula, ids: dict[Atom, int]) -> list[int] | None:
+def _alternative(formula: Formula, ids: dict[AtomKey, int]) -> list[int] | None:
     """The literals of a literal or conjunction of literals, unreached atoms pruned; None if false."""
     out: list[int] = []
     stack = [formula]
@@ -76,12 +80,12 @@ def _alternative(formula: Formula, ids: dict[Atom, int]) -> list[int] | None:
         if isinstance(p, And):
             stack.extend(p.parts)
         elif isinstance(p, Atom):
-            i = ids.get(p)
+            i = ids.get((p.predicate, p.args))
             if i is None:
                 return None
             out.append(i)
         elif isinstance(p, Not) and isinstance(p.formula, Atom):
-            i = ids.get(p.formula)
+            i = ids.get((p.formula.predicate, p.formula.args))
             if i is not None:
                 out.append(~i)
         else:
@@ -96,7 +100,7 @@ IdConjunction = frozenset[int]
 Scanned = tuple[list[int], list[list[IdConjunction]]] | bool | None
 
 
-def _scan(formula: Formula, ids: dict[Atom, int]) -> Scanned:
+def _scan(formula: Formula, ids: dict[AtomKey, int]) -> Scanned:
     """Literals and disjunctions of one conjunct of a precondition (unreached atoms pruned)."""
     literals: list[int] = []
     choices: list[list[IdConjunction]] = []
@@ -110,7 +114,7 @@ def _scan(formula: Formula, ids: dict[Atom, int]) -> Scanned:
                 alts: list[IdConjunction] | None = []
                 for q in p.parts:
                     if isinstance(q, Atom):  # the common alternative, inline
-                        i = ids.get(q)
+                        i = ids.get((q.predicate, q.args))
                         if i is not None:
                             alts.append(frozenset((i,)))  # type: ignore[union-attr]
                         continue
@@ -127,12 +131,12 @@ def _scan(formula: Formula, ids: dict[Atom, int]) -> Scanned:
                     return False
                 choices.append(alts)
             elif isinstance(p, Atom):
-                i = ids.get(p)
+                i = ids.get((p.predicate, p.args))
                 if i is None:
                     return False
                 literals.append(i)
             elif isinstance(p, Not) and isinstance(p.formula, Atom):
-                i = ids.get(p.formula)
+                i = ids.get((p.formula.predicate, p.formula.args))
                 if i is not None:
                     literals.append(~i)
             else:
@@ -142,7 +146,7 @@ def _scan(formula: Formula, ids: dict[Atom, int]) -> Scanned:
     return literals, choices
 
 
-def fast_dnf(formula: Formula, ids: dict[Atom, int], cache: FormulaCache) -> list[IdConjunction] | None:
+def fast_dnf(formula: Formula, ids: dict[AtomKey, int], cache: FormulaCache) -> list[IdConjunction] | None:
     """``minimal_dnf(prune(formula))`` over atom-id literals, for conjunctions of literals and of
     disjunctions of such (nearly all ground preconditions); None for any other shape.
 
@@ -153,13 +157,13 @@ def fast_dnf(formula: Formula, ids: dict[Atom, int], cache: FormulaCache) -> lis
     choices: list[list[IdConjunction]] = []
     for p in formula.parts if isinstance(formula, And) else (formula,):
         if isinstance(p, Atom):
-            i = ids.get(p)
+            i = ids.get((p.predicate, p.args))
             if i is None:
                 return []
             literals.append(i)
             continue
         if isinstance(p, Not) and isinstance(p.formula, Atom):
-            i = ids.get(p.formula)
+            i = ids.get((p.formula.predicate, p.formula.args))
             if i is not None:
                 literals.append(~i)
             continue
@@ -201,12 +205,13 @@ def fast_dnf(formula: Formula, ids: dict[Atom, int], cache: FormulaCache) -> lis
     return kept
 
 
-def id_dnf(formula: Formula, reached: set[Atom], ids: dict[Atom, int]) -> list[IdConjunction]:
+def id_dnf(formula: Formula, reached: set[Atom], ids: dict[AtomKey, int]) -> list[IdConjunction]:
     """The general path of fast_dnf (any NNF shape), over atom-id literals."""
-    return [
-        frozenset(ids[a] if pos else ~ids[a] for a, pos in conj if a in ids)
-        for conj in minimal_dnf(prune(formula, reached))
-    ]
+    out = []
+    for conj in minimal_dnf(prune(formula, reached)):
+        keyed = [((a.predicate, a.args), pos) for a, pos in conj]
+        out.append(frozenset(ids[k] if pos else ~ids[k] for k, pos in keyed if k in ids))
+    return out
 
 
 def minimal_dnf(formula: Formula) -> list[Conjunction]:
