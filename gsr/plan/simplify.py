@@ -52,6 +52,9 @@ class Simplifier:
         self.objects = objects
         self.fluent = frozenset(fluent)
         self.init = frozenset(init)
+        # Static look-ups by (predicate, args): tuples hash and compare in C, Atoms do not, and a
+        # static atom need not be built at all.
+        self.init_keys = frozenset((a.predicate, a.args) for a in self.init)
         self.index: dict[str, list[tuple[str, ...]]] = {}
         for atom in sorted(self.init, key=lambda a: (a.predicate, a.args)):
             if atom.predicate not in self.fluent:
@@ -82,12 +85,12 @@ class Simplifier:
     ) -> frozenset[tuple[Atom, bool]] | None:
         """Fast path of __call__ + DNF for a conjunction of literals: its fluent literals, None if false."""
         out = []
-        fluent, init = self.fluent, self.init
+        fluent, init = self.fluent, self.init_keys
         for atom, pos in literals:
-            g = Atom(atom.predicate, tuple(map(binding.get, atom.args, atom.args)))
+            args = tuple(map(binding.get, atom.args, atom.args))
             if atom.predicate in fluent:
-                out.append((g, pos))
-            elif (g in init) != pos:
+                out.append((Atom(atom.predicate, args), pos))
+            elif ((atom.predicate, args) in init) != pos:
                 return None
         conj = frozenset(out)
         if any((a, not p) in conj for a, p in out):
@@ -122,7 +125,7 @@ class Simplifier:
         for g in guards:  # a guard without quantified variables is checked once, up front
             if (
                 g not in useful
-                and Atom(g.predicate, tuple(binding.get(a, a) for a in g.args)) not in self.init
+                and (g.predicate, tuple(binding.get(a, a) for a in g.args)) not in self.init_keys
             ):
                 return
         index, has, objects = self.index, self.objects.has, self.objects
@@ -161,10 +164,10 @@ class Simplifier:
     def __call__(self, formula: Formula, binding: Mapping[str, str]) -> Formula:
         """Substitute ``binding``, instantiate quantifiers and evaluate equality and static atoms."""
         if isinstance(formula, Atom):
-            atom = Atom(formula.predicate, tuple(map(binding.get, formula.args, formula.args)))
+            args = tuple(map(binding.get, formula.args, formula.args))
             if formula.predicate in self.fluent:
-                return atom
-            return TRUE if atom in self.init else FALSE
+                return Atom(formula.predicate, args)
+            return TRUE if (formula.predicate, args) in self.init_keys else FALSE
         if isinstance(formula, Equals):
             left, right = binding.get(formula.left, formula.left), binding.get(formula.right, formula.right)
             if left.startswith("?") or right.startswith("?"):
