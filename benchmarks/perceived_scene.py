@@ -28,6 +28,7 @@ from gsr.scene_graph import Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
     from perception import Frame, PerceptionParams
+    from skills.camera import CameraSpec
     from skills.world import World
 
 #: The cameras perceived (skills.camera.default_views names); the first one's RGB is kept for reports.
@@ -60,10 +61,8 @@ class PerceivedScene:
         self.observations = 0
 
     def frames(self) -> list[Frame]:
-        """Render RGB-D + instance masks from every camera now."""
-        from skills.camera import render_frame
-
-        return [render_frame(self.world, spec) for spec in self.specs]
+        """Render RGB-D + instance masks from every camera now (with the doors that are no graph part)."""
+        return [frame_with_doors(self.world, spec) for spec in self.specs]
 
     def observe(self, expected: SceneGraph | None = None) -> SceneGraph:
         """Perceive the world now and merge it into the belief; the new belief.
@@ -74,13 +73,59 @@ class PerceivedScene:
 
         frames = self.frames()
         self.last_rgb = frames[0].rgb
-        observed = perceive(frames, self.params)
+        observed = without_helper_parts(perceive(frames, self.params), self.world)
         observed = with_map_regions(observed, self.world)
         observed = with_held(observed, held_objects(self.world), self.belief, self.world.graph)
         prior = expected if expected is not None else self.belief
         self.belief = with_unsensed_states(update_belief(self.belief, observed), prior)
         self.observations += 1
         return self.belief
+
+
+def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
+    """``skills.render_frame`` plus one mask per door that the scene graph has no part node for.
+
+    A microwave's door is a link of the microwave, not a node, so ``render_frame`` labels its pixels as
+    the microwave and perception can only judge the microwave by its top surface (a front door stays
+    unseen). A detector segments a door as such: here its pixels get their own label (``<object>/door``,
+    category ``door``, parent the object), so perception measures the door angle and the object takes
+    the door's open/closed state; :func:`without_helper_parts` drops the door node afterwards.
+    """
+    from perception.frame import Frame, InstanceLabel
+    from skills.camera import node_of_pixels, render
+
+    img = render(world, spec)
+    masks, names = node_of_pixels(world, img.body, img.link)
+    labels = {}
+    for i, nid in enumerate(names):
+        n = world.graph.node(nid)
+        labels[i] = InstanceLabel(id=nid, category=n.category, color=n.color, parent=n.parent)
+    parts = {(obj, part) for obj, part in world.parts.values()}
+    for oid in sorted(world.objects):
+        o = world.objects[oid]
+        door = o.model.open_part
+        art = o.model.articulations.get(door or "")
+        if art is None or art.kind != "door" or (oid, door) in parts or not world.graph.has_node(oid):
+            continue
+        pixels = (img.body == o.body) & (img.link == o.links[art.link])
+        if pixels.any():
+            k = len(labels)
+            masks = np.where(pixels, k, masks)
+            labels[k] = InstanceLabel(id=f"{oid}/{door}", category="door", parent=oid)
+    return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
+
+
+def without_helper_parts(graph: SceneGraph, world: World) -> SceneGraph:
+    """The graph without nodes the task graph does not have (the doors of :func:`frame_with_doors`)."""
+    extra = {n.id for n in graph.nodes if not world.graph.has_node(n.id)}
+    if not extra:
+        return graph
+    return graph.model_copy(
+        update={
+            "nodes": tuple(n for n in graph.nodes if n.id not in extra),
+            "edges": tuple(e for e in graph.edges if e.source not in extra and e.target not in extra),
+        }
+    )
 
 
 def held_objects(world: World) -> set[str]:

@@ -164,3 +164,34 @@ def test_perceived_scene_in_a_real_world(shared_data) -> None:
         assert bowl not in observed_ids(closed) and scene.observations == 4
     finally:
         world.close()
+
+
+@pytest.mark.physics
+def test_a_door_without_a_part_node_is_segmented_and_measured(shared_data) -> None:
+    """The microwave's door is no graph node: its own mask lets perception see it open or closed."""
+    pytest.importorskip("open3d")
+    import pybullet as p
+
+    from benchmarks.perceived_scene import PerceivedScene
+    from benchmarks.suites.libero_suite import task_from_bddl
+    from skills import build_world
+
+    task = task_from_bddl(
+        shared_data
+        / "libero"
+        / "libero_10"
+        / "KITCHEN_SCENE6_put_the_yellow_and_white_mug_in_the_microwave_and_close_it.bddl"
+    )
+    world = build_world(task, seed=0)
+    try:
+        scene = PerceivedScene(world)
+        door = world.objects["microwave_1"]
+        labels = {lab.id for f in scene.frames() for lab in f.labels.values()}
+        assert "microwave_1/door" in labels  # a mask of its own
+        for q, state in ((0.0, "closed"), (1.5, "open"), (0.3, "closed")):
+            p.resetJointState(door.body, door.links["door"], q, physicsClientId=world.client)
+            graph = scene.observe()
+            assert state in graph.node("microwave_1").states, (q, graph.node("microwave_1").states)
+            assert not graph.has_node("microwave_1/door")  # the helper node is not in the agent's graph
+    finally:
+        world.close()
