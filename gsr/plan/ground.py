@@ -699,16 +699,39 @@ def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[li
     return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
 
 
-def _filtered_parts(conv: list[_PartIds], pre: set[int], neg: set[int]) -> list[_PartIds]:
-    """The parts whose condition is consistent with a precondition, minus its literals."""
-    out: list[_PartIds] = []
+def _filtered_parts(
+    conv: list[_PartIds], pre: set[int], neg: set[int]
+) -> tuple[list[_PartIds], list[_PartIds]]:
+    """The parts whose condition is consistent with a precondition, minus its literals: those left
+    without a condition, and the others."""
+    plain: list[_PartIds] = []
+    conditional: list[_PartIds] = []
     for r0, r1, adds, dels in conv:
         if not neg.isdisjoint(r0) or not pre.isdisjoint(r1):
             continue  # contradicts the precondition: never fires
         rp = r0 if pre.isdisjoint(r0) else tuple(i for i in r0 if i not in pre)
         rn = r1 if neg.isdisjoint(r1) else tuple(i for i in r1 if i not in neg)
-        out.append((rp, rn, adds, dels))
-    return out
+        (conditional if rp or rn else plain).append((rp, rn, adds, dels))
+    return plain, conditional
+
+
+def _cond_table(
+    blocks: list[tuple[tuple[list[_PartIds], list[_PartIds]], tuple[int, ...], tuple[int, ...]]],
+) -> tuple[tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]], ...]:
+    """GroundOp.cond of the conditional blocks: effects merged by condition, sorted."""
+    cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
+    for (plain, conditional), bp, bn in blocks:
+        for rp, rn, adds, dels in (*plain, *conditional) if bp or bn else conditional:
+            cp = (tuple(sorted({*bp, *rp})) if rp else bp) if bp else rp
+            cn = (tuple(sorted({*bn, *rn})) if rn else bn) if bn else rn
+            target = cond.get((cp, cn))
+            if target is None:
+                target = cond[(cp, cn)] = (set(), set())
+            target[0].update(adds)
+            target[1].update(dels)
+    return tuple(
+        (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
+    )
 
 
 def _intern(
@@ -723,7 +746,8 @@ def _intern(
     converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
     scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
     parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
-    filtered: dict[tuple, list[_PartIds]] = {}  # see below: parts minus a precondition's literals
+    filtered: dict[tuple, tuple[list[_PartIds], list[_PartIds]]] = {}  # see _filtered_parts
+    cond_tables: dict[tuple, tuple] = {}  # see _cond_table
     for v in fired:
         disjuncts = fast_dnf(v.pre, key_ids, scanned)
         if disjuncts is None:
@@ -750,11 +774,11 @@ def _intern(
             pre_set, neg_set = set(pre), set(neg)
             add: set[int] = set()
             dele: set[int] = set()
-            cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
             # An effect takes effect under base | inner minus the precondition's literals; it never
             # fires when that contradicts the precondition (which is itself consistent). The parts
             # of a shared list are filtered once per intersection of the precondition with their
             # condition atoms (cube counting: once per container, not per cube picked).
+            conditional = []  # (kept parts, base literals left) of the blocks with conditional effects
             for (b0, b1), (parts, conv, atoms_of) in blocks:
                 if not neg_set.isdisjoint(b0) or not pre_set.isdisjoint(b1):
                     continue
@@ -766,22 +790,24 @@ def _intern(
                     if kept is None:
                         kept = filtered[fkey] = _filtered_parts(conv, pre_set, neg_set)
                 else:
-                    kept = conv  # unconditional parts: nothing to filter
-                for rp, rn, adds, dels in kept:
-                    cp = (tuple(sorted({*bp, *rp})) if rp else bp) if bp else rp
-                    cn = (tuple(sorted({*bn, *rn})) if rn else bn) if bn else rn
-                    if cp or cn:
-                        target = cond.get((cp, cn))
-                        if target is None:
-                            target = cond[(cp, cn)] = (set(), set())
-                        target[0].update(adds)
-                        target[1].update(dels)
-                    else:
-                        add.update(adds)
-                        dele.update(dels)
-            conds = tuple(
-                (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
-            )
+                    kept = (conv, [])  # unconditional parts: nothing to filter
+                if bp or bn:
+                    conditional.append((kept, bp, bn))
+                    continue
+                for _rp, _rn, adds, dels in kept[0]:
+                    add.update(adds)
+                    dele.update(dels)
+                if kept[1]:
+                    conditional.append((kept, bp, bn))
+            # The conditional effects depend only on the kept parts and base literals left, which
+            # many actions share (cube counting by container): converted once per combination.
+            conds: tuple = ()
+            if conditional:
+                ckey = tuple((id(kept), bp, bn) for kept, bp, bn in conditional)
+                found = cond_tables.get(ckey)
+                if found is None:
+                    found = cond_tables[ckey] = _cond_table(conditional)
+                conds = found
             ops.add(
                 GroundOp(
                     v.name,
