@@ -57,7 +57,19 @@ PICKABLE = (
 )
 SMALL = ("cube", "cream_cheese", "butter", "milk", "alphabet_soup", "chocolate_pudding", "mug")
 COLORS = ("red", "blue", "green", "yellow", "white", "orange")
-SKILLS = ("pick", "place_on", "place_in", "stack", "open", "close", "turn_on", "turn_off", "push")
+SKILLS = (
+    "pick",
+    "place_on",
+    "place_in",
+    "stack",
+    "open",
+    "close",
+    "open_door",
+    "close_door",
+    "turn_on",
+    "turn_off",
+    "push",
+)
 DRAWERS = {0: "bottom_drawer", 1: "middle_drawer", 2: "top_drawer"}
 
 
@@ -178,6 +190,26 @@ def trial_close(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
     return graph, [], Step("close", (nid,))
 
 
+def _microwave(rng: random.Random, is_open: bool) -> SceneGraph:
+    """Cabinet, stove, a microwave whose door is open or closed, and one or two catalogue objects."""
+    dev = Node(
+        id="microwave_1",
+        category="microwave",
+        attributes={"fixture": True},
+        states=("off", "open" if is_open else "closed"),
+    )
+    objs = [(f"{c}_{i + 1}", c) for i, c in enumerate(_distinct(rng, SMALL, rng.randint(1, 2)))]
+    return scene(rng, objs, extra=[dev])
+
+
+def trial_open_door(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    return _microwave(rng, False), [], Step("open", ("microwave_1",))
+
+
+def trial_close_door(rng: random.Random) -> tuple[SceneGraph, list[Step], Step]:
+    return _microwave(rng, True), [], Step("close", ("microwave_1",))
+
+
 def _switchable(rng: random.Random, on: bool) -> tuple[SceneGraph, str]:
     kind = rng.choice(("stove", "lamp", "microwave"))
     state = ("on",) if on else ("off",)
@@ -211,6 +243,8 @@ TRIALS: dict[str, Callable[[random.Random], tuple[SceneGraph, list[Step], Step]]
     "stack": trial_stack,
     "open": trial_open,
     "close": trial_close,
+    "open_door": trial_open_door,
+    "close_door": trial_close_door,
     "turn_on": trial_turn_on,
     "turn_off": trial_turn_off,
     "push": trial_push,
@@ -348,6 +382,7 @@ def _failure_kind(reason: str) -> str:
         "grasp_missed",
         "grasp_slipped",
         "timeout",
+        "ik_flip",
         "not_achieved",
         "unsupported",
     ):

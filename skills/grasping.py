@@ -16,11 +16,12 @@ import numpy as np
 from skills.asset_model import GraspSite
 from skills.motion import Motion
 from skills.result import Failure, SkillError
-from skills.robot import top_down
+from skills.robot import angled, top_down
 from skills.sim_graph import interior_boxes, support_of
 from skills.world import SimObject, World
 
 TRANSIT_CLEARANCE = 0.08  # m above the tallest thing under the path
+MAX_DROP = 0.06  # m: the most a placed object may be let go above its release point
 APPROACH = 0.1  # m above a grasp or release point
 
 
@@ -95,32 +96,83 @@ def _site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarra
     return pos, world.yaw_of(obj.body, link) + site.yaw
 
 
+TILT = 0.5  # rad from vertical: a hand leaning away from a tall neighbour keeps its palm off it
+NEAR = 0.12  # m: neighbours closer than this (footprint to grasp centre) shape the grasp candidates
+
+
+def _walls_near(world: World, obj: SimObject, z: float) -> list[float]:
+    """World yaws pointing from ``obj`` to the nearest face of each neighbour taller than ``z``."""
+    lo, hi = world.body_aabb(obj.body)
+    c = (lo[:2] + hi[:2]) / 2
+    out = []
+    for o in world.objects.values():
+        if o.id == obj.id or world.body_aabb(o.body)[1][2] < z or support_of(world, o.id) == ("held", ""):
+            continue
+        yaw = world.yaw_of(o.body)
+        rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+        olo, ohi = world.body_aabb(o.body)
+        local = rot.T @ (c - (olo[:2] + ohi[:2]) / 2)
+        half = np.array(o.model.extent[:2]) / 2
+        d = local - np.clip(local, -half, half)
+        dist = float(np.linalg.norm(d))
+        if 1e-6 < dist < NEAR:
+            towards = rot @ (-d / dist)
+            out.append(math.atan2(towards[1], towards[0]))
+    return out
+
+
+def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tuple, float]]:
+    """``(grasp point, hand orientation, width between the fingers)`` to try, best first.
+
+    The model's sites (rims, both yaws of solids; nearest the robot first); for a small square solid
+    beside taller neighbours (GSR-Bench cubes beside boxes) also a top-down grasp closing along the
+    neighbour's wall and grasps leaning towards the wall (the palm away from it), closing along the
+    wall or across the cube's faces.
+    """
+    sites = [s for g in obj.model.grasps for s in _rim_sites(g, obj)]
+    sites.sort(key=lambda s: float(_site_pose(world, obj, s)[0][0]))
+    out = []
+    for site in sites:
+        pos, yaw = _site_pose(world, obj, site)
+        out.append((pos, top_down(yaw), site.width))
+    sx, sy = obj.model.extent[:2]
+    if sites and abs(sx - sy) < 1e-6 and math.hypot(sx, sy) < 0.06:
+        pos, face = _site_pose(world, obj, sites[0])
+
+        def width(closing: float) -> float:
+            t = closing - face
+            return abs(math.cos(t)) * sx + abs(math.sin(t)) * sy
+
+        extra = []
+        for to_wall in _walls_near(world, obj, float(pos[2]) + 0.03):
+            along = to_wall + math.pi / 2
+            nearest_face = face + round((to_wall - face) / (math.pi / 2)) * math.pi / 2
+            extra += [
+                (pos, top_down(along), width(along)),
+                (pos, angled(to_wall, TILT, fingers_vertical=False), width(along)),
+                (pos, angled(nearest_face, TILT, fingers_vertical=False), sx),
+            ]
+        out = out[:2] + extra + out[2:]
+    return out
+
+
 def pick(world: World, m: Motion, obj: SimObject) -> None:
     """Grasp ``obj`` by friction and lift it to transit height; raises SkillError on failure."""
     if not obj.model.grasps or obj.model.fixed:
         raise SkillError(Failure.UNSUPPORTED, f"{obj.id} has no grasp site (a fixture)")
-    sites = [s for g in obj.model.grasps for s in _rim_sites(g, obj)]
-    # the side facing the robot (smallest x) first: the base parks in front of the object
-    sites.sort(key=lambda s: float(_site_pose(world, obj, s)[0][0]))
     z_transit = transit_height(world)
     _lift(m, z_transit)
     centre = world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5
     m.ignore = {obj.body}
     errors = []
-    for site in sites[:7]:
-        pos, yaw = _site_pose(world, obj, site)
-        quat = top_down(yaw)
+    for pos, quat, site_width in grasp_candidates(world, obj)[:12]:
+        above = (np.array([pos[0], pos[1], z_transit]), quat)
         try:
-            m.park_for(centre, poses=[(pos, quat), (np.array([pos[0], pos[1], z_transit]), quat)])
-            grasp_q = m.solve(pos, quat)
-            if m.collision(grasp_q, margin=0.0) is not None:
-                m.ignore = set()
-                hit = m.collision(grasp_q)
-                m.ignore = {obj.body}
-                if hit is not None:
-                    raise SkillError(Failure.BLOCKED, f"grasp pose collides with {hit}")
-            m.gripper(min(0.08, site.width + 0.035))
-            above = (np.array([pos[0], pos[1], z_transit]), quat)
+            # plan the base and check the grasp pose before anything moves: blocked grasps cost no motion
+            poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
+            base, _grasp_q = m.plan_base(centre, poses, clear=True)
+            m.move_base(float(base[0]), float(base[1]))
+            m.gripper(min(0.08, site_width + 0.035))
             m.move_continuous(above, [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)])
             m.move_line((pos + np.array([0, 0, APPROACH]), quat))
             m.move_line((pos, quat))
@@ -353,7 +405,14 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     goal = _recentre(world, m, obj, spot, goal, quat, z_transit)
     m.move_line((goal + np.array([0, 0, 0.04]), quat))
     goal = _recentre(world, m, obj, spot, goal, quat, goal[2] + 0.04)
-    m.move_line((goal, quat), check=False)
+    # down to the release point, or as low as the hand gets without touching a wall top or a neighbour
+    # (the Panda's hand is 22 cm long: over a 3 cm cube in an 8.5 cm deep box it cannot reach the floor;
+    # the object is then let go a few centimetres above it)
+    short = m.move_until_contact((goal, quat))
+    if short > MAX_DROP:
+        raise SkillError(
+            Failure.BLOCKED, f"the hand stops {short:.3f} m above the release point of {obj.id} in {target}"
+        )
     m.step(10)
     # open just enough to let go: wide-open fingers would sweep into neighbours (packed boxes)
     _unweld(world, obj)

@@ -61,6 +61,11 @@ class Motion:
 
     def collision(self, q: np.ndarray, margin: float = 0.0) -> str | None:
         """The first obstacle the arm at ``q`` would touch (closer than ``margin``), or None."""
+        hit = self.first_hit(q, margin)
+        return hit[0] if hit else None
+
+    def first_hit(self, q: np.ndarray, margin: float = 0.0) -> tuple[str, int] | None:
+        """``(what, robot link)`` of the first obstacle the arm at ``q`` would touch, or None."""
         import pybullet as p
 
         w, r = self.world, self.robot
@@ -73,15 +78,21 @@ class Motion:
                 for pt in p.getClosestPoints(r.body, o.body, margin, physicsClientId=w.client):
                     if (o.body, pt[4]) not in self.ignore_links:
                         names = {v: k for k, v in o.links.items()}
-                        return f"{o.id} ({names.get(pt[4], pt[4])}, robot link {pt[3]})"
+                        return f"{o.id} ({names.get(pt[4], pt[4])}, robot link {pt[3]})", int(pt[3])
             for pt in p.getClosestPoints(r.body, w.table_body, -0.002, physicsClientId=w.client):
-                return f"table ({pt[3]})"
+                return f"table ({pt[3]})", int(pt[3])
             return None
         finally:
             r.reset(saved)
 
-    def line(self, start: Pose, goal: Pose, seed: np.ndarray, check: bool = True) -> list[np.ndarray]:
-        """Configurations along the straight segment start -> goal (orientation slerped), collision-checked."""
+    def line(
+        self, start: Pose, goal: Pose, seed: np.ndarray, check: bool = True, until_contact: bool = False
+    ) -> list[np.ndarray]:
+        """Configurations along the straight segment start -> goal (orientation slerped), collision-checked.
+
+        ``until_contact``: stop before the first configuration that would touch something instead of
+        failing (a descent that ends where the hand meets a wall top or a neighbour).
+        """
         import pybullet as p
 
         dist = float(np.linalg.norm(goal[0] - start[0]))
@@ -94,8 +105,11 @@ class Motion:
             pos = start[0] + (goal[0] - start[0]) * t
             quat = p.getQuaternionSlerp(start[1], goal[1], t)
             q = self._continuous(q, pos, quat, self.solve(pos, quat, seed=q), goal[0])
-            if check:
-                hit = self.collision(q)
+            if check or until_contact:
+                # stopping at contact keeps 3 mm: the hand must not end resting on a wall it may drag
+                hit = self.collision(q, margin=0.003 if until_contact else 0.0)
+                if hit is not None and until_contact:
+                    break
                 if hit is not None:
                     raise SkillError(
                         Failure.BLOCKED, f"path to {np.round(goal[0], 3).tolist()} collides with {hit}"
@@ -168,6 +182,11 @@ class Motion:
         """Move the grasp point in a straight line to ``goal``."""
         self.follow(self.line(self.pose(), goal, self.robot.q(), check=check))
 
+    def move_until_contact(self, goal: Pose) -> float:
+        """Move straight towards ``goal`` as far as nothing is touched (1 cm steps); the distance left."""
+        self.follow(self.line(self.pose(), goal, self.robot.q(), until_contact=True))
+        return float(np.linalg.norm(goal[0] - self.pose()[0]))
+
     def move_base(self, x: float, y: float) -> None:
         """Slide the base on its rails (arm held still) to ``(x, y)``, clamped to the rails' range."""
         r = self.robot
@@ -193,17 +212,37 @@ class Motion:
         if not poses:
             self.move_base(float(target[0]) - standoff, float(target[1]))
             return
+        base, _start = self.plan_base(target, poses, standoff)
+        self.move_base(float(base[0]), float(base[1]))
+
+    def plan_base(
+        self, target: np.ndarray, poses: list[Pose], standoff: float = STANDOFF, clear: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(base, start)``: the first base spot near ``standoff`` in front of ``target`` from which every
+        pose has an IK solution and the straight moves through them stay continuous, and the arm
+        configuration at ``poses[0]`` there; nothing moves. UNREACHABLE if there is none.
+
+        With ``clear`` the arm at ``poses[0]`` must also touch nothing: a base spot whose arm links hit
+        something (an elbow over a box) gives way to the next; a hand or wrist that hits something does
+        so from every spot (its pose is fixed), so that is BLOCKED at once.
+        """
         r = self.robot
+        arm_hit = None
         for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15, -0.2):
             for dy in (0.0, -0.08, 0.08, -0.16, 0.16, -0.25, 0.25):
                 base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
-                if (
-                    self._base_clear(base)
-                    and all(self._reachable(pose, base) for pose in poses)
-                    and self.continuous_start(poses, base) is not None
-                ):
-                    self.move_base(float(base[0]), float(base[1]))
-                    return
+                if self._base_clear(base) and all(self._reachable(pose, base) for pose in poses):
+                    start = self.continuous_start(poses, base)
+                    if start is None:
+                        continue
+                    hit = self.first_hit(start) if clear else None
+                    if hit is None:
+                        return base, start
+                    if hit[1] >= r.arm[-1]:
+                        raise SkillError(Failure.BLOCKED, f"grasp pose collides with {hit[0]}")
+                    arm_hit = arm_hit or hit[0]
+        if arm_hit is not None:
+            raise SkillError(Failure.BLOCKED, f"from every base position the arm collides: {arm_hit}")
         raise SkillError(
             Failure.UNREACHABLE, f"no base position reaches the poses around {np.round(target, 3).tolist()}"
         )
