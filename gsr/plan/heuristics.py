@@ -55,18 +55,23 @@ class Relaxation:
         # h(cond)) <= c + max(h(pre), h(cond))), so it stays admissible.
         users: dict[tuple[tuple[int, ...], tuple[int, ...]], list[int]] = {}
         keys: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]] | None] = {}  # per distinct effect
+        by_tuple: dict[int, list] = {}  # grounding shares cond tuples between operators
         for i, o in enumerate(task.ops):
-            for ce in o.cond:
-                if ce in keys:
-                    ukey = keys[ce]
-                else:
-                    cp, cn, ca, cd = ce
-                    ga = (*ca, *(comp[d] for d in cd if d in comp))
-                    ukey = keys[ce] = ((*cp, *(comp[a] for a in cn)), ga) if ga else None
-                if ukey is not None:
-                    ops_of = users.setdefault(ukey, [])
-                    if not ops_of or ops_of[-1] != i:
-                        ops_of.append(i)
+            targets = by_tuple.get(id(o.cond))
+            if targets is None:
+                targets = by_tuple[id(o.cond)] = []
+                for ce in o.cond:
+                    if ce in keys:
+                        ukey = keys[ce]
+                    else:
+                        cp, cn, ca, cd = ce
+                        ga = (*ca, *(comp[d] for d in cd if d in comp))
+                        ukey = keys[ce] = ((*cp, *(comp[a] for a in cn)), ga) if ga else None
+                    if ukey is not None:
+                        targets.append(users.setdefault(ukey, []))
+            for ops_of in targets:
+                if not ops_of or ops_of[-1] != i:
+                    ops_of.append(i)
         aux_of: dict[tuple[int, ...], int] = {}  # operator set -> its "one of them fired" fact
         aux_adds: dict[int, list[int]] = {}
         for (gp, ga), ops_of in users.items():

@@ -78,13 +78,19 @@ class Task:
         self.del_mask = [mask(o.delete) for o in self.ops]
         # Conditional effects repeat across operators (the cube-counting groups of every pick and
         # place): each distinct one is converted once.
+        # Grounding hands many operators the very same cond tuple: converted once per object.
         cond_masks: dict[CondEffect, tuple[int, int, int, int]] = {}
+        by_tuple: dict[int, tuple[tuple[int, int, int, int], ...]] = {}
+        self.cond_mask = []
         for o in self.ops:
-            for ce in o.cond:
-                if ce not in cond_masks:
-                    p, n, a, d = ce
-                    cond_masks[ce] = (mask(p), mask(n), mask(a), mask(d))
-        self.cond_mask = [tuple(map(cond_masks.__getitem__, o.cond)) for o in self.ops]
+            found = by_tuple.get(id(o.cond))
+            if found is None:
+                for ce in o.cond:
+                    if ce not in cond_masks:
+                        p, n, a, d = ce
+                        cond_masks[ce] = (mask(p), mask(n), mask(a), mask(d))
+                found = by_tuple[id(o.cond)] = tuple(map(cond_masks.__getitem__, o.cond))
+            self.cond_mask.append(found)
         self.goal_masks = [(mask(p), mask(n)) for p, n in self.goals]
         self.has_cond = any(o.cond for o in self.ops)
         self.has_neg = any(o.neg for o in self.ops) or any(n for _, n in self.goals)
