@@ -3,18 +3,20 @@
 Shared by the demo (``benchmarks/demo.py``) and the physical runner (``gsr bench run --physical --perceive``,
 :mod:`benchmarks.perceived_executor`). Each :meth:`PerceivedScene.observe` call
 
-1. renders RGB-D and instance masks from the world's cameras (``skills.render_frame``; the masks stand in
-   for a detector: ids and labels, no geometry) and runs :func:`perception.perceive` on them (fused views);
+1. renders RGB-D and instance masks from the world's cameras (``skills.render_frame``, plus a mask for each
+   door that is no graph node: :func:`frame_with_doors`; the masks stand in for a detector: ids and
+   labels, no geometry) and runs :func:`perception.perceive` on them (fused views);
 2. adds the robot's *known map*: the table's named regions (LIBERO ``stove_front_region`` ...) are not
    visible things, so their nodes come from the map and an object perceived on the table inside a region's
    rectangle is on that region (the same rule as the simulator's ground truth);
 3. adds *proprioception*: an object both fingers touch is held (grasp state, not vision): it gets the
    ``held`` state and loses any support edge; if the hand hides it, its node comes from the last belief;
 4. merges the result into the previous belief with :func:`perception.update_belief` (objects inside a
-   container that is now closed are remembered, marked ``observed: False``).
+   container that is now closed are remembered, marked ``observed: False``);
+5. keeps the states no sensor sees (power: on/off) from its prior (:func:`with_unsensed_states`).
 
 :func:`observable_view` is the comparison rule of the closed loop: only facts a sensor can confirm now
-(support edges and open/on states of nodes seen in this observation, plus ``held`` from the gripper).
+(support edges and ``open`` states of nodes seen in this observation, plus ``held`` from the gripper).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gsr.errors import GSRError
 from gsr.scene_graph import Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
@@ -52,7 +55,7 @@ class PerceivedScene:
         specs = default_views(world)
         unknown = [v for v in views if v not in specs]
         if unknown or not views:
-            raise ValueError(f"unknown camera view(s) {unknown}; choose from {sorted(specs)}")
+            raise GSRError(f"unknown camera view(s) {unknown}; choose from {sorted(specs)}")
         self.world = world
         self.specs = [specs[v] for v in views]
         self.params = params
@@ -116,8 +119,10 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
 
 
 def without_helper_parts(graph: SceneGraph, world: World) -> SceneGraph:
-    """The graph without nodes the task graph does not have (the doors of :func:`frame_with_doors`)."""
-    extra = {n.id for n in graph.nodes if not world.graph.has_node(n.id)}
+    """The graph without part nodes the task graph does not have (the doors of :func:`frame_with_doors`).
+
+    Only parts: a ground perception found itself (``table`` from background pixels) stays."""
+    extra = {n.id for n in graph.nodes if n.parent is not None and not world.graph.has_node(n.id)}
     if not extra:
         return graph
     return graph.model_copy(
