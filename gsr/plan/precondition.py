@@ -41,7 +41,14 @@ def relaxed_core(formula: Formula, cache: FormulaCache) -> Formula:
             continue
         kept.append(q)
     if out is None:
-        out = TRUE if not kept else kept[0] if len(kept) == 1 else (And if conj else Or)(tuple(kept))
+        # An empty disjunction (FALSE) stays false; an empty conjunction is TRUE.
+        out = (
+            (TRUE if conj else FALSE)
+            if not kept
+            else kept[0]
+            if len(kept) == 1
+            else (And if conj else Or)(tuple(kept))
+        )
     cache[id(formula)] = (formula, out)
     return out
 
