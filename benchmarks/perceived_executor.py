@@ -56,7 +56,9 @@ class PerceivingPhysicalExecutor(PhysicalExecutor):
             )
         result = run_step(self.world, step, self.budget)
         self.graph = self._observe(expected)
-        confirmed = observed_ids(self.graph)
+        # facts about nodes seen now *and* expected: an object that reappears (the arm had hidden it) or
+        # is seen for the first time is a discovery, not a contradiction of the step's effects
+        confirmed = observed_ids(self.graph) & {n.id for n in expected.nodes}
         diff = diff_graphs(observable_view(expected, confirmed), observable_view(self.graph, confirmed))
         why = ""
         if not result.ok:

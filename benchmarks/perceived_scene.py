@@ -12,7 +12,8 @@ Shared by the demo (``benchmarks/demo.py``) and the physical runner (``gsr bench
 3. adds *proprioception*: an object both fingers touch is held (grasp state, not vision): it gets the
    ``held`` state and loses any support edge; if the hand hides it, its node comes from the last belief;
 4. merges the result into the previous belief with :func:`perception.update_belief` (objects inside a
-   container that is now closed are remembered, marked ``observed: False``);
+   container that is now closed, or hidden behind something nearer in every camera, such as the arm,
+   are remembered, marked ``observed: False``);
 5. keeps the states no sensor sees (power: on/off) from its prior (:func:`with_unsensed_states`).
 
 :func:`observable_view` is the comparison rule of the closed loop: only facts a sensor can confirm now
@@ -80,7 +81,7 @@ class PerceivedScene:
         observed = with_map_regions(observed, self.world)
         observed = with_held(observed, held_objects(self.world), self.belief, self.world.graph)
         prior = expected if expected is not None else self.belief
-        self.belief = with_unsensed_states(update_belief(self.belief, observed), prior)
+        self.belief = with_unsensed_states(update_belief(self.belief, observed, frames), prior)
         self.observations += 1
         return self.belief
 

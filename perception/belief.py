@@ -4,16 +4,28 @@ A camera cannot see a bowl inside a closed drawer. Perceiving each frame in isol
 and a goal such as "the bowl in the bottom drawer, drawer closed" could never be verified. ``update_belief``
 merges a new observation into the previous belief: every node seen now comes from the observation; a node
 *not* seen now is kept, with its support edge and marked ``observed: False``, only when its absence is
-explained — it was last inside (or on something inside) a container that is now observed closed. Any
-other disappearance is believed: the object is gone from view for a reason we cannot explain, so it is
-dropped rather than invented.
+explained — it was last inside (or on something inside) a container that is now observed closed, or (when
+the frames of the observation are given) something nearer stands in front of where it was in every camera
+that looks there (the robot's arm, a box's walls: :func:`occluded`). Any other disappearance is believed:
+the object is gone from view for a reason we cannot explain, so it is dropped rather than invented.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
 from gsr.scene_graph import Edge, Node, SceneGraph
 
+if TYPE_CHECKING:
+    from perception.frame import Frame
+
 _SUPPORT = ("in", "on")
+#: Something this much nearer (m) than a remembered object's top, where the object would be in the
+#: image, hides it; the margin keeps the object's own supporter (a plate under a cup) from counting.
+OCCLUSION_MARGIN = 0.03
 
 
 def _support(graph: SceneGraph) -> dict[str, Edge]:
@@ -37,7 +49,34 @@ def _hidden_by_closed_container(node_id: str, belief: SceneGraph, observed: Scen
     return False
 
 
-def update_belief(belief: SceneGraph | None, observed: SceneGraph) -> SceneGraph:
+def occluded(node: Node, frames: Sequence[Frame], margin: float = OCCLUSION_MARGIN) -> bool:
+    """True when no camera could have seen ``node`` where it was: at the centre of its box's top, every
+    camera that has that point in its image measures something nearer by more than ``margin``.
+
+    A point no camera has in its image counts as hidden too; a node without a box cannot be tested."""
+    if node.bbox is None or not frames:
+        return False
+    lo, hi = node.bbox.min, node.bbox.max
+    top = np.array([(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, hi.z])
+    for f in frames:
+        cam = f.camera
+        rot, t = cam.cam_to_world[:3, :3], cam.cam_to_world[:3, 3]
+        x, y, z = rot.T @ (top - t)  # OpenCV camera frame: z forward
+        if z <= 0:
+            continue
+        u, v = round(float(cam.fx * x / z + cam.cx)), round(float(cam.fy * y / z + cam.cy))
+        if not (0 <= u < cam.width and 0 <= v < cam.height):
+            continue
+        window = f.depth[max(v - 1, 0) : v + 2, max(u - 1, 0) : u + 2]
+        valid = window[np.isfinite(window) & (window > 0)]
+        if valid.size == 0 or float(valid.max()) >= z - margin:
+            return False  # this camera sees as far as the object (or farther): it would have seen it
+    return True
+
+
+def update_belief(
+    belief: SceneGraph | None, observed: SceneGraph, frames: Sequence[Frame] = ()
+) -> SceneGraph:
     """The new belief: the observation plus the occluded objects it explains (see the module docstring)."""
     if belief is None:
         return observed
@@ -46,7 +85,7 @@ def update_belief(belief: SceneGraph | None, observed: SceneGraph) -> SceneGraph
     for node in belief.nodes:
         if node.id in seen or node.parent is not None:
             continue
-        if _hidden_by_closed_container(node.id, belief, observed):
+        if _hidden_by_closed_container(node.id, belief, observed) or occluded(node, frames):
             kept.append(node.model_copy(update={"attributes": {**node.attributes, "observed": False}}))
     if not kept:
         return observed

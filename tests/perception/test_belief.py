@@ -48,3 +48,46 @@ def test_unexplained_disappearance_is_dropped() -> None:
     belief = update_belief(before, after)
     assert {n.id for n in belief.nodes} == {"table", "cabinet_1", "cabinet_1/bottom_drawer"}
     assert update_belief(None, after) is after
+
+
+def _down_camera_frame(depth_value: float, size: int = 40):
+    """A camera 1 m above the origin looking straight down; a constant depth image."""
+    import numpy as np
+
+    from perception.camera import Camera
+    from perception.frame import Frame
+
+    pose = np.diag([1.0, -1.0, -1.0, 1.0])
+    pose[:3, 3] = (0.0, 0.0, 1.0)
+    cam = Camera(size, size, 40.0, 40.0, size / 2, size / 2, pose)
+    depth = np.full((size, size), depth_value, dtype=np.float32)
+    masks = np.full((size, size), -1, dtype=np.int32)
+    return Frame(rgb=np.zeros((size, size, 3), np.uint8), depth=depth, masks=masks, camera=cam, labels={})
+
+
+def _boxed(graph, node_id: str, lo: tuple, hi: tuple):
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    box = BoundingBox(min=Vec3(x=lo[0], y=lo[1], z=lo[2]), max=Vec3(x=hi[0], y=hi[1], z=hi[2]))
+    return graph.with_nodes([graph.node(node_id).model_copy(update={"bbox": box})])
+
+
+def test_object_hidden_behind_something_nearer_is_remembered() -> None:
+    from perception.belief import occluded
+
+    before = _g(["table", "red_cube1", "blue_cube1"], ["red_cube1(on)table", "blue_cube1(on)table"])
+    before = _boxed(before, "red_cube1", (-0.02, -0.02, 0.0), (0.02, 0.02, 0.04))  # top 0.96 m away
+    after = _g(["table", "blue_cube1"], ["blue_cube1(on)table"])
+    arm = _down_camera_frame(0.5)  # something 0.5 m from the camera covers the cube's place
+    clear = _down_camera_frame(1.0)  # the camera sees the table where the cube was: it is gone
+    cube = before.node("red_cube1")
+    assert occluded(cube, [arm]) and not occluded(cube, [clear]) and not occluded(cube, [arm, clear])
+    kept = update_belief(before, after, [arm])
+    assert kept.node("red_cube1").attributes["observed"] is False
+    assert ("red_cube1", "on", "table") in {e.key() for e in kept.edges}
+    assert not update_belief(before, after, [clear]).has_node("red_cube1")
+    assert not update_belief(before, after).has_node("red_cube1")  # no frames: no occlusion test
+    # a node without a box cannot be tested; one outside every image counts as hidden
+    assert not occluded(before.node("blue_cube1"), [arm])
+    far = _boxed(before, "red_cube1", (5.0, 5.0, 0.0), (5.04, 5.04, 0.04)).node("red_cube1")
+    assert occluded(far, [clear])
