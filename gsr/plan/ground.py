@@ -152,17 +152,31 @@ def _bindings(
     instead of enumerating every object for the variables it binds and testing it afterwards.
     """
     params = schema.all_params
-    ptypes = {p.name: p.types for p in params}
+    # The objects each parameter may take (typed); None for a variable that is no parameter.
+    allowed: dict[str, frozenset[str]] = {}
+    for p in params:
+        objects(p.types)
+        allowed[p.name] = objects.sets[p.types]
     atoms = schema.join
     out: list[dict] = []
     seen: set[tuple[str, ...]] = set()
+    # Per atom: its arguments with whether each is a variable (looked at for every tuple).
+    specs = {id(a): tuple((x, is_variable(x)) for x in a.args) for a in (*atoms, *disjunction)}
 
     def finish(binding: dict[str, str]) -> None:
         free = [p for p in params if p.name not in binding]
+        if not free:  # the usual case: the join bound every parameter (a fresh dict per match)
+            if disjunction:  # a binding may satisfy several alternatives
+                key = tuple(binding[p.name] for p in params)
+                if key in seen:
+                    return
+                seen.add(key)
+            out.append(binding)
+            return
         for combo in itertools.product(*(objects(p.types) for p in free)):
             full = dict(binding)
             full.update(zip((p.name for p in free), combo, strict=True))
-            if disjunction:  # a binding may satisfy several alternatives
+            if disjunction:
                 key = tuple(full[p.name] for p in params)
                 if key in seen:
                     continue
@@ -170,25 +184,27 @@ def _bindings(
             out.append(full)
 
     def matches(atom: Atom, binding: dict[str, str]) -> Iterator[dict[str, str]]:
+        spec = specs[id(atom)]
         tuples: Iterable[tuple[str, ...]] | None = None
         if by_arg is not None:
-            for k, a in enumerate(atom.args):
-                v = binding.get(a) if is_variable(a) else a
+            for k, (a, var) in enumerate(spec):
+                v = binding.get(a) if var else a
                 if v is not None:
                     tuples = by_arg.get((atom.predicate, k, v), ())
                     break
         if tuples is None:
             tuples = index.get(atom.predicate, ())
+        arity = len(spec)
         for tup in tuples:
-            if len(tup) != len(atom.args):
+            if len(tup) != arity:
                 continue
             nb = binding
-            for a, v in zip(atom.args, tup, strict=True):
-                if is_variable(a):
+            for (a, var), v in zip(spec, tup, strict=False):  # arity checked above
+                if var:
                     bound = nb.get(a)
                     if bound is None:
-                        types = ptypes.get(a)
-                        if types is None or not objects.has(v, types):
+                        ok = allowed.get(a)
+                        if ok is None or v not in ok:
                             break
                         if nb is binding:
                             nb = dict(binding)
