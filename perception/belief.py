@@ -6,7 +6,8 @@ merges a new observation into the previous belief: every node seen now comes fro
 *not* seen now is kept, with its support edge and marked ``observed: False``, only when its absence is
 explained — it was last inside (or on something inside) a container that is now observed closed, or (when
 the frames of the observation are given) something nearer stands in front of where it was in every camera
-that looks there (the robot's arm, a box's walls: :func:`occluded`). Any other disappearance is believed:
+that looks there (the robot's arm, a box's walls: :func:`occluded`), or its mask still shows a few pixels
+(a glimpse too small to measure: :func:`glimpsed`). Any other disappearance is believed:
 the object is gone from view for a reason we cannot explain, so it is dropped rather than invented.
 """
 
@@ -74,6 +75,17 @@ def occluded(node: Node, frames: Sequence[Frame], margin: float = OCCLUSION_MARG
     return True
 
 
+def glimpsed(frames: Sequence[Frame]) -> set[str]:
+    """Ids whose instance mask covers at least one pixel in some frame (seen, if only a sliver)."""
+    out: set[str] = set()
+    for f in frames:
+        for mask_id in np.unique(f.masks[f.masks >= 0]).tolist():
+            label = f.labels.get(int(mask_id))
+            if label is not None and label.id is not None:
+                out.add(label.id)
+    return out
+
+
 def update_belief(
     belief: SceneGraph | None, observed: SceneGraph, frames: Sequence[Frame] = ()
 ) -> SceneGraph:
@@ -81,11 +93,16 @@ def update_belief(
     if belief is None:
         return observed
     seen = {n.id for n in observed.nodes}
+    slivers = glimpsed(frames) - seen
     kept: list[Node] = []
     for node in belief.nodes:
         if node.id in seen or node.parent is not None:
             continue
-        if _hidden_by_closed_container(node.id, belief, observed) or occluded(node, frames):
+        if (
+            node.id in slivers
+            or _hidden_by_closed_container(node.id, belief, observed)
+            or occluded(node, frames)
+        ):
             kept.append(node.model_copy(update={"attributes": {**node.attributes, "observed": False}}))
     if not kept:
         return observed

@@ -91,3 +91,18 @@ def test_object_hidden_behind_something_nearer_is_remembered() -> None:
     assert not occluded(before.node("blue_cube1"), [arm])
     far = _boxed(before, "red_cube1", (5.0, 5.0, 0.0), (5.04, 5.04, 0.04)).node("red_cube1")
     assert occluded(far, [clear])
+
+
+def test_object_glimpsed_in_a_few_pixels_is_remembered() -> None:
+    from perception.belief import glimpsed
+    from perception.frame import InstanceLabel
+
+    before = _g(["table", "red_cube1"], ["red_cube1(on)table"])
+    after = _g(["table"], [])
+    frame = _down_camera_frame(1.0)  # the line of sight is clear ...
+    frame.masks[3, 4:6] = 0  # ... but two pixels of the cube's mask remain: too few to measure, yet there
+    frame.labels[0] = InstanceLabel(id="red_cube1", category="cube")
+    assert glimpsed([frame]) == {"red_cube1"}
+    kept = update_belief(before, after, [frame])
+    assert kept.node("red_cube1").attributes["observed"] is False
+    assert ("red_cube1", "on", "table") in {e.key() for e in kept.edges}
