@@ -163,6 +163,29 @@ class Simplifier:
 
     def __call__(self, formula: Formula, binding: Mapping[str, str]) -> Formula:
         """Substitute ``binding``, instantiate quantifiers and evaluate equality and static atoms."""
+        # Exact-type fast paths for the common nodes (the general isinstance chain below handles the
+        # rest, subclasses included); the results are the same objects the chain builds.
+        kind = type(formula)
+        if kind is Not and type(formula.formula) is Atom:  # type: ignore[union-attr]
+            atom = formula.formula  # type: ignore[union-attr]
+            args = tuple(map(binding.get, atom.args, atom.args))
+            if atom.predicate in self.fluent:
+                return Not(Atom(atom.predicate, args))
+            return FALSE if (atom.predicate, args) in self.init_keys else TRUE
+        if kind is And or kind is Or:
+            unit, zero = (TRUE, FALSE) if kind is And else (FALSE, TRUE)
+            kept: list[Formula] = []
+            for part in formula.parts:  # type: ignore[union-attr]
+                g = self(part, binding)
+                if g is zero:
+                    return zero  # short-circuit: later parts are never simplified
+                if g is not unit:
+                    kept.append(g)
+            if not kept:
+                return unit
+            if len(kept) == 1:
+                return kept[0]
+            return kind(tuple(kept))  # type: ignore[operator]
         if isinstance(formula, Atom):
             args = tuple(map(binding.get, formula.args, formula.args))
             if formula.predicate in self.fluent:
