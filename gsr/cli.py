@@ -544,12 +544,17 @@ def train_cmd(
         "next_action,goal_interpretation,forward_prediction"
     ),
     seed: Annotated[int, typer.Option(help="Random seed.")] = 0,
+    time_budget: Annotated[
+        float | None, typer.Option(help="Stop training after this many seconds (then evaluate and save).")
+    ] = None,
 ) -> None:
     """Supervised fine-tuning on the reasoner's prompt/step format (see docs/training.md)."""
     from gsr.train.cli import train_command
 
     raise typer.Exit(
-        train_command(data, model, out, lora, max_steps, batch_size, lr, train_rows, eval_rows, types, seed)
+        train_command(
+            data, model, out, lora, max_steps, batch_size, lr, train_rows, eval_rows, types, seed, time_budget
+        )
     )
 
 

@@ -19,6 +19,7 @@ def train_command(
     eval_rows: int,
     types: str,
     seed: int,
+    time_budget: float | None = None,
 ) -> int:
     """Validate the options, train, print the metrics (JSON line); exit code 0."""
     from gsr.datagen.schema import SAMPLE_TYPES
@@ -29,6 +30,8 @@ def train_command(
     unknown = [t for t in wanted if t not in SAMPLE_TYPES]
     if unknown or not wanted:
         raise GSRError(f"--types: unknown {unknown or types!r}; choose from {', '.join(SAMPLE_TYPES)}")
+    if time_budget is not None and time_budget <= 0:
+        raise GSRError(f"--time-budget must be positive seconds, got {time_budget}")
     if batch_size < 1 or train_rows < 1 or eval_rows < 0:
         raise GSRError("--batch-size and --train-rows must be >= 1, --eval-rows >= 0")
     try:
@@ -47,6 +50,7 @@ def train_command(
         eval_rows=eval_rows,
         types=wanted,
         seed=seed,
+        time_budget=time_budget,
     )
     train(cfg)
     return 0

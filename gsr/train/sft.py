@@ -39,6 +39,7 @@ class TrainConfig:
     types: tuple[str, ...] = DEFAULT_TYPES
     seed: int = 0
     max_length: int | None = None  # default: the model's context
+    time_budget: float | None = None  # stop training after this many seconds (then evaluate and save)
     tiny: TinySpec | None = None  # the from-scratch size; default: SCRATCH_SPECS[model]
 
     @property
@@ -107,6 +108,21 @@ class _Collator:
             "labels": torch.tensor(labels),
             "attention_mask": torch.tensor(mask),
         }
+
+
+def _time_budget(seconds: float) -> Any:
+    """A Trainer callback that ends training once ``seconds`` of training have passed."""
+    from transformers import TrainerCallback
+
+    class _Budget(TrainerCallback):
+        def on_train_begin(self, args: Any, state: Any, control: Any, **kwargs: Any) -> None:
+            self.start = time.perf_counter()
+
+        def on_step_end(self, args: Any, state: Any, control: Any, **kwargs: Any) -> None:
+            if time.perf_counter() - self.start >= seconds:
+                control.should_training_stop = True
+
+    return _Budget()
 
 
 def _scratch_names() -> str:
@@ -229,6 +245,7 @@ def train(cfg: TrainConfig, log: Any = print) -> dict[str, Any]:
         train_dataset=train_set,
         eval_dataset=val_set or None,
         data_collator=_Collator(tokenizer.pad_token_id),
+        callbacks=[_time_budget(cfg.time_budget)] if cfg.time_budget else None,
     )
     t0, c0 = time.perf_counter(), time.process_time()
     result = trainer.train()
@@ -238,7 +255,7 @@ def train(cfg: TrainConfig, log: Any = print) -> dict[str, Any]:
         "train_loss": round(result.training_loss, 4),
         "train_seconds": round(train_seconds, 1),
         "train_cpu_seconds": round(time.process_time() - c0, 1),
-        "steps": cfg.max_steps,
+        "steps": trainer.state.global_step,
         "tokens_per_step_max": cfg.batch_size * max_length,
     }
     if val_set:

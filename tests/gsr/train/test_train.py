@@ -137,3 +137,41 @@ def test_bad_options_are_clear_errors(data, tmp_path) -> None:
 
     with pytest.raises(GSRError, match="not 'tiny' or 'small' and not a local checkpoint"):
         train(_cfg(data, tmp_path / "x", model=str(tmp_path / "missing")), log=lambda _: None)
+
+
+def test_time_budget_stops_training_early_and_still_saves(data, tmp_path) -> None:
+    from gsr.train.sft import train
+
+    out = tmp_path / "budget"
+    cfg = _cfg(data, out, time_budget=1e-6)
+    cfg.max_steps = 50
+    metrics = train(cfg, log=lambda _: None)
+    assert metrics["steps"] == 1  # the budget is checked after each optimizer step
+    assert (out / "config.json").is_file()
+    assert json.loads((out / "gsr_training.json").read_text())["config"]["time_budget"] == 1e-6
+
+
+def test_scratch_presets_and_bad_time_budget(data, tmp_path) -> None:
+    from typer.testing import CliRunner
+
+    from gsr.cli import app
+    from gsr.train.sft import TrainConfig
+    from gsr.train.tiny import SCRATCH_SPECS
+
+    small = TrainConfig(Path("d"), "small", Path("o"))
+    assert small.scratch and small.spec == SCRATCH_SPECS["small"] and small.spec.context == 2048
+    assert not TrainConfig(Path("d"), "/no/such/checkpoint", Path("o")).scratch
+    args = [
+        "train",
+        "--data",
+        str(data),
+        "--model",
+        "tiny",
+        "--out",
+        str(tmp_path / "o"),
+        "--time-budget",
+        "0",
+    ]
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 1 and "--time-budget must be positive" in str(r.exception or r.output)
+    assert not (tmp_path / "o").exists()
