@@ -290,6 +290,8 @@ class Interpreter:
                         d.entity = tok.value
             elif c.data == "part_of":
                 d.owner = self.target(c.children[-1])
+            elif c.data == "postpos":  # "the drawer low": a word of the node's own name, not a position
+                d.names.append(_tok(c.children[0]).text)
             elif c.data == "called":  # "the cube called red_cube_3": the node, if it is what the head says
                 d.entity = _tok(c.children[-1]).value
             elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
@@ -371,8 +373,15 @@ class Interpreter:
                 candidates=tuple(found),
                 phrase=text,
             )
-        if pos == "top" and len(owner) == 1 and "supporter" in self.entities[owner[0]].affordances:
-            return Ref(owner, text)
+        if pos == "top" and owner and all("supporter" in self.entities[o].affordances for o in owner):
+            if len(owner) == 1:
+                return Ref(owner, text)
+            # "on top of the wine rack" with two racks: which one is not said
+            raise GroundingError(
+                f"{text!r} is ambiguous: it could be on any of {', '.join(owner)}",
+                candidates=tuple(owner),
+                phrase=text,
+            )
         return Place(owner, pos, text)
 
     # ------------------------------------------------------------ destinations

@@ -45,27 +45,45 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
     types = graph_objects(graph, domain)
     goals: list[Formula] = []
     errors: list[GroundingError] = []
+    shapes: set[tuple[str, ...]] = set()  # the clause kinds of the readings that gave a goal
+    failed_shapes: list[tuple[str, ...]] = []  # ... and of each failed reading, in the order of errors
     for reading in _readings(tree):
+        shape = tuple(c.data for c in reading.children if isinstance(c, Tree) and c.data.endswith("_cmd"))
         interp = Interpreter(Resolver(graph, lex.entities, domain))
         try:
             formula = goal_formula(interp.run(reading), interp.resolver, types)
         except GroundingError as exc:
             errors.append(exc)
+            failed_shapes.append(shape)
             continue
         except (AssertionError, StopIteration, KeyError, IndexError, ValueError) as exc:
             # a reading the interpreter has no rule for (a grammar path without semantics): not this reading
             errors.append(GroundingError(f"cannot interpret {instruction!r} ({type(exc).__name__}: {exc})"))
+            failed_shapes.append(shape)
             continue
+        shapes.add(shape)
         if formula not in goals:
             goals.append(formula)
     if not goals:
         raise _best_error(errors)
+    unsure = [
+        e for e, shape in zip(errors, failed_shapes, strict=True) if _ambiguous(e) and shape not in shapes
+    ]
+    if unsure:
+        # a reading with other clause kinds that fails only because a reference is ambiguous might be the
+        # meant one ("get the cup inside the box": put the cup in the box, or pick up the cup that is in
+        # it): never pick silently between verb senses (a PP read as a restriction is not enough)
+        raise unsure[0]
     if len(goals) > 1:
         from gsr.pddl.writer import write_formula
 
         readings = "; ".join(write_formula(g) for g in goals[:4])
         raise GroundingError(f"{instruction!r} has {len(goals)} readings with different goals: {readings}")
     return Goal(formula=goals[0], text=instruction)
+
+
+def _ambiguous(exc: GroundingError) -> bool:
+    return bool(exc.candidates) and "ambiguous" in exc.message
 
 
 def _best_error(errors: list[GroundingError]) -> GroundingError:

@@ -395,15 +395,17 @@ class Resolver:
         """Among several matches of a singular phrase, those the words fit most exactly, if that narrows them.
 
         In turn: exactly the named colours (``the white mug`` is the all-white one, not the
-        white-and-yellow one); the head noun as written in the node's own name or material (``the crate``
-        is ``crate_4``, not ``box_6``, though both are boxes; ``the plate`` is ``plate_2``, not
+        white-and-yellow one); the category itself rather than a subcategory (``the box``, not the
+        lidded box); the head noun as written in the node's own name or material (``the crate`` is
+        ``crate_4``, not ``box_6``, though both are boxes; ``the plate`` is ``plate_2``, not
         ``saucer_1``), unless another candidate has the words beyond its category in its own name or
-        material (``the glass cup`` also fits a cup made of glass); the category itself rather than a
-        subcategory (``the box``, not the lidded box). A preference applies only when it keeps some
-        but not all candidates; when none narrows them, the phrase stays ambiguous.
+        material (``the glass cup`` also fits a cup made of glass). A preference applies only when it
+        keeps some but not all candidates; when none narrows them, the phrase stays ambiguous.
         """
         exact = [e for e in found if d.colors and set(e.colors) == set(d.colors)]
         found = exact if 0 < len(exact) < len(found) else found
+        same = [e for e in found if e.category == category]
+        found = same if 0 < len(same) < len(found) else found
         said = set(d.head_words.get(category, "").split())
         named = [e for e in found if said and said <= e.own_words]
         # only if no other is called that by its own words too: "the glass cup" also fits a cup made of
@@ -413,10 +415,7 @@ class Resolver:
             for e in found
             if e not in named
         )
-        if 0 < len(named) < len(found) and not others_fit:
-            found = named
-        same = [e for e in found if e.category == category]
-        return same if 0 < len(same) < len(found) else found
+        return named if 0 < len(named) < len(found) and not others_fit else found
 
     def _quantifiable(self, d: Description, category: str) -> bool:
         """A quantifier over static properties only (category, colour) becomes a PDDL forall."""
