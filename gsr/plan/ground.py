@@ -1,4 +1,8 @@
-"""Grounding: relaxed-reachability fixpoint, static-predicate pruning and interning into a Task."""
+"""Grounding: relaxed-reachability fixpoint with static-predicate pruning, then interning into a Task.
+
+The fixpoint lists bindings, grounds preconditions and fires actions here; effect grounding is in
+gsr.plan.effects, interning into a Task in gsr.plan.intern.
+"""
 
 from __future__ import annotations
 
@@ -15,35 +19,31 @@ from gsr.pddl.model import (
     Domain,
     Equals,
     Formula,
-    Increase,
     Not,
     Or,
     Problem,
-    TypedVar,
     is_variable,
 )
-from gsr.plan.normalize import (
-    Conjunction,
-    Schema,
-    nnf,
-    normalize_action,
-    to_dnf,
+from gsr.plan.effects import (
+    Deferred,
+    EffectBlock,
+    EffectMemo,
+    _effect_groups,
+    _EffectGroup,
+    _effects,
+    _ground_group,
+    _new_adds,
 )
-from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf, relaxed, relaxed_core
-from gsr.plan.simplify import Simplifier, free_variables
-from gsr.plan.task import GroundOp, Task
+from gsr.plan.intern import _intern, ground_goal
+from gsr.plan.normalize import (
+    Schema,
+    normalize_action,
+)
+from gsr.plan.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
+from gsr.plan.simplify import Simplifier, _TypedObjects, free_variables
+from gsr.plan.task import Task
 
-# Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
-# a part takes effect under the union of base and inner. The parts list of a memoised effect group
-# is shared by every action with the same values of the variables it mentions (pick's cube counting
-# by ?from), so its atoms are grounded, and later interned, once for all of them.
-# Effect atoms are (predicate, args) keys (AtomKey), not Atom objects: they are hashed a few times
-# each (reached test, interning) and tuples hash and compare in C; the few that get reached become
-# Atoms then. Look-ups of Atoms go through their keys for the same reason.
-EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
-EffectBlock = tuple[Conjunction, list[EffectPart]]
-EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
-EMPTY: Conjunction = frozenset()
+__all__ = ["ground_goal", "ground_task"]  # ground_goal lives in gsr.plan.intern; re-exported here
 
 
 @dataclass(slots=True)
@@ -96,29 +96,6 @@ def _ruled_out(
         if false:
             return True
     return False
-
-
-class _TypedObjects:
-    """Objects of a type (either-tuples allowed), cached and sorted for determinism."""
-
-    def __init__(self, domain: Domain, objects: dict[str, str]) -> None:
-        self.domain, self.objects = domain, objects
-        self.cache: dict[tuple[str, ...], list[str]] = {}
-        self.sets: dict[tuple[str, ...], frozenset[str]] = {}
-
-    def __call__(self, types: tuple[str, ...]) -> list[str]:
-        found = self.cache.get(types)
-        if found is None:
-            found = sorted(o for o, t in self.objects.items() if self.domain.is_subtype(t, types))
-            self.cache[types] = found
-            self.sets[types] = frozenset(found)
-        return found
-
-    def has(self, obj: str, types: tuple[str, ...]) -> bool:
-        """True when ``obj`` is of one of ``types``."""
-        if types not in self.sets:
-            self(types)
-        return obj in self.sets[types]
 
 
 # Reached and initial atoms by (predicate, argument position, value): a join atom with a bound
@@ -241,29 +218,6 @@ def _disjunction(schema: Schema, alternatives: list[tuple[Formula, ...]]) -> tup
     return ()
 
 
-def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem) -> float:
-    """Action cost from ``(increase (total-cost) ...)`` when the problem has a metric, else 1."""
-    if problem.metric is None:
-        return 1.0
-    total = 0.0
-    for inc in costs:
-        amount = inc.amount
-        if isinstance(amount, (int, float)):
-            total += float(amount)
-            continue
-        text = str(amount).strip().strip("()").split()
-        try:
-            total += float(text[0])
-            continue
-        except (ValueError, IndexError):
-            pass
-        key = Atom(text[0].lower(), tuple(binding.get(a, a) for a in text[1:]))
-        if key not in problem.init_numeric:
-            raise GSRError(f"action cost {amount} has no value in the problem's :init")
-        total += problem.init_numeric[key]
-    return total
-
-
 # A precondition conjunct, its free variables if fewer than the action's (memo key), and its kind:
 # the common shapes are grounded directly instead of through the Simplifier.
 Part = tuple[Formula, tuple[str, ...] | None, int]
@@ -349,167 +303,6 @@ def _variant(
     need = Simplifier.combine(True, core)
     args = tuple(binding[p.name] for p in schema.params)
     return _Variant(schema.name, args, pre, binding, schema, need)
-
-
-Literals = tuple[tuple[Atom, bool], ...]
-# (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete,
-# action variables the per-instance part mentions)
-_EffectGroup = tuple[
-    tuple[TypedVar, ...],
-    Formula,
-    tuple[Atom, ...],
-    tuple[Literals, Literals] | None,
-    Literals,
-    tuple[str, ...],
-]
-
-
-def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
-    """Effects sharing variables and condition, grouped: (params, condition, guards, literals, atoms).
-
-    ``forall ?n ?m (when c (and (not (cube_count ?c ?n)) (cube_count ?c ?m)))`` flattens into two
-    effects with one condition; grouping grounds the instances and the condition once for both.
-    A condition that is a conjunction of literals is split into the literals without effect
-    variables (grounded once per action binding) and the rest (per instance); positive static
-    literals over effect variables are dropped, since instances come from joining exactly those.
-    """
-    groups: dict[tuple, list[tuple[Atom, bool]]] = {}
-    for eff in schema.effects:
-        groups.setdefault((eff.params, eff.condition), []).append((eff.literal.atom, eff.literal.negated))
-    out: list[_EffectGroup] = []
-    for (params, cond), lits in groups.items():
-        literals = simplify.literals(cond)
-        split = None
-        if literals is not None:
-            names = {p.name for p in params}
-            outer = tuple((a, pos) for a, pos in literals if not names.intersection(a.args))
-            inner = tuple(
-                (a, pos)
-                for a, pos in literals
-                if names.intersection(a.args) and not (pos and a.predicate not in simplify.fluent)
-            )
-            split = (outer, inner)
-        guards = simplify.guards(cond, True) if params else ()
-        # Action variables the per-instance part mentions: its memo key (see _ground_group).
-        # Guards without effect variables are checked once per binding, in base/instances.
-        names = {p.name for p in params}
-        atoms = [g for g in guards if names.intersection(g.args)]
-        atoms += [a for a, _ in split[1]] if split else []
-        atoms += [a for a, _ in lits]
-        used = tuple(sorted({x for a in atoms for x in a.args if is_variable(x) and x not in names}))
-        out.append((params, cond, guards, split, tuple(lits), used))
-    return out
-
-
-Deferred = tuple["_Variant", _EffectGroup, dict[str, str], Conjunction]
-
-
-def _effects(
-    v: _Variant,
-    groups: list[_EffectGroup],
-    simplify: Simplifier,
-    reached: set[AtomKey],
-    deferred: list[Deferred],
-    memo: EffectMemo,
-) -> None:
-    """Ground a fired action's effects into ``v.effects`` (see EffectBlock).
-
-    A group whose binding-level condition needs an atom not reached yet (pick's cube counting
-    ``(in ?o ?from)`` for an object on the table) is deferred: it is grounded once that atom is
-    reached, or never, which is what interning would make of its effects anyway.
-    """
-    v.effects = []
-    for group in groups:
-        split = group[3]
-        base = None
-        if split is not None:
-            base = simplify.ground_literals(split[0], v.binding)
-            if base is None:
-                continue  # the condition is false whatever the effect variables are
-            if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
-                deferred.append((v, group, v.binding, base))
-                continue
-        _ground_group(group, v.binding, base, simplify, v.effects, memo)
-
-
-def _ground_group(
-    group: _EffectGroup,
-    binding: dict[str, str],
-    base: Conjunction | None,
-    simplify: Simplifier,
-    effects: list[EffectBlock],
-    memo: EffectMemo | None = None,
-) -> None:
-    """Append the ground effects of one effect group (``base``: its grounded binding-level literals).
-
-    With ``memo``, the per-instance part of a literal condition (instances, their literals and
-    effect atoms) is grounded once per value of the action variables it mentions: pick's cube
-    counting depends on ``?from`` only, not on the object picked.
-    """
-    params, condition, guards, split, lits, _used = group
-    if split == ((), ()) and not params:
-        # Unconditional: never worth memoising (the atoms mention the action's variables).
-        ground = tuple(((a.predicate, tuple(map(binding.get, a.args, a.args))), d) for a, d in lits)
-        effects.append((EMPTY, [(EMPTY, ground)]))
-        return
-    if split is not None and base is not None and memo is not None:
-        key = (id(group), *(binding.get(v, v) for v in group[5]))
-        entry = memo.get(key)
-        if entry is None:
-            parts: list[EffectPart] = []
-            instances = simplify.instances(params, guards, binding) if params else (binding,)
-            for b in instances:
-                inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
-                if inner is None:
-                    continue
-                ground = tuple(
-                    ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
-                    for atom, is_del in lits
-                )
-                parts.append((inner, ground))
-            entry = memo[key] = (parts, frozenset(a for inner, _ in parts for a, _ in inner))
-        parts, inner_atoms = entry
-        if base and not inner_atoms.isdisjoint([a for a, _ in base]):
-            # Parts whose condition contradicts the base never fire: this action gets its own list.
-            parts = [(inner, g) for inner, g in parts if not any((a, not pos) in base for a, pos in inner)]
-        if parts:
-            effects.append((base, parts))
-        return
-    # Effect variables range only over objects satisfying the condition's static atoms.
-    instances = simplify.instances(params, guards, binding) if params else (binding,)
-    own: list[EffectPart] = []
-    for b in instances:
-        if split is not None and base is not None:  # the common case: a conjunction of literals
-            conj = simplify.ground_literals(split[1], b) if split[1] else base
-            if conj is None:
-                continue
-            if conj is not base:
-                if any((a, not pos) in base for a, pos in conj):
-                    continue
-                conj = base | conj
-            conjs: list[Conjunction] = [conj]
-        else:
-            conjs = to_dnf(simplify(condition, b))
-        ground = tuple(
-            ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
-        )
-        own.extend((conj, ground) for conj in conjs)
-    if own:
-        effects.append((EMPTY, own))
-
-
-def _new_adds(
-    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[AtomKey, ...], AtomKey]]
-) -> None:
-    """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
-    for base, parts in blocks:
-        outer: tuple[Atom, ...] | None = None
-        for inner, ground in parts:
-            for atom, is_del in ground:
-                if not is_del and atom not in reached:
-                    if outer is None:
-                        outer = tuple((a.predicate, a.args) for a, pos in base if pos)
-                    pending.append((outer + tuple((a.predicate, a.args) for a, pos in inner if pos), atom))
 
 
 @dataclass(frozen=True, slots=True)
@@ -677,184 +470,3 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 waiting.append((cond, key))
         pending = waiting
     return _intern(domain, problem, fired, reached, fluent)
-
-
-def _condition_ids(
-    cond: Conjunction, ids: dict[AtomKey, int]
-) -> tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]:
-    """(positive ids, negative ids) of a condition, sorted; () when it needs an unreached atom."""
-    pos_ids: list[int] = []
-    neg_ids: list[int] = []
-    for a, pos in cond:
-        i = ids.get((a.predicate, a.args))
-        if pos:
-            if i is None:
-                return ()
-            pos_ids.append(i)
-        elif i is not None:
-            neg_ids.append(i)
-    return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
-
-
-# An effect part over atom ids: (condition positive ids, condition negative ids, add ids, delete
-# ids), all sorted; with the set of condition ids of all parts of its list.
-_PartIds = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]]
-
-
-def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[list[_PartIds], frozenset[int]]:
-    """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
-    out: list[_PartIds] = []
-    for inner, ground in parts:
-        r = _condition_ids(inner, key_ids) if inner else ((), ())
-        if not r:
-            continue
-        adds = tuple(i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None)
-        dels = tuple(i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None)
-        if adds or dels:
-            out.append((r[0], r[1], adds, dels))
-    return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
-
-
-def _filtered_parts(
-    conv: list[_PartIds], pre: set[int], neg: set[int]
-) -> tuple[list[_PartIds], list[_PartIds]]:
-    """The parts whose condition is consistent with a precondition, minus its literals: those left
-    without a condition, and the others."""
-    plain: list[_PartIds] = []
-    conditional: list[_PartIds] = []
-    for r0, r1, adds, dels in conv:
-        if not neg.isdisjoint(r0) or not pre.isdisjoint(r1):
-            continue  # contradicts the precondition: never fires
-        rp = r0 if pre.isdisjoint(r0) else tuple(i for i in r0 if i not in pre)
-        rn = r1 if neg.isdisjoint(r1) else tuple(i for i in r1 if i not in neg)
-        (conditional if rp or rn else plain).append((rp, rn, adds, dels))
-    return plain, conditional
-
-
-def _cond_table(
-    blocks: list[tuple[tuple[list[_PartIds], list[_PartIds]], tuple[int, ...], tuple[int, ...]]],
-) -> tuple[tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]], ...]:
-    """GroundOp.cond of the conditional blocks: effects merged by condition, sorted."""
-    cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
-    for (plain, conditional), bp, bn in blocks:
-        for rp, rn, adds, dels in (*plain, *conditional) if bp or bn else conditional:
-            cp = (tuple(sorted({*bp, *rp})) if rp else bp) if bp else rp
-            cn = (tuple(sorted({*bn, *rn})) if rn else bn) if bn else rn
-            target = cond.get((cp, cn))
-            if target is None:
-                target = cond[(cp, cn)] = (set(), set())
-            target[0].update(adds)
-            target[1].update(dels)
-    return tuple(
-        (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
-    )
-
-
-def _intern(
-    domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
-) -> Task:
-    atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
-    ids = {a: i for i, a in enumerate(atoms)}
-    key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
-    ops: set[GroundOp] = set()
-    # Condition parts over atom ids, by object (parts are shared by many effects and actions;
-    # every part is referenced from the fired actions, so ids stay unique).
-    converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
-    scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
-    parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
-    filtered: dict[tuple, tuple[list[_PartIds], list[_PartIds]]] = {}  # see _filtered_parts
-    cond_tables: dict[tuple, tuple] = {}  # see _cond_table
-    for v in fired:
-        disjuncts = fast_dnf(v.pre, key_ids, scanned)
-        if disjuncts is None:
-            disjuncts = id_dnf(v.pre, reached, key_ids)
-        if not disjuncts:
-            continue
-        # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
-        # one, never matter.
-        blocks = []
-        for base, parts in v.effects or ():
-            b = converted.get(id(base))
-            if b is None:
-                b = converted[id(base)] = _condition_ids(base, key_ids)
-            if not b:
-                continue  # needs an atom never reached
-            hit = parts_ids.get(id(parts))
-            if hit is None:
-                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, key_ids))
-            if hit[1]:
-                blocks.append((b, hit))
-        for disjunct in disjuncts:
-            pre = tuple(sorted(x for x in disjunct if x >= 0))
-            neg = tuple(sorted(~x for x in disjunct if x < 0))
-            pre_set, neg_set = set(pre), set(neg)
-            add: set[int] = set()
-            dele: set[int] = set()
-            # An effect takes effect under base | inner minus the precondition's literals; it never
-            # fires when that contradicts the precondition (which is itself consistent). The parts
-            # of a shared list are filtered once per intersection of the precondition with their
-            # condition atoms (cube counting: once per container, not per cube picked).
-            conditional = []  # (kept parts, base literals left) of the blocks with conditional effects
-            for (b0, b1), (parts, conv, atoms_of) in blocks:
-                if not neg_set.isdisjoint(b0) or not pre_set.isdisjoint(b1):
-                    continue
-                bp = b0 if pre_set.isdisjoint(b0) else tuple(i for i in b0 if i not in pre_set)
-                bn = b1 if neg_set.isdisjoint(b1) else tuple(i for i in b1 if i not in neg_set)
-                if atoms_of:
-                    fkey = (id(parts), atoms_of & pre_set, atoms_of & neg_set)
-                    kept = filtered.get(fkey)
-                    if kept is None:
-                        kept = filtered[fkey] = _filtered_parts(conv, pre_set, neg_set)
-                else:
-                    kept = (conv, [])  # unconditional parts: nothing to filter
-                if bp or bn:
-                    conditional.append((kept, bp, bn))
-                    continue
-                for _rp, _rn, adds, dels in kept[0]:
-                    add.update(adds)
-                    dele.update(dels)
-                if kept[1]:
-                    conditional.append((kept, bp, bn))
-            # The conditional effects depend only on the kept parts and base literals left, which
-            # many actions share (cube counting by container): converted once per combination.
-            conds: tuple = ()
-            if conditional:
-                ckey = tuple((id(kept), bp, bn) for kept, bp, bn in conditional)
-                found = cond_tables.get(ckey)
-                if found is None:
-                    found = cond_tables[ckey] = _cond_table(conditional)
-                conds = found
-            ops.add(
-                GroundOp(
-                    v.name,
-                    v.args,
-                    _cost(v.schema.costs, v.binding, problem),
-                    pre,
-                    neg,
-                    tuple(sorted(add)),
-                    tuple(sorted(dele - add)),
-                    conds,
-                )
-            )
-    ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
-    init = 0
-    for a in problem.init:
-        if a in ids:
-            init |= 1 << ids[a]
-    goals = ground_goal(domain, problem, problem.goal, ids, fluent)
-    return Task(atoms, ordered, init, goals)
-
-
-def ground_goal(
-    domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
-) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
-    """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
-    simplify = Simplifier(_TypedObjects(domain, problem.all_objects(domain)), fluent, problem.init)
-    out = []
-    for conj in to_dnf(simplify(nnf(goal), {})):
-        if any(pos and a not in ids for a, pos in conj):
-            continue
-        pos_ids = tuple(sorted(ids[a] for a, pos in conj if pos))
-        neg_ids = tuple(sorted(ids[a] for a, pos in conj if not pos and a in ids))
-        out.append((pos_ids, neg_ids))
-    return out

@@ -16,7 +16,21 @@ from collections.abc import Iterable, Iterator, Mapping
 from typing import Protocol
 
 from gsr.errors import GSRError
-from gsr.pddl.model import FALSE, TRUE, And, Atom, Equals, Exists, Forall, Formula, Imply, Not, Or, TypedVar
+from gsr.pddl.model import (
+    FALSE,
+    TRUE,
+    And,
+    Atom,
+    Domain,
+    Equals,
+    Exists,
+    Forall,
+    Formula,
+    Imply,
+    Not,
+    Or,
+    TypedVar,
+)
 from gsr.plan.normalize import nnf
 
 
@@ -285,3 +299,26 @@ def _flatten(formula: Formula, kind: type) -> list[Formula]:
             out.extend(_flatten(p, kind))
         return out
     return [formula]
+
+
+class _TypedObjects:
+    """Objects of a type (either-tuples allowed), cached and sorted for determinism."""
+
+    def __init__(self, domain: Domain, objects: dict[str, str]) -> None:
+        self.domain, self.objects = domain, objects
+        self.cache: dict[tuple[str, ...], list[str]] = {}
+        self.sets: dict[tuple[str, ...], frozenset[str]] = {}
+
+    def __call__(self, types: tuple[str, ...]) -> list[str]:
+        found = self.cache.get(types)
+        if found is None:
+            found = sorted(o for o, t in self.objects.items() if self.domain.is_subtype(t, types))
+            self.cache[types] = found
+            self.sets[types] = frozenset(found)
+        return found
+
+    def has(self, obj: str, types: tuple[str, ...]) -> bool:
+        """True when ``obj`` is of one of ``types``."""
+        if types not in self.sets:
+            self(types)
+        return obj in self.sets[types]

@@ -1,0 +1,187 @@
+"""Effect grounding: a schema's effect groups, a fired action's ground effect blocks, and the add
+effects they queue for the reachability fixpoint (see gsr.plan.ground)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from gsr.pddl.model import Atom, Formula, TypedVar, is_variable
+from gsr.plan.normalize import Conjunction, Schema, to_dnf
+from gsr.plan.precondition import AtomKey
+from gsr.plan.simplify import Simplifier
+
+if TYPE_CHECKING:
+    from gsr.plan.ground import _Variant
+
+# Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
+# a part takes effect under the union of base and inner. The parts list of a memoised effect group
+# is shared by every action with the same values of the variables it mentions (pick's cube counting
+# by ?from), so its atoms are grounded, and later interned, once for all of them.
+# Effect atoms are (predicate, args) keys (AtomKey), not Atom objects: they are hashed a few times
+# each (reached test, interning) and tuples hash and compare in C; the few that get reached become
+# Atoms then. Look-ups of Atoms go through their keys for the same reason.
+EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
+EffectBlock = tuple[Conjunction, list[EffectPart]]
+EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
+EMPTY: Conjunction = frozenset()
+
+
+Literals = tuple[tuple[Atom, bool], ...]
+# (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete,
+# action variables the per-instance part mentions)
+_EffectGroup = tuple[
+    tuple[TypedVar, ...],
+    Formula,
+    tuple[Atom, ...],
+    tuple[Literals, Literals] | None,
+    Literals,
+    tuple[str, ...],
+]
+
+
+def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
+    """Effects sharing variables and condition, grouped: (params, condition, guards, literals, atoms).
+
+    ``forall ?n ?m (when c (and (not (cube_count ?c ?n)) (cube_count ?c ?m)))`` flattens into two
+    effects with one condition; grouping grounds the instances and the condition once for both.
+    A condition that is a conjunction of literals is split into the literals without effect
+    variables (grounded once per action binding) and the rest (per instance); positive static
+    literals over effect variables are dropped, since instances come from joining exactly those.
+    """
+    groups: dict[tuple, list[tuple[Atom, bool]]] = {}
+    for eff in schema.effects:
+        groups.setdefault((eff.params, eff.condition), []).append((eff.literal.atom, eff.literal.negated))
+    out: list[_EffectGroup] = []
+    for (params, cond), lits in groups.items():
+        literals = simplify.literals(cond)
+        split = None
+        if literals is not None:
+            names = {p.name for p in params}
+            outer = tuple((a, pos) for a, pos in literals if not names.intersection(a.args))
+            inner = tuple(
+                (a, pos)
+                for a, pos in literals
+                if names.intersection(a.args) and not (pos and a.predicate not in simplify.fluent)
+            )
+            split = (outer, inner)
+        guards = simplify.guards(cond, True) if params else ()
+        # Action variables the per-instance part mentions: its memo key (see _ground_group).
+        # Guards without effect variables are checked once per binding, in base/instances.
+        names = {p.name for p in params}
+        atoms = [g for g in guards if names.intersection(g.args)]
+        atoms += [a for a, _ in split[1]] if split else []
+        atoms += [a for a, _ in lits]
+        used = tuple(sorted({x for a in atoms for x in a.args if is_variable(x) and x not in names}))
+        out.append((params, cond, guards, split, tuple(lits), used))
+    return out
+
+
+Deferred = tuple["_Variant", _EffectGroup, dict[str, str], Conjunction]
+
+
+def _effects(
+    v: _Variant,
+    groups: list[_EffectGroup],
+    simplify: Simplifier,
+    reached: set[AtomKey],
+    deferred: list[Deferred],
+    memo: EffectMemo,
+) -> None:
+    """Ground a fired action's effects into ``v.effects`` (see EffectBlock).
+
+    A group whose binding-level condition needs an atom not reached yet (pick's cube counting
+    ``(in ?o ?from)`` for an object on the table) is deferred: it is grounded once that atom is
+    reached, or never, which is what interning would make of its effects anyway.
+    """
+    v.effects = []
+    for group in groups:
+        split = group[3]
+        base = None
+        if split is not None:
+            base = simplify.ground_literals(split[0], v.binding)
+            if base is None:
+                continue  # the condition is false whatever the effect variables are
+            if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
+                deferred.append((v, group, v.binding, base))
+                continue
+        _ground_group(group, v.binding, base, simplify, v.effects, memo)
+
+
+def _ground_group(
+    group: _EffectGroup,
+    binding: dict[str, str],
+    base: Conjunction | None,
+    simplify: Simplifier,
+    effects: list[EffectBlock],
+    memo: EffectMemo | None = None,
+) -> None:
+    """Append the ground effects of one effect group (``base``: its grounded binding-level literals).
+
+    With ``memo``, the per-instance part of a literal condition (instances, their literals and
+    effect atoms) is grounded once per value of the action variables it mentions: pick's cube
+    counting depends on ``?from`` only, not on the object picked.
+    """
+    params, condition, guards, split, lits, _used = group
+    if split == ((), ()) and not params:
+        # Unconditional: never worth memoising (the atoms mention the action's variables).
+        ground = tuple(((a.predicate, tuple(map(binding.get, a.args, a.args))), d) for a, d in lits)
+        effects.append((EMPTY, [(EMPTY, ground)]))
+        return
+    if split is not None and base is not None and memo is not None:
+        key = (id(group), *(binding.get(v, v) for v in group[5]))
+        entry = memo.get(key)
+        if entry is None:
+            parts: list[EffectPart] = []
+            instances = simplify.instances(params, guards, binding) if params else (binding,)
+            for b in instances:
+                inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
+                if inner is None:
+                    continue
+                ground = tuple(
+                    ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
+                    for atom, is_del in lits
+                )
+                parts.append((inner, ground))
+            entry = memo[key] = (parts, frozenset(a for inner, _ in parts for a, _ in inner))
+        parts, inner_atoms = entry
+        if base and not inner_atoms.isdisjoint([a for a, _ in base]):
+            # Parts whose condition contradicts the base never fire: this action gets its own list.
+            parts = [(inner, g) for inner, g in parts if not any((a, not pos) in base for a, pos in inner)]
+        if parts:
+            effects.append((base, parts))
+        return
+    # Effect variables range only over objects satisfying the condition's static atoms.
+    instances = simplify.instances(params, guards, binding) if params else (binding,)
+    own: list[EffectPart] = []
+    for b in instances:
+        if split is not None and base is not None:  # the common case: a conjunction of literals
+            conj = simplify.ground_literals(split[1], b) if split[1] else base
+            if conj is None:
+                continue
+            if conj is not base:
+                if any((a, not pos) in base for a, pos in conj):
+                    continue
+                conj = base | conj
+            conjs: list[Conjunction] = [conj]
+        else:
+            conjs = to_dnf(simplify(condition, b))
+        ground = tuple(
+            ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
+        )
+        own.extend((conj, ground) for conj in conjs)
+    if own:
+        effects.append((EMPTY, own))
+
+
+def _new_adds(
+    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[AtomKey, ...], AtomKey]]
+) -> None:
+    """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
+    for base, parts in blocks:
+        outer: tuple[Atom, ...] | None = None
+        for inner, ground in parts:
+            for atom, is_del in ground:
+                if not is_del and atom not in reached:
+                    if outer is None:
+                        outer = tuple((a.predicate, a.args) for a, pos in base if pos)
+                    pending.append((outer + tuple((a.predicate, a.args) for a, pos in inner if pos), atom))

@@ -1,0 +1,220 @@
+"""Interning: the fired ground actions of the reachability fixpoint into a Task over atom ids."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Atom, Domain, Formula, Increase, Problem
+from gsr.plan.effects import EffectPart
+from gsr.plan.normalize import Conjunction, nnf, to_dnf
+from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
+from gsr.plan.simplify import Simplifier, _TypedObjects
+from gsr.plan.task import GroundOp, Task
+
+if TYPE_CHECKING:
+    from gsr.plan.ground import _Variant
+
+
+def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem) -> float:
+    """Action cost from ``(increase (total-cost) ...)`` when the problem has a metric, else 1."""
+    if problem.metric is None:
+        return 1.0
+    total = 0.0
+    for inc in costs:
+        amount = inc.amount
+        if isinstance(amount, (int, float)):
+            total += float(amount)
+            continue
+        text = str(amount).strip().strip("()").split()
+        try:
+            total += float(text[0])
+            continue
+        except (ValueError, IndexError):
+            pass
+        key = Atom(text[0].lower(), tuple(binding.get(a, a) for a in text[1:]))
+        if key not in problem.init_numeric:
+            raise GSRError(f"action cost {amount} has no value in the problem's :init")
+        total += problem.init_numeric[key]
+    return total
+
+
+def _condition_ids(
+    cond: Conjunction, ids: dict[AtomKey, int]
+) -> tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]:
+    """(positive ids, negative ids) of a condition, sorted; () when it needs an unreached atom."""
+    pos_ids: list[int] = []
+    neg_ids: list[int] = []
+    for a, pos in cond:
+        i = ids.get((a.predicate, a.args))
+        if pos:
+            if i is None:
+                return ()
+            pos_ids.append(i)
+        elif i is not None:
+            neg_ids.append(i)
+    return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
+
+
+# An effect part over atom ids: (condition positive ids, condition negative ids, add ids, delete
+# ids), all sorted; with the set of condition ids of all parts of its list.
+_PartIds = tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]]
+
+
+def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[list[_PartIds], frozenset[int]]:
+    """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
+    out: list[_PartIds] = []
+    for inner, ground in parts:
+        r = _condition_ids(inner, key_ids) if inner else ((), ())
+        if not r:
+            continue
+        adds = tuple(i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None)
+        dels = tuple(i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None)
+        if adds or dels:
+            out.append((r[0], r[1], adds, dels))
+    return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
+
+
+def _filtered_parts(
+    conv: list[_PartIds], pre: set[int], neg: set[int]
+) -> tuple[list[_PartIds], list[_PartIds]]:
+    """The parts whose condition is consistent with a precondition, minus its literals: those left
+    without a condition, and the others."""
+    plain: list[_PartIds] = []
+    conditional: list[_PartIds] = []
+    for r0, r1, adds, dels in conv:
+        if not neg.isdisjoint(r0) or not pre.isdisjoint(r1):
+            continue  # contradicts the precondition: never fires
+        rp = r0 if pre.isdisjoint(r0) else tuple(i for i in r0 if i not in pre)
+        rn = r1 if neg.isdisjoint(r1) else tuple(i for i in r1 if i not in neg)
+        (conditional if rp or rn else plain).append((rp, rn, adds, dels))
+    return plain, conditional
+
+
+def _cond_table(
+    blocks: list[tuple[tuple[list[_PartIds], list[_PartIds]], tuple[int, ...], tuple[int, ...]]],
+) -> tuple[tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...], tuple[int, ...]], ...]:
+    """GroundOp.cond of the conditional blocks: effects merged by condition, sorted."""
+    cond: dict[tuple[tuple[int, ...], tuple[int, ...]], tuple[set[int], set[int]]] = {}
+    for (plain, conditional), bp, bn in blocks:
+        for rp, rn, adds, dels in (*plain, *conditional) if bp or bn else conditional:
+            cp = (tuple(sorted({*bp, *rp})) if rp else bp) if bp else rp
+            cn = (tuple(sorted({*bn, *rn})) if rn else bn) if bn else rn
+            target = cond.get((cp, cn))
+            if target is None:
+                target = cond[(cp, cn)] = (set(), set())
+            target[0].update(adds)
+            target[1].update(dels)
+    return tuple(
+        (cp, cn, tuple(sorted(a)), tuple(sorted(d - a))) for (cp, cn), (a, d) in sorted(cond.items())
+    )
+
+
+def _intern(
+    domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
+) -> Task:
+    atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
+    ids = {a: i for i, a in enumerate(atoms)}
+    key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
+    ops: set[GroundOp] = set()
+    # Condition parts over atom ids, by object (parts are shared by many effects and actions;
+    # every part is referenced from the fired actions, so ids stay unique).
+    converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
+    scanned: FormulaCache = {}  # DNF parts of the shared precondition conjuncts
+    parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
+    filtered: dict[tuple, tuple[list[_PartIds], list[_PartIds]]] = {}  # see _filtered_parts
+    cond_tables: dict[tuple, tuple] = {}  # see _cond_table
+    for v in fired:
+        disjuncts = fast_dnf(v.pre, key_ids, scanned)
+        if disjuncts is None:
+            disjuncts = id_dnf(v.pre, reached, key_ids)
+        if not disjuncts:
+            continue
+        # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
+        # one, never matter.
+        blocks = []
+        for base, parts in v.effects or ():
+            b = converted.get(id(base))
+            if b is None:
+                b = converted[id(base)] = _condition_ids(base, key_ids)
+            if not b:
+                continue  # needs an atom never reached
+            hit = parts_ids.get(id(parts))
+            if hit is None:
+                hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, key_ids))
+            if hit[1]:
+                blocks.append((b, hit))
+        for disjunct in disjuncts:
+            pre = tuple(sorted(x for x in disjunct if x >= 0))
+            neg = tuple(sorted(~x for x in disjunct if x < 0))
+            pre_set, neg_set = set(pre), set(neg)
+            add: set[int] = set()
+            dele: set[int] = set()
+            # An effect takes effect under base | inner minus the precondition's literals; it never
+            # fires when that contradicts the precondition (which is itself consistent). The parts
+            # of a shared list are filtered once per intersection of the precondition with their
+            # condition atoms (cube counting: once per container, not per cube picked).
+            conditional = []  # (kept parts, base literals left) of the blocks with conditional effects
+            for (b0, b1), (parts, conv, atoms_of) in blocks:
+                if not neg_set.isdisjoint(b0) or not pre_set.isdisjoint(b1):
+                    continue
+                bp = b0 if pre_set.isdisjoint(b0) else tuple(i for i in b0 if i not in pre_set)
+                bn = b1 if neg_set.isdisjoint(b1) else tuple(i for i in b1 if i not in neg_set)
+                if atoms_of:
+                    fkey = (id(parts), atoms_of & pre_set, atoms_of & neg_set)
+                    kept = filtered.get(fkey)
+                    if kept is None:
+                        kept = filtered[fkey] = _filtered_parts(conv, pre_set, neg_set)
+                else:
+                    kept = (conv, [])  # unconditional parts: nothing to filter
+                if bp or bn:
+                    conditional.append((kept, bp, bn))
+                    continue
+                for _rp, _rn, adds, dels in kept[0]:
+                    add.update(adds)
+                    dele.update(dels)
+                if kept[1]:
+                    conditional.append((kept, bp, bn))
+            # The conditional effects depend only on the kept parts and base literals left, which
+            # many actions share (cube counting by container): converted once per combination.
+            conds: tuple = ()
+            if conditional:
+                ckey = tuple((id(kept), bp, bn) for kept, bp, bn in conditional)
+                found = cond_tables.get(ckey)
+                if found is None:
+                    found = cond_tables[ckey] = _cond_table(conditional)
+                conds = found
+            ops.add(
+                GroundOp(
+                    v.name,
+                    v.args,
+                    _cost(v.schema.costs, v.binding, problem),
+                    pre,
+                    neg,
+                    tuple(sorted(add)),
+                    tuple(sorted(dele - add)),
+                    conds,
+                )
+            )
+    ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
+    init = 0
+    for a in problem.init:
+        if a in ids:
+            init |= 1 << ids[a]
+    goals = ground_goal(domain, problem, problem.goal, ids, fluent)
+    return Task(atoms, ordered, init, goals)
+
+
+def ground_goal(
+    domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
+) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
+    """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
+    simplify = Simplifier(_TypedObjects(domain, problem.all_objects(domain)), fluent, problem.init)
+    out = []
+    for conj in to_dnf(simplify(nnf(goal), {})):
+        if any(pos and a not in ids for a, pos in conj):
+            continue
+        pos_ids = tuple(sorted(ids[a] for a, pos in conj if pos))
+        neg_ids = tuple(sorted(ids[a] for a, pos in conj if not pos and a in ids))
+        out.append((pos_ids, neg_ids))
+    return out
