@@ -33,9 +33,10 @@ class Relaxation:
         # in a state without a, achieved by deleting a), so that the relaxation sees that a drawer
         # must be closed or a blocker moved; the compiled task is equivalent, so h_max and LM-cut
         # stay admissible.
+        conds = {id(o.cond): o.cond for o in task.ops}.values()  # grounding shares cond tuples
         negated = sorted(
             {a for o in task.ops for a in o.neg}
-            | {a for o in task.ops for _cp, cn, _ca, _cd in o.cond for a in cn}
+            | {a for cond in conds for _cp, cn, _ca, _cd in cond for a in cn}
             | {a for _p, ng in task.goals for a in ng}
         )
         self.comp = {a: n + 2 + k for k, a in enumerate(negated)}
@@ -116,7 +117,7 @@ class Relaxation:
         self._inf = [INF] * self.n_facts
         self._none = [-1] * self.n_facts
         # Integer costs allow a bucket queue instead of a binary heap (measured ~20% faster h_add).
-        self.integral = all(float(c).is_integer() and c >= 0 for c in cost)
+        self.integral = all(float(c).is_integer() and c >= 0 for c in set(cost))
         if self.integral:
             self.cost = [int(c) for c in cost]
         # Level 0 of h_add relative to a reference state (the initial state): the precondition
@@ -136,7 +137,7 @@ class Relaxation:
                 self._ref_unsat[u] -= 1
         # Enabled operators fire in the order a fact-by-fact count would fire them (by their highest
         # precondition id, then id), so supporters and h_FF's relaxed plans do not change.
-        order = sorted(range(len(pre)), key=lambda u: (max(pre[u]), u))
+        order = sorted(range(len(pre)), key=[max(p) for p in pre].__getitem__)  # stable: ties by id
         self._rank = [0] * len(pre)
         for r, u in enumerate(order):
             self._rank[u] = r
