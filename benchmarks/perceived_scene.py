@@ -71,17 +71,20 @@ class PerceivedScene:
     def observe(self, expected: SceneGraph | None = None) -> SceneGraph:
         """Perceive the world now and merge it into the belief; the new belief.
 
-        ``expected`` (the graph the robot's last step should have produced) is the prior for states no
-        sensor sees (``UNSENSED_STATES``); without it the previous belief is."""
+        ``expected`` (the graph the robot's last step should have produced) is the prior for what no
+        sensor sees: states in ``UNSENSED_STATES``, and where a remembered object the robot just let go
+        of is (:func:`with_remembered_support`); without it the previous belief is."""
         from perception import perceive, update_belief
 
         frames = self.frames()
         self.last_rgb = frames[0].rgb
         observed = without_helper_parts(perceive(frames, self.params), self.world)
         observed = with_map_regions(observed, self.world)
-        observed = with_held(observed, held_objects(self.world), self.belief, self.world.graph)
+        held = held_objects(self.world)
+        observed = with_held(observed, held, self.belief, self.world.graph)
         prior = expected if expected is not None else self.belief
-        self.belief = with_unsensed_states(update_belief(self.belief, observed, frames), prior)
+        belief = with_unsensed_states(update_belief(self.belief, observed, frames), prior)
+        self.belief = with_remembered_support(belief, held, prior)
         self.observations += 1
         return self.belief
 
@@ -219,6 +222,36 @@ def with_unsensed_states(graph: SceneGraph, prior: SceneGraph | None) -> SceneGr
         states = tuple(sorted({s for s in n.states if s not in UNSENSED_STATES} | carried))
         nodes.append(n if states == n.states else n.model_copy(update={"states": states}))
     return graph.model_copy(update={"nodes": tuple(nodes)})
+
+
+def with_remembered_support(graph: SceneGraph, held: set[str], prior: SceneGraph | None) -> SceneGraph:
+    """Remembered nodes get ``held`` only from the gripper now, and a support edge from ``prior`` if none.
+
+    A node the cameras no longer see is carried from the last belief, grasp state included; but only the
+    gripper says what is held now. An object just released where no camera sees it (a cube put into a
+    box, under the arm) is where the robot's own step put it: the prior's support edge."""
+    remembered = {n.id for n in graph.nodes if n.attributes.get("observed", True) is False}
+    stale = {n.id for n in graph.nodes if "held" in n.states and n.id not in held}
+    if not remembered and not stale:
+        return graph
+    nodes = tuple(
+        n.model_copy(update={"states": tuple(s for s in n.states if s != "held")}) if n.id in stale else n
+        for n in graph.nodes
+    )
+    ids = {n.id for n in nodes}
+    supported = {e.source for e in graph.edges if e.relation in _SUPPORT}
+    carried = [
+        e
+        for e in (prior.edges if prior is not None else ())
+        if e.relation in _SUPPORT
+        and e.source in remembered
+        and e.source not in supported
+        and e.source not in held
+        and e.target in ids
+    ]
+    return graph.model_copy(
+        update={"nodes": nodes, "edges": tuple(sorted({*graph.edges, *carried}, key=Edge.key))}
+    )
 
 
 def observed_ids(graph: SceneGraph) -> set[str]:

@@ -195,3 +195,28 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(shared_data) -> No
             assert not graph.has_node("microwave_1/door")  # the helper node is not in the agent's graph
     finally:
         world.close()
+
+
+def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
+    from benchmarks.perceived_scene import with_remembered_support
+
+    # the cube was held; now nobody sees it (remembered from the last belief, grasp state and all)
+    belief = _graph(
+        [
+            _node("table", "table"),
+            _node("box", "box"),
+            _node("cube", "cube", states=("held",), attributes={"observed": False}),
+        ],
+        [("box", "on", "table")],
+    )
+    expected = _graph(
+        [_node("table", "table"), _node("box", "box"), _node("cube", "cube")],
+        [("box", "on", "table"), ("cube", "in", "box")],
+    )
+    out = with_remembered_support(belief, set(), expected)
+    assert "held" not in out.node("cube").states  # the gripper no longer holds it
+    assert ("cube", "in", "box") in {e.key() for e in out.edges}  # the step's own effect
+    still = with_remembered_support(belief, {"cube"}, expected)
+    assert "held" in still.node("cube").states and not [e for e in still.edges if e.source == "cube"]
+    seen = belief.model_copy(update={"nodes": (*belief.nodes[:2], _node("cube", "cube"))})
+    assert with_remembered_support(seen, set(), expected) is seen  # seen nodes keep what was seen
