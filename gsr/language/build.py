@@ -362,7 +362,7 @@ class Interpreter:
             )
         text = " ".join(x.text for x in _tokens(t))
         found = self.resolver.regions(owner, pos)
-        if not found:
+        if not found and t.data == "place_of":  # "the top of the drawer": its owner's top
             parents = tuple({self.entities[o].parent for o in owner} - {None})
             found = self.resolver.regions(parents, pos) if parents else []
         if len(found) == 1:

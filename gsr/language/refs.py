@@ -279,19 +279,19 @@ class Resolver:
         """``the small box``: the candidate at that end of the size scale, by bounding boxes.
 
         One candidate: the adjective only describes it ("the short cabinet" in a scene with one cabinet).
-        Several, with sizes in the graph: the one strictly smallest (largest, tallest, ...); several
-        without sizes: a singular phrase stays ambiguous (the caller lists them), a plural one is an error.
+        Several, with sizes in the graph: the ones at that end (smallest, largest, tallest, ...); several
+        without sizes: an ambiguity error listing them.
         """
         if len(found) < 2:
             return found
         if any(e.extent is None for e in found):
-            if d.plural:
-                raise GroundingError(
-                    f"the scene graph has no sizes to tell which of {', '.join(e.id for e in found)} are {word!r}",
-                    candidates=tuple(e.id for e in found),
-                    phrase=d.text,
-                )
-            return found
+            ids = ", ".join(e.id for e in found)
+            raise GroundingError(
+                f"{d.text!r} is ambiguous: the scene graph has no sizes to tell which of {ids} "
+                f"{'are' if d.plural else 'is'} {word!r}",
+                candidates=tuple(e.id for e in found),
+                phrase=d.text,
+            )
         measure, smallest = SIZE_SCALES[word]
         values = [(measure(e.extent), e) for e in found]  # type: ignore[arg-type]
         best = min(v for v, _ in values) if smallest else max(v for v, _ in values)
@@ -407,15 +407,20 @@ class Resolver:
         same = [e for e in found if e.category == category]
         found = same if 0 < len(same) < len(found) else found
         said = set(d.head_words.get(category, "").split())
-        named = [e for e in found if said and said <= e.own_words]
-        # only if no other is called that by its own words too: "the glass cup" also fits a cup made of
-        # glass; "the plate" does not fit a saucer better for being a plate by category
-        others_fit = any(
-            (said - set(e.category.split("_"))) and (said - set(e.category.split("_"))) <= e.own_words
+        if not said:
+            return found
+        named = [e for e in found if said <= e.own_words]
+        # fits by its own words beyond its category: "the glass cup" also fits a cup made of glass, while
+        # "the plate" does not fit a saucer better for being a plate by category
+        also = [
+            e
             for e in found
             if e not in named
-        )
-        return named if 0 < len(named) < len(found) and not others_fit else found
+            and (said - set(e.category.split("_"))) <= e.own_words - set(category.split("_"))
+            and said - set(e.category.split("_"))
+        ]
+        fit = named if not also else named + also
+        return fit if 0 < len(fit) < len(found) else found
 
     def _quantifiable(self, d: Description, category: str) -> bool:
         """A quantifier over static properties only (category, colour) becomes a PDDL forall."""
