@@ -127,8 +127,12 @@ class Interpreter:
 
     def state(self, trees: list[Tree]) -> None:
         """``make sure X ends up in Y`` / ``X should be closed``: the stated end state as a goal."""
-        objs_tree = next(c for c in trees if c.data in ("objects", "both_list", "np_list"))
-        st = next(c for c in trees if c.data in ("state_place", "state_flag"))
+        subjects = [c for c in trees if c.data in ("objects", "both_list", "np_list")]
+        states = [c for c in trees if c.data in ("state_place", "state_flag")]
+        for objs_tree, st in zip(subjects, states, strict=True):  # "make sure X is in Y and Z is on"
+            self._stated(objs_tree, st)
+
+    def _stated(self, objs_tree: Tree, st: Tree) -> None:
         if st.data == "state_place":
             objs = self.objects(objs_tree, "movable")
             for ref in objs:
@@ -298,6 +302,10 @@ class Interpreter:
                 d.names.append(_tok(c.children[-1]).text)
             elif c.data == "same_color":
                 d.same_color_as = self.np(c.children[-1], lenient=True)
+            elif c.data == "rel_color":  # "the box that is blue"
+                self._premod(c.children[-1], d)
+            elif c.data == "rel_size":
+                d.sizes.append(_tok(c.children[-1]).text)
             elif c.data == "rel_state":  # "the drawer that is open"
                 d.states.append("open" if _tok(c.children[-1]).cls == "OPENED" else "closed")
             elif c.data.startswith("rel_"):

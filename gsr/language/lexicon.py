@@ -23,7 +23,7 @@ from gsr.categories import (
     is_part_category,
 )
 from gsr.facts import node_affordances, node_colors
-from gsr.language.words import DRAWER_WORDS, FILLER, FUNCTION_WORDS, POSITION_SYNONYMS
+from gsr.language.words import DRAWER_WORDS, FILLER, FUNCTION_WORDS, POSITION_SYNONYMS, VERB_CLASSES, gerund
 from gsr.scene_graph import Node, SceneGraph
 
 __all__ = [
@@ -209,6 +209,10 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
     # function words win over everything single-word except multi-word nouns ("orange juice" stays a noun)
     for phrase, cls in FUNCTION_WORDS.items():
         add(tuple(phrase.split()), cls, phrase, override=True)
+    for phrase, cls in FUNCTION_WORDS.items():  # "putting", "switching off": the verb's class
+        words = phrase.split()
+        if cls in VERB_CLASSES and words[0] not in ("opened", "turned"):
+            add((gerund(words[0]), *words[1:]), cls, phrase)
     # a word that is both a colour and a noun of this scene ("the orange" fruit, "the orange cube")
     for raw in raw_nouns:
         if (raw,) in phrases and phrases[(raw,)][0] == "COLOR":

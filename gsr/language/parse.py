@@ -14,7 +14,8 @@ from lark.lexer import Lexer
 from gsr.language.errors import GroundingError
 from gsr.language.lexicon import FILLER, Lexicon
 
-_PUNCT = re.compile(r"[—–;:!?]")
+_PUNCT = re.compile(r"[—–;:]")
+_SENTENCE_END = re.compile(r"[!?]+")
 _SPLIT = re.compile(r"\s+|(?=[,.])|(?<=[,.])")
 #: Classes after which "switch" is a verb ("switch on the lamp"), elsewhere the noun ("press the switch").
 _CLAUSE_START = {None, "AND", "THEN", "COMMA", "ALSO", "PERIOD", "OPENER", "FIRST"}
@@ -90,7 +91,7 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
     clean = text.strip().lower().replace("\u2019", "'")
     for pattern, full in _CONTRACTIONS:
         clean = pattern.sub(full, clean)
-    clean = _PUNCT.sub(" , ", clean).replace("'s ", " ")
+    clean = _SENTENCE_END.sub(" . ", _PUNCT.sub(" , ", clean)).replace("'s ", " ")
     raws = [r for r in _SPLIT.split(clean) if r and r.strip()]
     words: list[tuple[str, str | None]] = []  # (word, entity id if the raw token named a node)
     for raw in raws:
@@ -156,6 +157,7 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
         if not matched:
             unknown.append(word)
         i += 1
+    _mark_back(toks)
     if unknown:
         names = ", ".join(repr(w) for w in dict.fromkeys(unknown))
         raise GroundingError(
@@ -166,6 +168,18 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
     if not toks:
         raise GroundingError(f"empty instruction {text!r}")
     return toks
+
+
+def _mark_back(toks: list[Tok]) -> None:
+    """``put the cup back in the box``: ``back`` before a preposition, after an object, is a particle."""
+    for i in range(1, len(toks) - 1):
+        t = toks[i]
+        if (
+            t.text == "back"
+            and toks[i + 1].cls in ("IN", "ON", "TO", "INSIDE")
+            and toks[i - 1].cls in ("NOUN", "COLORNOUN", "NAME", "ENTITY", "IT", "THEM", "PLACE")
+        ):
+            toks[i] = Tok("BACK", "back", "back")
 
 
 @lru_cache(maxsize=1)

@@ -48,6 +48,8 @@ FUNCTION_WORDS: dict[str, str] = {
     "unload": "EMPTY",
     "unstack": "PLACE",
     "pick": "PICK",
+    "remove": "PICK",
+    "down": "DOWN",
     "grab": "PICK",
     "take": "GET",
     "lift": "PICK",
@@ -282,6 +284,8 @@ FUNCTION_WORDS: dict[str, str] = {
     "additionally": "ALSO",
     "in addition": "ALSO",
     "finally": "THEN",
+    "after": "AFTER",
+    "before": "BEFORE",
     "lastly": "THEN",
     "next": "THEN",
     "subsequently": "THEN",
@@ -368,3 +372,33 @@ POSITION_SYNONYMS: dict[str, str] = {
 }
 #: Extra nouns for drawers: "the top layer of the cabinet", "different drawer layers".
 DRAWER_WORDS = ("layer", "level", "tier", "drawer")
+
+#: Verbs whose last consonant doubles before -ing ("putting", "dropping").
+_DOUBLING = frozenset({"put", "set", "drop", "shut", "get", "grab", "pop", "stop", "plop", "tip"})
+#: Word classes of verbs: their -ing forms get the same class ("after putting the cup in the box, ...").
+VERB_CLASSES = frozenset(
+    {
+        "PLACE",
+        "GET",
+        "LEAVE",
+        "PULL",
+        "PICK",
+        "OPEN",
+        "CLOSE",
+        "TURN",
+        "ACTIVATE",
+        "DEACTIVATE",
+        "PUSH",
+        "PRESS",
+    }
+    | {"STACK", "EMPTY"}
+)
+
+
+def gerund(verb: str) -> str:
+    """The -ing form of a one-word verb (put -> putting, place -> placing, open -> opening)."""
+    if verb in _DOUBLING:
+        return verb + verb[-1] + "ing"
+    if verb.endswith("e") and not verb.endswith("ee"):
+        return verb[:-1] + "ing"
+    return verb + "ing"
