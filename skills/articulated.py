@@ -96,6 +96,9 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
 
 
 #: Door angles (rad) tried as the end of an opening stroke, widest first; all are past half travel.
+#: rad the wrist turns past a knob's target: the knob ends against its stop, not a few degrees short
+#: of it where the next grasp can spin it out of the fingers
+KNOB_OVERSHOOT = 0.15
 DOOR_STEP = 0.05  # rad between the arc's waypoints (1.7 cm at a 33 cm handle radius)
 
 
@@ -183,7 +186,7 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
     for k in (0, -1, 1):
         a = yaw - math.pi / 2 + k * math.pi
         q_start = p.getQuaternionFromEuler((math.pi, 0, a))
-        q_end = p.getQuaternionFromEuler((math.pi, 0, a + delta))
+        q_end = p.getQuaternionFromEuler((math.pi, 0, a + delta + math.copysign(KNOB_OVERSHOOT, delta)))
         above = handle + np.array([0, 0, APPROACH])
         try:
             m.park_for(handle, poses=[(handle, q_start), (handle, q_end), (above, q_start)])
@@ -196,6 +199,16 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
             Failure.UNREACHABLE, f"the wrist cannot turn the knob of {obj.id} by {delta:.2f} rad"
         )
     m.ignore_links = {(obj.body, obj.links[art.link])}
+    # arrive above the knob on the arm configuration from which the descent and the turn are continuous
+    # (a straight move down from transit height can leave the reachable set on the way)
+    above = handle + np.array([0, 0, APPROACH])
+    start = m.continuous_start([(above, quat), (handle, quat), (handle, goal)], m.robot.q()[:2])
+    if start is not None:
+        try:
+            m.move_joint(start)
+        except SkillError as exc:
+            if exc.failure is not Failure.BLOCKED:
+                raise
     for attempt in range(2):  # a knob nudged by the closing fingers can slip out: look again, once
         m.gripper(0.06)
         m.move_line((handle + np.array([0, 0, APPROACH]), quat))
@@ -211,7 +224,7 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
         a = p.getEulerFromQuaternion(quat)[2]  # keep the chosen wrist branch; re-aim it at the bar
         a += ((yaw - math.pi / 2 - a + math.pi / 2) % math.pi) - math.pi / 2
         quat = p.getQuaternionFromEuler((math.pi, 0, a))
-        goal = p.getQuaternionFromEuler((math.pi, 0, a + delta))
+        goal = p.getQuaternionFromEuler((math.pi, 0, a + delta + math.copysign(KNOB_OVERSHOOT, delta)))
     m.ignore = {obj.body}
     m.move_line((handle, goal), check=False)
     m.step(20)

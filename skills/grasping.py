@@ -86,7 +86,20 @@ def _lift(m: Motion, z: float) -> None:
     try:
         m.solve(top, quat)
     except SkillError:  # too high for the arm from here: bring the base under the hand first
-        m.park_for(top, poses=[(top, quat)])
+        try:
+            m.park_for(top, poses=[(top, quat)])
+        except SkillError:
+            # out of reach from every base spot (a tall stack somewhere sets the transit height): the
+            # highest height the arm reaches here; the moves that follow are collision-checked anyway
+            for lower in np.arange(z - 0.04, pos[2], -0.04):
+                top = np.array([pos[0], pos[1], lower])
+                try:
+                    m.solve(top, quat)
+                    break
+                except SkillError:
+                    continue
+            else:
+                return
     m.move_line((top, quat), check=False)
 
 
@@ -350,9 +363,21 @@ def _free_spot(
             for r in world.regions.values()
         )
 
-    for c in candidates:
-        if not under(c) and not in_region(c):
-            return np.array([c[0], c[1], z])
+    free = [c for c in candidates if not under(c) and not in_region(c)]
+    if free and avoid_regions:
+        # the bare table: of the free spots, one with a hand's width (10 cm) around it if there is one,
+        # so the object set down does not stand in the way of the next grasps and handles
+        def clearance(c: np.ndarray) -> float:
+            gaps = [
+                max(abs(c[0] - oc[0]) - ohalf[0] - oh[0], abs(c[1] - oc[1]) - ohalf[1] - oh[1])
+                for oc, ohalf, _top in others
+            ]
+            return min([0.1, *gaps])
+
+        best_clear = max(clearance(c) for c in free)
+        free = [c for c in free if clearance(c) >= best_clear - 1e-9]
+    if free:
+        return np.array([free[0][0], free[0][1], z])
     best = min(candidates, key=lambda c: max(under(c)))
     return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)])
 

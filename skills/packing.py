@@ -19,6 +19,9 @@ from skills.sim_graph import support_of
 from skills.world import SimObject, World
 
 GAP_CLOSING, GAP_ACROSS = 0.018, 0.005
+#: Half the Panda hand's footprint from the grasp point (m): along the closing axis, across it
+#: (measured from the hand link's bounding box: 21.7 x 9.4 cm)
+HAND_HALF = (0.109, 0.047)
 
 
 def _container(world: World, target: str) -> tuple[SimObject, Interior, int] | None:
@@ -91,6 +94,24 @@ def packed_spot(
         if abs(local[0]) > hu + 0.1 or abs(local[1]) > hv + 0.1 or hi[2] < floor - 0.005:
             continue
         others.append((local, _half(o.model.extent, world.yaw_of(o.body) - yaw), float(hi[2])))
+    # the container's own open lid (slid off beside it at rim height) is an obstacle for the hand too
+    for part, art in cont.model.articulations.items():
+        if art.kind == "lid" and art.is_open(world.joint_position(cont, part)):
+            lo, hi = world.aabb(cont.body, cont.links[art.link])
+            corners = [
+                rot.T @ (np.array([x, y]) - centre[:2]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+            ]
+            clo, chi = np.min(corners, axis=0), np.max(corners, axis=0)
+            others.append(((clo + chi) / 2, (chi - clo) / 2, float(hi[2])))
+    # what stands higher than the hand's underside at release needs the hand's whole footprint clear
+    # (22 x 9.4 cm, long along the closing axis), not only the fingers' room
+    hand_bottom = floor + obj.model.extent[2] + 0.02
+    hand = np.array(
+        [
+            abs(math.cos(e1)) * HAND_HALF[0] + abs(math.sin(e1)) * HAND_HALF[1],
+            abs(math.sin(e1)) * HAND_HALF[0] + abs(math.cos(e1)) * HAND_HALF[1],
+        ]
+    )
     umax, vmax = hu - held[0] - gap[0], hv - held[1] - gap[1]
     if umax < 0 or vmax < 0:
         umax, vmax = max(umax, 0.0), max(vmax, 0.0)
@@ -99,11 +120,12 @@ def packed_spot(
     grid.sort(key=lambda c: -abs(c[0]) - abs(c[1]))
 
     def tops(c: np.ndarray) -> list[float]:
-        return [
-            top
-            for oc, oh, top in others
-            if abs(c[0] - oc[0]) < held[0] + oh[0] + gap[0] and abs(c[1] - oc[1]) < held[1] + oh[1] + gap[1]
-        ]
+        out = []
+        for oc, oh, top in others:
+            reach = hand if top > hand_bottom else held + gap
+            if abs(c[0] - oc[0]) < reach[0] + oh[0] and abs(c[1] - oc[1]) < reach[1] + oh[1]:
+                out.append(top)
+        return out
 
     free = next((c for c in grid if not tops(c)), None)
     if free is not None:
