@@ -109,7 +109,39 @@ def _goal(text: str, graph: SceneGraph | None = None) -> str:
         ),
         ("Could you please put the orange cube in the box", "(and (in orange_cube_3 blue_box_6))"),
         ("don't forget to shut the bottom drawer", "(and (not (open white_cupboard_2/drawer_low)))"),
+        ("Would you mind putting the orange in the crate?", "(and (in orange_orange_6 green_crate_4))"),
+        ("Switch the lamp on, please!", "(and (turned_on black_lamp_1))"),
+        (
+            "After putting the orange in the low drawer, close it.",
+            "(and (in orange_orange_6 white_cupboard_2/drawer_low) (not (open white_cupboard_2/drawer_low)))",
+        ),
+        (
+            "Put the kettle onto the saucer and switch the lamp on afterwards.",
+            "(and (on red_kettle_1 white_saucer_5) (turned_on black_lamp_1))",
+        ),
+        (
+            "Put the orange into the box, then the orange cube into the crate.",
+            "(and (in orange_orange_6 blue_box_6) (in orange_cube_3 green_crate_4))",
+        ),
+        # particles
+        ("Pick the orange up and put it on the plate.", "(and (on orange_orange_6 red_plate_7))"),
+        ("Set the orange down on the saucer.", "(and (on orange_orange_6 white_saucer_5))"),
+        ("Put the moka pot back in the crate.", "(and (in black_moka_pot_7 green_crate_4))"),
+        (
+            "Remove the moka pot from the box and place it on the plate.",
+            "(and (on black_moka_pot_7 red_plate_7))",
+        ),
+        # relative clauses with a colour
+        ("Put the orange in the box which is green.", "(and (in orange_orange_6 green_crate_4))"),
         # stative goals: the end state said as such
+        (
+            "Make sure the orange is in the box and the lamp is on.",
+            "(and (in orange_orange_6 blue_box_6) (turned_on black_lamp_1))",
+        ),
+        (
+            "Ensure the orange and the orange cube both end up in the crate.",
+            "(and (in orange_orange_6 green_crate_4) (in orange_cube_3 green_crate_4))",
+        ),
         ("make sure the orange ends up in the box", "(and (in orange_orange_6 blue_box_6))"),
         ("Make sure that the kettle is placed on the saucer.", "(and (on red_kettle_1 white_saucer_5))"),
         ("make sure the drawer low is closed", "(and (not (open white_cupboard_2/drawer_low)))"),
