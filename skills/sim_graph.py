@@ -2,7 +2,8 @@
 
 :func:`scene_graph_from_sim` keeps the task graph's node ids, categories and attributes and recomputes
 everything physical: ``in`` = at least half of the object's bounding box lies inside a container's
-interior volume; ``on`` = a support contact (normal pointing up from the supporter, strongest contact
+interior volume *and* the object sits inside the walls (its bottom below the rim), or it rests on something
+that is itself in that container (a cube stacked on a cube in a tray); ``on`` = a support contact (normal pointing up from the supporter, strongest contact
 wins; on a table inside a named region, the region); ``held`` = touched by both fingers; open/closed
 and on/off from joint positions and button latches; poses, boxes and keypoints from the links.
 """
@@ -23,6 +24,10 @@ if TYPE_CHECKING:
     from skills.world import World
 
 IN_RATIO = 0.5
+#: An object whose bottom is no more than this below a container's rim rests *on* the rim, not in it.
+#: Open containers' interior volumes reach 1.5x their height (skills/assets.py, so tall bottles in a
+#: basket count), which alone would put a box resting on another box's rim "in" the lower box.
+RIM_TOLERANCE = 0.01
 
 
 def _v(a: np.ndarray | tuple[float, ...]) -> Vec3:
@@ -37,6 +42,14 @@ def _overlap_ratio(lo: np.ndarray, hi: np.ndarray, blo: np.ndarray, bhi: np.ndar
 
 def interior_boxes(world: World) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
     """Container volumes as world AABBs: (node id, min, max, volume), smallest first."""
+    return [(nid, lo, hi, vol) for nid, lo, hi, vol, _ in container_volumes(world)]
+
+
+def container_volumes(world: World) -> list[tuple[str, np.ndarray, np.ndarray, float, float]]:
+    """Container volumes as world AABBs with the rim: (node id, min, max, volume, rim z), smallest first.
+
+    The rim is the top of the link that carries the interior (a box's walls, a drawer's tray), capped by
+    the interior's own top (a microwave's cavity ends below its roof)."""
     out = []
     nodes = world.graph.node_map()
     owners: dict[tuple[str, str], str] = {(obj, part): nid for nid, (obj, part) in world.parts.items()}
@@ -53,7 +66,8 @@ def interior_boxes(world: World) -> list[tuple[str, np.ndarray, np.ndarray, floa
                 for d in [np.array(d) * 2 - 1]
             ]
             lo, hi = np.min(corners, axis=0), np.max(corners, axis=0)
-            out.append((node_id, lo, hi, float(np.prod(hi - lo))))
+            rim = min(float(world.aabb(o.body, link)[1][2]), float(hi[2]))
+            out.append((node_id, lo, hi, float(np.prod(hi - lo)), rim))
     return sorted(out, key=lambda t: t[3])
 
 
@@ -84,26 +98,58 @@ def _region_of(world: World, pos: np.ndarray) -> str | None:
     return None
 
 
-def support_of(world: World, object_id: str, boxes: list | None = None) -> tuple[str, str] | None:
-    """``("in" | "on", node)`` supporting an object now, ``("held", "")`` in the gripper, or None (in flight)."""
+def support_of(
+    world: World, object_id: str, boxes: list | None = None, _depth: int = 0
+) -> tuple[str, str] | None:
+    """``("in" | "on", node)`` supporting an object now, ``("held", "")`` in the gripper, or None (in flight).
+
+    ``boxes``: :func:`container_volumes` of the world (computed when None; ``[]`` skips containment)."""
     import pybullet as p
 
     o = world.objects[object_id]
-    c = world.client
     robot = world.robot
-    fingers = {pt[4] for pt in p.getContactPoints(o.body, robot.body, physicsClientId=c)}
+    fingers = {pt[4] for pt in p.getContactPoints(o.body, robot.body, physicsClientId=world.client)}
     if set(robot.fingers) <= fingers:
         return ("held", "")
+    vols = boxes if boxes is not None else container_volumes(world)
     lo, hi = world.body_aabb(o.body)
-    for node_id, blo, bhi, _ in boxes if boxes is not None else interior_boxes(world):
-        if node_id.split("/")[0] == object_id:
+    above_rim: set[str] = set()  # containers the object overlaps while resting above their rim
+    for node_id, blo, bhi, _, rim in vols:
+        if node_id.split("/")[0] == object_id or _overlap_ratio(lo, hi, blo, bhi) < IN_RATIO:
             continue
-        if _overlap_ratio(lo, hi, blo, bhi) >= IN_RATIO:
+        if lo[2] < rim - RIM_TOLERANCE:
             return ("in", node_id)
+        above_rim.add(node_id)
+    own = [(blo, bhi) for node_id, blo, bhi, _, _ in vols if node_id.split("/")[0] == object_id]
+    contact = _contact_support(world, object_id, lo, hi, own)
+    if contact is not None and above_rim and contact[1] in world.objects and _depth < 4:
+        # stacked on something that is in the container (a cube on a cube in a tray): in it too
+        below = support_of(world, contact[1], vols, _depth + 1)
+        if below is not None and below[0] == "in" and below[1] in above_rim:
+            return below
+    return contact
+
+
+def _contact_support(
+    world: World, object_id: str, lo: np.ndarray, hi: np.ndarray, own: list[tuple[np.ndarray, np.ndarray]]
+) -> tuple[str, str] | None:
+    """``("on", node)`` for the strongest upward support contact (a table region for the table), or None.
+
+    ``own``: the object's interior volumes; what lies in them is its content, never its support (a book
+    standing in a lidded box touches the lid from below)."""
+    import pybullet as p
+
+    o = world.objects[object_id]
     force: dict[str, float] = {}
-    for pt in p.getContactPoints(bodyA=o.body, physicsClientId=c):
+    contents: dict[int, bool] = {}
+    for pt in p.getContactPoints(bodyA=o.body, physicsClientId=world.client):
         other, link, normal_on_b, f = pt[2], pt[4], pt[7], pt[9]
-        if other == robot.body or normal_on_b[2] < 0.5:
+        if other == world.robot.body or normal_on_b[2] < 0.5:
+            continue
+        if own and other not in contents:
+            olo, ohi = world.body_aabb(other)
+            contents[other] = any(_overlap_ratio(olo, ohi, blo, bhi) >= IN_RATIO for blo, bhi in own)
+        if contents.get(other):
             continue
         node = _link_node(world, other, link)
         if node is not None and node != object_id:
@@ -169,7 +215,7 @@ def _node_geometry(world: World, node: Node) -> dict:
 
 def scene_graph_from_sim(world: World) -> SceneGraph:
     """The ground-truth scene graph of the world now: same node ids as the task graph, physical relations."""
-    boxes = interior_boxes(world)
+    boxes = container_volumes(world)
     edges: list[Edge] = []
     held: set[str] = set()
     for oid, o in world.objects.items():
