@@ -4,7 +4,7 @@ Run: ``python benchmarks/perception_views.py [--scenes 25] [--seed 0] [--json]
 [--set NAME=view,view,...]...``. Every scene (the random GSR-Bench-style tasks of
 ``gsr perceive-eval --world skills``, same seeds) is rendered once from every view named in any set
 (640x480); each set is perceived (fused) and scored against ``scene_graph_from_sim``, over all truth and
-over what that set's cameras can see. Views: the ``skills.camera.default_views`` (``front``, ``top``,
+over the perceivable relations (both ends shown by one of that set's cameras). Views: the ``skills.camera.default_views`` (``front``, ``top``,
 ``left``, ``right``) and three placed across the table from the robot (``back``, ``back_left``,
 ``back_right``), where the arm does not stand between camera and table. The last line of the report
 counts the truth support edges no camera of the largest set sees, by what hides them.
@@ -59,7 +59,12 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     """Scores per view set over the same ``scenes`` skills-world scenes (deterministic per seed)."""
     import random
 
-    from benchmarks.perception_eval import _with_graph_attributes, visible_nodes, visible_truth
+    from benchmarks.perception_eval import (
+        _with_graph_attributes,
+        perceivable_prediction,
+        perceivable_truth,
+        visible_nodes,
+    )
     from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
     from perception import perceive
     from perception.evaluate import Score
@@ -95,7 +100,9 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
             graph = perceive(chosen)
             seen = visible_nodes(chosen)
             scores[name][0].add(graph, truth, ("on", "in"))
-            scores[name][1].add(graph, visible_truth(truth, seen), ("on", "in"))
+            scores[name][1].add(
+                perceivable_prediction(graph, truth, seen), perceivable_truth(truth, seen), ("on", "in")
+            )
             if name == largest:
                 for e in truth.edges:
                     if e.relation in ("on", "in") and e.source not in seen:
@@ -117,7 +124,7 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
 def markdown(report: dict[str, Any]) -> str:
     """The report as a Markdown table plus the unseen-edge count."""
     lines = [
-        "| views | node recall | F1 on | F1 in | visible F1 on | visible F1 in | state acc. |",
+        "| views | node recall | F1 on | F1 in | perceivable F1 on | perceivable F1 in | state acc. |",
         "|---|---:|---:|---:|---:|---:|---:|",
     ]
     for name, r in report["sets"].items():

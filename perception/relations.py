@@ -27,9 +27,11 @@ class RelationThresholds:
     contact_ring: float = 0.03  # B's points this far around A's footprint count as "under A"
     in_ratio: float = 0.5  # share of A's points inside B's box for A in B (B a container)
     in_rim: float = 0.01  # B's box grows upward by this (a rim seen slightly low)
+    lid_clearance: float = 0.005  # A in a *closed* B only when A's top is this far under B's top (the lid)
     adjacent_gap: float = 0.05  # footprint separation for A adjacent B (same supporter)
     direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
     direction_radius: float = 0.5  # directional relations only between objects this close
+    ground_margin: float = 0.05  # A rests on the ground only with its centre over the ground's footprint
     max_support_gap: float = (
         0.25  # farther above every surface than this, A rests on nothing (held, in the air)
     )
@@ -95,7 +97,8 @@ def supports(
 ) -> dict[str, tuple[str, str]]:
     """For each subject, its support edge ``(relation, target)``: containment first, then the top surface.
 
-    Containers in ``closed`` (perceived closed) hold nothing visible: what is seen there rests on them.
+    Containers in ``closed`` (perceived closed) hold only what lies wholly under their top (the lid): what
+    is seen on them rests on them. Among containers holding A the innermost (highest floor) wins.
     """
     out: dict[str, tuple[str, str]] = {}
     grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
@@ -105,11 +108,13 @@ def supports(
         containers = [
             (in_ratio(a, b, th), b)
             for b in instances
-            if b is not a and is_container(b) and b.key != a.key and b.key not in closed
+            if b is not a and is_container(b) and b.key != a.key and _may_hold(a, b, closed, th)
         ]
         containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]
         if containers:
-            out[a.key] = ("in", max(containers, key=lambda rb: rb[0])[1].key)
+            # the innermost container wins (highest floor: a mug in a box that stands in a drawer is in the
+            # box), then the larger ratio
+            out[a.key] = ("in", max(containers, key=lambda rb: (float(rb[1].aabb_min[2]), rb[0]))[1].key)
             continue
         a_bottom = bottom_z(a)
         strict: list[tuple[float, str]] = []  # surfaces touching A's bottom
@@ -124,6 +129,8 @@ def supports(
             if abs(a_bottom - top) <= th.on_gap:
                 strict.append((top, b.key))
         for g in grounds:
+            if not g.footprint_contains(a.center[None, :2], margin=th.ground_margin)[0]:
+                continue  # off the table (fallen, thrown): no plane under it
             top = _ground_height(g, a, plane)
             below.append((top, g.key))
             if abs(a_bottom - top) <= th.on_gap:
@@ -137,6 +144,14 @@ def supports(
         if pick is not None:
             out[a.key] = ("on", pick[1])
     return out
+
+
+def _may_hold(a: Instance, b: Instance, closed: frozenset[str], th: RelationThresholds) -> bool:
+    """B may contain A: B is open, or closed with A wholly under its lid (a book standing in a lidded box
+    lifts the lid and shows between lid and walls; what rests on a closed lid is above B's top)."""
+    if b.key not in closed:
+        return True
+    return float(np.percentile(a.points[:, 2], 98.0)) <= b.aabb_max[2] - th.lid_clearance
 
 
 def _within(b: Instance, a: Instance) -> bool:

@@ -143,3 +143,34 @@ def test_furniture_seen_only_from_above_rests_on_the_table():
     bowl = Instance("bowl", InstanceLabel(id="bowl", category="bowl"), top_only, cab.rgb)
     fit_boxes(bowl)
     assert "bowl" not in supports([t, bowl], np.array([0, 0, 1.0, 0]), TH)
+
+
+def test_innermost_container_wins():
+    """A cube in a box that stands in a wider box is in the inner box (its floor is the higher one)."""
+    t = table()
+    outer = box_cloud("outer", "box", (0.5, 0.0, 0.05), (0.12, 0.12, 0.05), top=False)
+    inner = box_cloud("inner", "box", (0.5, 0.0, 0.045), (0.07, 0.07, 0.035), top=False)
+    cube = box_cloud("x", "cube", (0.5, 0.0, 0.04), (0.02, 0.02, 0.02))
+    assert in_ratio(cube, outer, TH) == 1.0 and in_ratio(cube, inner, TH) == 1.0  # a tie on the ratio
+    sup = supports([t, outer, inner, cube], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["x"] == ("in", "inner") and sup["inner"] == ("in", "outer")
+
+
+def test_closed_container_holds_only_what_lies_under_its_lid():
+    t = table()
+    box = box_cloud("box", "box", (0.5, 0.0, 0.06), (0.08, 0.08, 0.06))
+    # a book standing inside, its top showing 1.5 cm under the (lifted) lid
+    book = box_cloud("book", "book", (0.5, 0.0, 0.0525), (0.015, 0.06, 0.0525))
+    on_lid = box_cloud("c", "cube", (0.45, 0.0, 0.14), (0.02, 0.02, 0.02))  # resting on the closed lid
+    sup = supports([t, box, book, on_lid], np.array([0, 0, 1.0, 0]), TH, closed=frozenset({"box"}))
+    assert sup["book"] == ("in", "box")
+    assert sup["c"] == ("on", "box")
+
+
+def test_object_off_the_table_rests_on_no_plane():
+    """The fitted plane is unbounded; an object beside the table (fallen, thrown) is not on it."""
+    t = table()
+    off = box_cloud("o", "cube", (1.3, 0.0, 0.02), (0.02, 0.02, 0.02))  # the table spans x 0..1
+    edge = box_cloud("e", "cube", (0.99, 0.0, 0.02), (0.02, 0.02, 0.02))  # overhanging the edge
+    sup = supports([t, off, edge], np.array([0, 0, 1.0, 0]), TH)
+    assert "o" not in sup and sup["e"] == ("on", "table")
