@@ -119,15 +119,20 @@ def packed_spot(
     # corners first: packing from the walls inwards leaves the most room for the next objects
     grid.sort(key=lambda c: -abs(c[0]) - abs(c[1]))
 
-    def tops(c: np.ndarray) -> list[float]:
+    def tops(c: np.ndarray, hand_room: bool = False) -> list[float]:
+        """Tops of what the object would stand on at ``c`` (with ``hand_room``: also of the tall things
+        the hand's footprint would meet)."""
         out = []
         for oc, oh, top in others:
-            reach = hand if top > hand_bottom else held + gap
+            reach = hand if hand_room and top > hand_bottom else held + gap
             if abs(c[0] - oc[0]) < reach[0] + oh[0] and abs(c[1] - oc[1]) < reach[1] + oh[1]:
                 out.append(top)
         return out
 
-    free = next((c for c in grid if not tops(c)), None)
+    # a floor spot with room for the whole hand; else a floor spot with room for the fingers (the hand
+    # then stops above the tall neighbour and lets go a little higher); else a second layer
+    free = next((c for c in grid if not tops(c, hand_room=True)), None)
+    free = free if free is not None else next((c for c in grid if not tops(c)), None)
     if free is not None:
         z, best = floor, free
     else:
