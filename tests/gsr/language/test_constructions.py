@@ -131,6 +131,14 @@ def _goal(text: str, graph: SceneGraph | None = None) -> str:
             "Remove the moka pot from the box and place it on the plate.",
             "(and (on black_moka_pot_7 red_plate_7))",
         ),
+        (
+            "I want the orange in the box and the lamp turned on.",
+            "(and (in orange_orange_6 blue_box_6) (turned_on black_lamp_1))",
+        ),
+        (
+            "Put the kettle in the top drawer, then close that drawer.",
+            "(and (in red_kettle_1 white_cupboard_2/drawer_high) (not (open white_cupboard_2/drawer_high)))",
+        ),
         # relative clauses with a colour
         ("Put the orange in the box which is green.", "(and (in orange_orange_6 green_crate_4))"),
         # stative goals: the end state said as such
