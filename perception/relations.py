@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gsr.categories import affordances, is_part_category
+from perception.articulation import label_affordances
 from perception.geometry import Instance, plane_height
 
 #: Categories that are the ground every other object ultimately rests on.
@@ -28,6 +29,9 @@ class RelationThresholds:
     in_ratio: float = 0.5  # share of A's points inside B's box for A in B (B a container)
     in_rim: float = 0.01  # B's box grows upward by this (a rim seen slightly low)
     lid_clearance: float = 0.005  # A in a *closed* B only when A's top is this far under B's top (the lid)
+    lid_flat_share: float = 0.8  # share of a lidded B's points around A at A's bottom (within on_gap):
+    # B shows a flat top around A (a closed lid), so A rests on B, not in it
+    lid_ring_points: int = 30  # fewest B points around A for that test
     adjacent_gap: float = 0.05  # footprint separation for A adjacent B (same supporter)
     direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
     direction_radius: float = 0.5  # directional relations only between objects this close
@@ -108,7 +112,11 @@ def supports(
         containers = [
             (in_ratio(a, b, th), b)
             for b in instances
-            if b is not a and is_container(b) and b.key != a.key and _may_hold(a, b, closed, th)
+            if b is not a
+            and is_container(b)
+            and b.key != a.key
+            and _may_hold(a, b, closed, th)
+            and (b.key in closed or not _on_flat_lid(a, b, th))
         ]
         containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]
         if containers:
@@ -152,6 +160,24 @@ def _may_hold(a: Instance, b: Instance, closed: frozenset[str], th: RelationThre
     if b.key not in closed:
         return True
     return float(np.percentile(a.points[:, 2], 98.0)) <= b.aabb_max[2] - th.lid_clearance
+
+
+def _on_flat_lid(a: Instance, b: Instance, th: RelationThresholds) -> bool:
+    """A rests on a lidded B's flat top: A's bottom is in B's upper half and nearly all of B's points
+    around A's footprint lie at A's bottom.
+
+    A second look at the lid where the whole-object cavity test (perception.articulation) calls a closed
+    lid open (walls and the lid's tab seen by side cameras, depth noise): around an object *in* an open
+    box B shows its floor and inner walls well below the object's visible bottom."""
+    if "openable" not in label_affordances(b):
+        return False
+    z = b.points[a.footprint_contains(b.points[:, :2], margin=th.contact_ring), 2]
+    if z.size < th.lid_ring_points:
+        return False
+    a_bottom = bottom_z(a)
+    if a_bottom < (b.aabb_min[2] + b.aabb_max[2]) / 2:
+        return False  # a flat surface in B's lower half is its floor (A is in the open box), not a lid
+    return float(np.mean(np.abs(z - a_bottom) <= th.on_gap)) >= th.lid_flat_share
 
 
 def _within(b: Instance, a: Instance) -> bool:

@@ -174,3 +174,24 @@ def test_object_off_the_table_rests_on_no_plane():
     edge = box_cloud("e", "cube", (0.99, 0.0, 0.02), (0.02, 0.02, 0.02))  # overhanging the edge
     sup = supports([t, off, edge], np.array([0, 0, 1.0, 0]), TH)
     assert "o" not in sup and sup["e"] == ("on", "table")
+
+
+def test_object_on_a_flat_lid_the_cavity_test_missed_rests_on_the_box():
+    """A lidded box perceived open (closed lid, but the cavity test said open): its flat top around the
+    cube is at the cube's bottom, so the cube is on the box; in an open box the floor lies far below."""
+    t = table()
+    lidded = box_cloud("lb", "lidded_box", (0.5, 0.0, 0.05), (0.08, 0.08, 0.05))  # flat top at 0.10
+    tab = box_cloud("tab", "lidded_box", (0.5, -0.06, 0.115), (0.01, 0.01, 0.015))  # the lid's grip tab
+    lidded.points = np.concatenate([lidded.points, tab.points])
+    fit_boxes(lidded)
+    cube = box_cloud("c", "cube", (0.5, 0.0, 0.12), (0.02, 0.02, 0.02))
+    assert in_ratio(cube, lidded, TH) >= TH.in_ratio  # the tab lifts the box's top: "in" by the ratio
+    sup = supports([t, lidded, cube], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["c"] == ("on", "lb")
+    open_box = box_cloud("ob", "lidded_box", (0.5, 0.0, 0.05), (0.08, 0.08, 0.05), top=False)
+    floor = box_cloud("ob_floor", "lidded_box", (0.5, 0.0, 0.004), (0.08, 0.08, 0.004))
+    open_box.points = np.concatenate([open_box.points, floor.points])
+    fit_boxes(open_box)
+    inside = box_cloud("x", "cube", (0.5, 0.0, 0.028), (0.02, 0.02, 0.02))
+    sup = supports([t, open_box, inside], np.array([0, 0, 1.0, 0]), TH)
+    assert sup["x"] == ("in", "ob")
