@@ -156,7 +156,11 @@ def _swing(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.ignore = set()
     start = m.continuous_start(key, m.robot.q()[:2])
     if start is not None:
-        m.move_joint(start)
+        try:
+            m.move_joint(start)
+        except SkillError as exc:  # the joint-space path meets something: straight moves instead
+            if exc.failure is not Failure.BLOCKED:
+                raise
     m.move_line((contact + back, quat))
     m.ignore_links = {(obj.body, obj.links[art.link])}
     m.move_line((contact, quat))
