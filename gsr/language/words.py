@@ -50,6 +50,7 @@ FUNCTION_WORDS: dict[str, str] = {
     "pick": "PICK",
     "remove": "PICK",
     "down": "DOWN",
+    "away": "DOWN",
     "grab": "PICK",
     "take": "GET",
     "lift": "PICK",
@@ -169,6 +170,7 @@ FUNCTION_WORDS: dict[str, str] = {
     "wind up": "ENDUP",
     "gets": "ENDUP",
     "goes": "ENDUP",
+    "go": "ENDUP",
     "lands": "ENDUP",
     # stative goals: "make sure the drawer is open", "the cup should be in the box", "I want the lamp on"
     "make sure": "ENSURE",

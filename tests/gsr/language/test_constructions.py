@@ -139,6 +139,9 @@ def _goal(text: str, graph: SceneGraph | None = None) -> str:
             "Put the kettle in the top drawer, then close that drawer.",
             "(and (in red_kettle_1 white_cupboard_2/drawer_high) (not (open white_cupboard_2/drawer_high)))",
         ),
+        ("I need the orange to end up in the crate.", "(and (in orange_orange_6 green_crate_4))"),
+        ("The orange cube should go into the box.", "(and (in orange_cube_3 blue_box_6))"),
+        ("Put away the orange in the low drawer.", "(and (in orange_orange_6 white_cupboard_2/drawer_low))"),
         # relative clauses with a colour
         ("Put the orange in the box which is green.", "(and (in orange_orange_6 green_crate_4))"),
         # stative goals: the end state said as such
