@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 
 from lark import Token, Tree
 
+from gsr.language.dests import Destinations, _tok, _tok_cls, _tokens
 from gsr.language.errors import GroundingError
-from gsr.language.intents import Dest, Intent
+from gsr.language.intents import Intent
 from gsr.language.lexicon import POSITION_SYNONYMS, Entity
-from gsr.language.parse import Tok
 from gsr.language.refs import Description, Place, Ref, Relation, Resolver
 
 #: Mass nouns: "the rubbish" means all of it, not one piece.
@@ -23,7 +23,7 @@ MASS_NOUNS = frozenset({"rubbish", "trash", "garbage", "litter", "waste", "debri
 
 
 @dataclass(slots=True)
-class Interpreter:
+class Interpreter(Destinations):
     """Walks one parse tree; keeps the discourse (mentions in order) for pronouns."""
 
     resolver: Resolver
@@ -391,157 +391,3 @@ class Interpreter:
                 phrase=text,
             )
         return Place(owner, pos, text)
-
-    # ------------------------------------------------------------ destinations
-
-    def dest(self, t: Tree, objects: list[Ref]) -> Dest:
-        """The destination of a place/push clause."""
-        own = tuple(i for r in objects for i in r.ids)
-        kids = [c for c in t.children if isinstance(c, Tree)]
-        kind = t.data
-        if kind in ("dest_in", "dest_on", "dest_to"):
-            ref = (
-                self.np(kids[-1], exclude=own)
-                if kids[-1].data != "pronoun"
-                else self.pronoun(kids[-1], None, own)
-            )
-            if kids[-1].data == "pronoun":
-                self.mentions.append(ref)
-            return self._at(ref, {"dest_in": "in", "dest_on": "on", "dest_to": "to"}[kind])
-        if kind == "dest_on_top":
-            place = self.place(Tree("place_of", t.children[1:]), own)
-            if isinstance(place, Place):
-                raise GroundingError(f"there is no {place.text!r} in the scene", phrase=place.text)
-            self.mentions.append(place)
-            return self._at(place, "on")
-        if kind == "dest_inside":
-            for ref in reversed(self.mentions):
-                if (
-                    len(ref.ids) == 1
-                    and ref.ids[0] not in own
-                    and "container" in self.entities[ref.ids[0]].affordances
-                ):
-                    return Dest("at", "in", ref.ids[0])
-            raise GroundingError(
-                "'inside' does not refer to a container mentioned before it", phrase="inside"
-            )
-        if kind == "dest_under":
-            # the tabletop domain has no "under": only a bottom part of the object (a shelf's lower
-            # layer) can be the place, else the instruction cannot be stated as a goal
-            owner = self.target(kids[-1], own)
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            found = self.resolver.regions(ids, "bottom")
-            text = " ".join(x.text for x in _tokens(kids[-1]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} bottom part of {text!r} to put "
-                    "things under it; the tabletop domain has no 'under' predicate",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return self._at(Ref((found[0],), f"under {text}"), "in")
-        if kind == "dest_near":
-            owner = self.target(kids[-1])
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            found = self.resolver.regions(ids, "next")
-            text = " ".join(x.text for x in _tokens(kids[-1]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} region next to {text!r}; the "
-                    "tabletop domain has no 'next to' predicate, so such a goal needs a region part to put things on",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return Dest("at", "on", found[0])
-        if kind == "dest_side":
-            word, owner = self._side(kids[0], own)
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            # "to the right of X" / "behind X" is beside X; "on the right side of X" may be a part of X
-            outside = (
-                kids[0].data == "side_behind"
-                or any(_tok_cls(x) == "TO" for x in t.children)
-                or not any(_tok_cls(x) in ("ON", "IN") for x in (*t.children, *kids[0].children))
-            )
-            found = self.resolver.regions(ids, word, outside=outside)
-            text = " ".join(x.text for x in _tokens(kids[0]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} region {text!r}; the tabletop "
-                    "domain states spatial goals only as regions (parts) an object is put on",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return Dest("at", "on", found[0])
-        nominal = next(c for c in kids if c.data == "nominal")
-        category = [
-            _tok(x).value for x in nominal.children if isinstance(x, Token) and _tok(x).cls == "NOUN"
-        ][-1]
-        owner_tree = next((c for c in kids if c.data == "part_of"), None)
-        owner = None
-        if owner_tree is not None:
-            o = self.target(owner_tree.children[-1])
-            owner = o.ids if isinstance(o, Ref) else o.owner
-        if kind == "dest_corresponding":
-            return Dest("corresponding", "in", category=category)
-        if kind == "dest_different":
-            return Dest("different", "in", category=category, owner=owner)
-        return Dest("by_color", "in", category=category, owner=owner)
-
-    def _at(self, ref: Ref, prep: str) -> Dest:
-        if len(ref.ids) != 1:
-            raise GroundingError(
-                f"the destination {ref.text!r} must be one object, found {', '.join(ref.ids)}",
-                candidates=ref.ids,
-                phrase=ref.text,
-            )
-        target = ref.ids[0]
-        aff = self.entities[target].affordances
-        levels = [
-            e.id
-            for e in self.entities.values()
-            if e.parent == target
-            and e.positions & {"top", "middle", "bottom"}
-            and e.affordances & {"container", "supporter"}
-        ]
-        if len(levels) > 1 and aff & {"container", "supporter"}:
-            # "on the shelf" when the shelf has a top side and layers: which one is not said, never guess
-            raise GroundingError(
-                f"{ref.text!r} has several levels to put things {prep}: {', '.join(levels)}; say which "
-                "(e.g. 'on top of', 'on the bottom layer of')",
-                candidates=tuple(levels),
-                phrase=ref.text,
-            )
-        order = {
-            "in": ("container", "supporter"),
-            "on": ("supporter", "stackable", "container"),  # blocks and cups stack on each other
-            "to": ("container", "supporter"),
-        }[prep]
-        for a in order:
-            if a in aff:
-                return Dest("at", "in" if a == "container" else "on", target)
-        for a in order:  # a cabinet: its one top surface or its one interior part
-            parts = [e.id for e in self.entities.values() if e.parent == target and a in e.affordances]
-            if len(parts) == 1:
-                return Dest("at", "in" if a == "container" else "on", parts[0])
-            if len(parts) > 1:
-                raise GroundingError(
-                    f"{ref.text!r} has several places to put things: {', '.join(parts)}",
-                    candidates=tuple(parts),
-                    phrase=ref.text,
-                )
-        raise GroundingError(
-            f"nothing can be put {prep} {ref.text!r} ({target})", candidates=(target,), phrase=ref.text
-        )
-
-
-def _tok(x: Token | Tree) -> Tok:
-    assert isinstance(x, Token)
-    return x.value  # type: ignore[return-value]
-
-
-def _tok_cls(x: Token | Tree) -> str | None:
-    return x.value.cls if isinstance(x, Token) else None  # type: ignore[union-attr]
-
-
-def _tokens(t: Tree) -> list[Tok]:
-    return [tok.value for tok in t.scan_values(lambda v: isinstance(v, Token))]  # type: ignore[misc]
