@@ -17,14 +17,16 @@ from typing import Any
 from benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
 from gsr.pddl.model import Domain
 from gsr.state import State
-from gsr.step import Step
 from gsr.task_spec import TaskSpec
-from skills.executor import PhysicalExecutor, StepOutcome
+from skills.executor import PhysicalExecutor
 from skills.sim_executor import SimExecutor
 
 
 class PerceivingPhysicalExecutor(PhysicalExecutor):
     """``PhysicalExecutor`` whose observed graph is perceived (``PerceivedScene``) instead of read from the simulator."""
+
+    observed_word = "perceived"
+    divergence_word = "perception"
 
     def __init__(self, world: Any, domain: Domain, scene: PerceivedScene, keep_frames: bool = False) -> None:
         super().__init__(world, domain)  # its ground-truth initial graph is replaced just below
@@ -38,38 +40,16 @@ class PerceivingPhysicalExecutor(PhysicalExecutor):
             self.frames.append(self.scene.last_rgb)  # the perceived front view: no second rendering
         return graph
 
-    def step(self, step: Step, index: int = 1) -> StepOutcome:
-        """Check the step on the perceived graph, run its skill, re-perceive, compare what is observable.
+    def _divergence(self, expected: Any) -> Any:
+        """Compare only facts about nodes seen now *and* expected, and only what sensors confirm.
 
-        Same contract as ``PhysicalExecutor.step``; it is restated here because the parent reads the
-        simulator's graph directly, and the comparison is restricted to sensor-confirmed facts."""
+        An object that reappears (the arm had hidden it) or is seen for the first time is a discovery,
+        not a contradiction of the step's effects.
+        """
         from gsr.graph_diff import diff_graphs
-        from gsr.transition import StepRejected, apply_step
-        from skills.library import run_step
 
-        name = str(step)
-        try:
-            expected = apply_step(self.graph, step, self.domain)
-        except StepRejected as exc:
-            return StepOutcome(
-                index, name, None, None, f"step {index} {name} is invalid in the perceived state: {exc}"
-            )
-        result = run_step(self.world, step, self.budget)
-        self.graph = self._observe(expected)
-        # facts about nodes seen now *and* expected: an object that reappears (the arm had hidden it) or
-        # is seen for the first time is a discovery, not a contradiction of the step's effects
         confirmed = observed_ids(self.graph) & {n.id for n in expected.nodes}
-        diff = diff_graphs(observable_view(expected, confirmed), observable_view(self.graph, confirmed))
-        why = ""
-        if not result.ok:
-            failure = result.failure.value if result.failure else "?"
-            why = f"step {index} {name}: skill {result.skill} failed ({failure}): {result.message}"
-        if not diff.is_empty:
-            delta = str(diff).replace("\n", "; ")
-            why = (
-                why + "; " if why else f"step {index} {name}: "
-            ) + f"perception diverges from the expected graph: {delta}"
-        return StepOutcome(index, name, result, diff, why)
+        return diff_graphs(observable_view(expected, confirmed), observable_view(self.graph, confirmed))
 
 
 class RunnerSimExecutor(SimExecutor):

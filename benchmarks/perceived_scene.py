@@ -99,14 +99,10 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
     the door's open/closed state; :func:`without_helper_parts` drops the door node afterwards.
     """
     from perception.frame import Frame, InstanceLabel
-    from skills.camera import node_of_pixels, render
+    from skills.camera import labelled_masks, render
 
     img = render(world, spec)
-    masks, names = node_of_pixels(world, img.body, img.link)
-    labels = {}
-    for i, nid in enumerate(names):
-        n = world.graph.node(nid)
-        labels[i] = InstanceLabel(id=nid, category=n.category, color=n.color, parent=n.parent)
+    masks, labels = labelled_masks(world, img)
     parts = {(obj, part) for obj, part in world.parts.values()}
     for oid in sorted(world.objects):
         o = world.objects[oid]

@@ -15,6 +15,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from perception import Camera, Frame
+    from perception.frame import InstanceLabel
     from skills.world import World
 
 
@@ -112,16 +113,24 @@ def _pixel_node(world: World, body: int, link: int) -> str | None:
     return None
 
 
-def render_frame(world: World, spec: CameraSpec) -> Frame:
-    """A ``perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
-    from perception.frame import Frame, InstanceLabel
+def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
+    """One mask id per visible scene-graph node of a rendering, and each id's ``InstanceLabel``."""
+    from perception.frame import InstanceLabel
 
-    img = render(world, spec)
     masks, names = node_of_pixels(world, img.body, img.link)
     labels = {}
     for i, nid in enumerate(names):
         n = world.graph.node(nid)
         labels[i] = InstanceLabel(id=nid, category=n.category, color=n.color, parent=n.parent)
+    return masks, labels
+
+
+def render_frame(world: World, spec: CameraSpec) -> Frame:
+    """A ``perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
+    from perception.frame import Frame
+
+    img = render(world, spec)
+    masks, labels = labelled_masks(world, img)
     return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
 
 

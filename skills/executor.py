@@ -126,6 +126,22 @@ class PhysicalExecutor:
         assert self.frame_camera is not None
         self.frames.append(render(self.world, default_views(self.world)[self.frame_camera]).rgb)
 
+    # what the closed loop calls the graph it observes and the world it compares with (subclasses that
+    # perceive instead of reading the simulator say "perceived" / "perception")
+    observed_word = "observed"
+    divergence_word = "reality"
+
+    def _observe(self, expected: SceneGraph | None = None) -> SceneGraph:
+        """The graph observed after a step: the simulator's ground truth (and a frame when asked)."""
+        graph = scene_graph_from_sim(self.world)
+        if self.frame_camera:
+            self._frame()
+        return graph
+
+    def _divergence(self, expected: SceneGraph) -> GraphDiff:
+        """What the observed graph contradicts of the expected one (symbolic facts only)."""
+        return diff_graphs(symbolic_view(expected), symbolic_view(self.graph))
+
     def step(self, step: Step, index: int = 1) -> StepOutcome:
         """Execute one step: check it on the observed graph, run the skill, observe, compare."""
         from gsr.transition import StepRejected, apply_step
@@ -135,21 +151,24 @@ class PhysicalExecutor:
             expected = apply_step(self.graph, step, self.domain)
         except StepRejected as exc:
             return StepOutcome(
-                index, name, None, None, f"step {index} {name} is invalid in the observed state: {exc}"
+                index,
+                name,
+                None,
+                None,
+                f"step {index} {name} is invalid in the {self.observed_word} state: {exc}",
             )
         result = run_step(self.world, step, self.budget)
-        self.graph = scene_graph_from_sim(self.world)
-        if self.frame_camera:
-            self._frame()
-        diff = diff_graphs(symbolic_view(expected), symbolic_view(self.graph))
+        self.graph = self._observe(expected)
+        diff = self._divergence(expected)
         why = ""
         if not result.ok:
-            why = f"step {index} {name}: skill {result.skill} failed ({result.failure.value if result.failure else '?'}): {result.message}"
+            failure = result.failure.value if result.failure else "?"
+            why = f"step {index} {name}: skill {result.skill} failed ({failure}): {result.message}"
         if not diff.is_empty:
             delta = str(diff).replace("\n", "; ")
             why = (
                 why + "; " if why else f"step {index} {name}: "
-            ) + f"reality diverges from the expected graph: {delta}"
+            ) + f"{self.divergence_word} diverges from the expected graph: {delta}"
         return StepOutcome(index, name, result, diff, why)
 
     def execute(self, plan: Plan | Iterable[Step]) -> ExecutionResult:
