@@ -531,7 +531,10 @@ def ground_cmd(
 def train_cmd(
     data: Annotated[Path, typer.Option(help="A dataset folder written by gsr datagen.")],
     model: Annotated[
-        str, typer.Option(help="'tiny' (1.7M, CPU) or 'small' (12M, GPU) Llama trained from scratch, or a local checkpoint folder.")
+        str,
+        typer.Option(
+            help="'tiny' (1.7M, CPU) or 'small' (12M, GPU) Llama trained from scratch, or a local checkpoint folder."
+        ),
     ],
     out: Annotated[Path, typer.Option(help="Output folder (loads with --backend transformers:OUT).")],
     lora: Annotated[bool, typer.Option(help="Train LoRA adapters (peft) and merge them.")] = False,
