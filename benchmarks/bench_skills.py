@@ -467,6 +467,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--suite", help="NAME[:SOURCE]: run the planner agent on a suite physically instead")
     ap.add_argument("--level", help="with --suite: keep tasks of this level only (e.g. Simple)")
     ap.add_argument("--limit", type=int, help="with --suite: the first N tasks only")
+    ap.add_argument("--category", help="with --suite: keep tasks whose category contains this (e.g. Spatial)")
     ap.add_argument("--figures", type=Path, help="write the docs figures (PNG) to this folder and exit")
     args = ap.parse_args(argv)
     if args.figures:
@@ -537,6 +538,8 @@ def _main_suite(args: argparse.Namespace) -> int:
         return 2
     if args.level:
         tasks = [t for t in tasks if (t.level or "").lower() == args.level.lower()]
+    if args.category:
+        tasks = [t for t in tasks if args.category.lower() in (t.category or "").lower()]
     tasks = tasks[: args.limit] if args.limit else tasks
     if not tasks:
         print("error: no tasks selected", file=sys.stderr)

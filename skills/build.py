@@ -211,6 +211,42 @@ def separate_footprints(
     }
 
 
+def _lid_clear_yaw(world: World, placed: PlacedObject, model: AssetModel) -> float:
+    """The layout's yaw or its half turn, whichever leaves the room a sliding lid opens into clearest.
+
+    A box's rectangle is the same either way round; only the end its lid slides off differs. The open
+    lid stays at rim height beside the box, and a hand reaching for anything under or next to it is
+    blocked, so the lid opens over the emptiest side, preferring the side away from the robot (-x).
+    """
+    lid = next((a for a in model.articulations.values() if a.kind == "lid"), None)
+    link = next((lk for lk in model.links if lid is not None and lk.name == lid.link), None)
+    if lid is None or link is None or link.joint is None or link.joint.type != "prismatic":
+        return placed.yaw
+    ax = np.array(link.joint.axis[:2], dtype=float) * (lid.open - lid.closed)
+    half = np.array(model.extent[:2], dtype=float) / 2
+    others = []
+    for o in world.layout.objects:
+        if o.id == placed.id or o.on:
+            continue
+        shift = world.adjusted.get(o.id, (0.0, 0.0))
+        others.append(np.array(o.position[:2]) + np.array(shift))
+    centre = np.array(placed.position[:2])
+
+    def cost(yaw: float) -> float:
+        c, s = np.cos(yaw), np.sin(yaw)
+        rot = np.array([[c, -s], [s, c]])
+        lid_centre = centre + rot @ ax
+        total = 0.0
+        for q in others:
+            local = rot.T @ (q - lid_centre)
+            gap = float(np.linalg.norm(np.maximum(np.abs(local) - half, 0.0)))
+            total += max(0.0, 0.12 - gap)  # within a hand's reach of the lid's edge (or under it)
+        return total - 0.01 * float(lid_centre[0])  # tie-break: away from the robot's side
+
+    best = min((placed.yaw, placed.yaw + np.pi), key=cost)
+    return float(np.arctan2(np.sin(best), np.cos(best)))
+
+
 def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied: dict[str, int]) -> None:
     import pybullet as p
 
@@ -221,6 +257,9 @@ def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied
     x, y, z = placed.position
     th = world.layout.table_height
     yaw = placed.yaw
+    if not placed.on and not fixed:
+        yaw = _lid_clear_yaw(world, placed, model)
+        placed = placed.model_copy(update={"yaw": yaw})
     if placed.on:
         x, y, z = _rest_on(world, placed, model, occupied)
     else:
