@@ -119,19 +119,45 @@ def _walls_near(world: World, obj: SimObject, z: float) -> list[float]:
     c = (lo[:2] + hi[:2]) / 2
     out = []
     for o in world.objects.values():
-        if o.id == obj.id or world.body_aabb(o.body)[1][2] < z or support_of(world, o.id) == ("held", ""):
+        if o.id == obj.id or support_of(world, o.id) == ("held", ""):
             continue
-        yaw = world.yaw_of(o.body)
-        rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
-        olo, ohi = world.body_aabb(o.body)
-        local = rot.T @ (c - (olo[:2] + ohi[:2]) / 2)
-        half = np.array(o.model.extent[:2]) / 2
-        d = local - np.clip(local, -half, half)
-        dist = float(np.linalg.norm(d))
-        if 1e-6 < dist < NEAR:
-            towards = rot @ (-d / dist)
-            out.append(math.atan2(towards[1], towards[0]))
+        for centre, yaw, half, top in _footprints(world, o):
+            if top < z:
+                continue
+            rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+            local = rot.T @ (c - centre)
+            d = local - np.clip(local, -half, half)
+            dist = float(np.linalg.norm(d))
+            if 1e-6 < dist < NEAR:
+                towards = rot @ (-d / dist)
+                out.append(math.atan2(towards[1], towards[0]))
     return out
+
+
+def _footprints(world: World, o: SimObject) -> list[tuple[np.ndarray, float, np.ndarray, float]]:
+    """(centre, yaw, half sizes, top) of an object's footprint; an open sliding lid apart from its box.
+
+    A lid slid open lies beside its box at rim height, a wall of its own for the hand; the whole body's
+    box would put one rectangle halfway between the two.
+    """
+    lo, hi = world.body_aabb(o.body)
+    whole = [((lo[:2] + hi[:2]) / 2, world.yaw_of(o.body), np.array(o.model.extent[:2]) / 2, float(hi[2]))]
+    lid = next(((pt, a) for pt, a in o.model.articulations.items() if a.kind == "lid"), None)
+    if lid is None or not lid[1].is_open(world.joint_position(o, lid[0])):
+        return whole
+    link = o.links[lid[1].link]
+    plate = next(lk for lk in o.model.links if lk.name == lid[1].link).shapes[0]
+    blo, bhi = world.aabb(o.body, -1)
+    _, lhi = world.aabb(o.body, link)
+    return [
+        ((blo[:2] + bhi[:2]) / 2, world.yaw_of(o.body), np.array(o.model.extent[:2]) / 2, float(bhi[2])),
+        (
+            world.to_world(o.body, link, plate.xyz)[:2],
+            world.yaw_of(o.body, link),
+            np.array(plate.size[:2]) / 2,
+            float(lhi[2]),
+        ),
+    ]
 
 
 def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tuple, float]]:
