@@ -13,7 +13,6 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.perception_scenes import Scene
-from perception.camera import Camera, camera_from_gl, depth_from_gl_buffer
 from perception.frame import Frame
 
 
@@ -53,25 +52,12 @@ def camera_specs(
 
 def render(scene: Scene, spec: CameraSpec) -> Frame:
     """Render RGB, metric depth and the segmentation (labelled) with PyBullet's TinyRenderer."""
-    import pybullet as pb
+    from skills.camera import capture_gl
 
-    view = pb.computeViewMatrix(spec.eye, spec.target, [0, 0, 1], physicsClientId=scene.client)
-    proj = pb.computeProjectionMatrixFOV(
-        spec.fov, spec.width / spec.height, 0.05, 5.0, physicsClientId=scene.client
+    rgb, depth, seg, camera = capture_gl(
+        scene.client, spec.eye, spec.target, (0, 0, 1), spec.fov, spec.width, spec.height, 0.05, 5.0
     )
-    _, _, rgba, depth_buf, seg = pb.getCameraImage(
-        spec.width,
-        spec.height,
-        view,
-        proj,
-        flags=pb.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
-        renderer=pb.ER_TINY_RENDERER,
-        physicsClientId=scene.client,
-    )
-    rgb = np.asarray(rgba, dtype=np.uint8).reshape(spec.height, spec.width, 4)[..., :3].copy()
-    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(spec.height, spec.width), proj)
-    masks = np.asarray(seg, dtype=np.int64).reshape(spec.height, spec.width).astype(np.int32)
-    camera: Camera = camera_from_gl(view, proj, spec.width, spec.height)
+    masks = np.asarray(seg, dtype=np.int64).astype(np.int32)
     return Frame(rgb=rgb, depth=depth, masks=masks, camera=camera, labels=dict(scene.labels))
 
 

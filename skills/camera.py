@@ -8,6 +8,7 @@ renderer (headless); camera poses use the world frame (+x forward from the robot
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -58,29 +59,47 @@ class RGBD:
     camera: Camera
 
 
-def render(world: World, spec: CameraSpec) -> RGBD:
-    """Render RGB, depth and segmentation of the world from one camera."""
+def capture_gl(
+    client: int,
+    eye: Sequence[float],
+    target: Sequence[float],
+    up: Sequence[float],
+    fov: float,
+    width: int,
+    height: int,
+    near: float,
+    far: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, Camera]:
+    """One TinyRenderer capture: RGB (uint8), metric depth, the raw segmentation buffer and the camera."""
     import pybullet as p
 
-    from perception.camera import camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
+    from perception.camera import camera_from_gl, depth_from_gl_buffer
 
-    view = p.computeViewMatrix(spec.eye, spec.target, spec.up, physicsClientId=world.client)
-    proj = p.computeProjectionMatrixFOV(
-        spec.fov, spec.width / spec.height, spec.near, spec.far, physicsClientId=world.client
-    )
+    view = p.computeViewMatrix(eye, target, up, physicsClientId=client)
+    proj = p.computeProjectionMatrixFOV(fov, width / height, near, far, physicsClientId=client)
     _, _, rgba, depth_buf, seg = p.getCameraImage(
-        spec.width,
-        spec.height,
+        width,
+        height,
         view,
         proj,
         renderer=p.ER_TINY_RENDERER,
         flags=p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
-        physicsClientId=world.client,
+        physicsClientId=client,
     )
-    rgb = np.asarray(rgba, dtype=np.uint8).reshape(spec.height, spec.width, 4)[:, :, :3].copy()
-    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(spec.height, spec.width), proj)
-    body, link = split_gl_segmentation(np.asarray(seg).reshape(spec.height, spec.width))
-    return RGBD(rgb, depth, body, link, camera_from_gl(view, proj, spec.width, spec.height))
+    rgb = np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
+    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(height, width), proj)
+    return rgb, depth, np.asarray(seg).reshape(height, width), camera_from_gl(view, proj, width, height)
+
+
+def render(world: World, spec: CameraSpec) -> RGBD:
+    """Render RGB, depth and segmentation of the world from one camera."""
+    from perception.camera import split_gl_segmentation
+
+    rgb, depth, seg, camera = capture_gl(
+        world.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
+    )
+    body, link = split_gl_segmentation(seg)
+    return RGBD(rgb, depth, body, link, camera)
 
 
 def node_of_pixels(world: World, body: np.ndarray, link: np.ndarray) -> tuple[np.ndarray, list[str]]:
