@@ -51,50 +51,43 @@ class Destinations:
         if kind == "dest_under":
             # the tabletop domain has no "under": only a bottom part of the object (a shelf's lower
             # layer) can be the place, else the instruction cannot be stated as a goal
-            owner = self.target(kids[-1], own)
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            found = self.resolver.regions(ids, "bottom")
             text = " ".join(x.text for x in _tokens(kids[-1]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} bottom part of {text!r} to put "
-                    "things under it; the tabletop domain has no 'under' predicate",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return self._at(Ref((found[0],), f"under {text}"), "in")
+            part = self._one_region(
+                self.target(kids[-1], own),
+                "bottom",
+                text,
+                f"bottom part of {text!r} to put things under it",
+                "the tabletop domain has no 'under' predicate",
+            )
+            return self._at(Ref((part,), f"under {text}"), "in")
         if kind == "dest_near":
-            owner = self.target(kids[-1])
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
-            found = self.resolver.regions(ids, "next")
             text = " ".join(x.text for x in _tokens(kids[-1]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} region next to {text!r}; the "
-                    "tabletop domain has no 'next to' predicate, so such a goal needs a region part to put things on",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return Dest("at", "on", found[0])
+            region = self._one_region(
+                self.target(kids[-1]),
+                "next",
+                text,
+                f"region next to {text!r}",
+                "the tabletop domain has no 'next to' predicate, so such a goal needs a region part to put things on",
+            )
+            return Dest("at", "on", region)
         if kind == "dest_side":
             word, owner = self._side(kids[0], own)
-            ids = owner.ids if isinstance(owner, Ref) else owner.owner
             # "to the right of X" / "behind X" is beside X; "on the right side of X" may be a part of X
             outside = (
                 kids[0].data == "side_behind"
                 or any(_tok_cls(x) == "TO" for x in t.children)
                 or not any(_tok_cls(x) in ("ON", "IN") for x in (*t.children, *kids[0].children))
             )
-            found = self.resolver.regions(ids, word, outside=outside)
             text = " ".join(x.text for x in _tokens(kids[0]))
-            if len(found) != 1:
-                raise GroundingError(
-                    f"the scene graph has {'no' if not found else 'more than one'} region {text!r}; the tabletop "
-                    "domain states spatial goals only as regions (parts) an object is put on",
-                    candidates=tuple(found),
-                    phrase=text,
-                )
-            return Dest("at", "on", found[0])
+            region = self._one_region(
+                owner,
+                word,
+                text,
+                f"region {text!r}",
+                "the tabletop domain states spatial goals only as regions (parts) an object is put on",
+                outside=outside,
+            )
+            return Dest("at", "on", region)
         nominal = next(c for c in kids if c.data == "nominal")
         category = [
             _tok(x).value for x in nominal.children if isinstance(x, Token) and _tok(x).cls == "NOUN"
@@ -109,6 +102,20 @@ class Destinations:
         if kind == "dest_different":
             return Dest("different", "in", category=category, owner=owner)
         return Dest("by_color", "in", category=category, owner=owner)
+
+    def _one_region(
+        self, owner: Ref | Place, word: str, text: str, described: str, why: str, outside: bool = False
+    ) -> str:
+        """The one region part ``word`` of ``owner`` (a Ref or a Place); an error naming the candidates otherwise."""
+        ids = owner.ids if isinstance(owner, Ref) else owner.owner
+        found = self.resolver.regions(ids, word, outside=outside)
+        if len(found) != 1:
+            raise GroundingError(
+                f"the scene graph has {'no' if not found else 'more than one'} {described}; {why}",
+                candidates=tuple(found),
+                phrase=text,
+            )
+        return found[0]
 
     def _at(self, ref: Ref, prep: str) -> Dest:
         if len(ref.ids) != 1:
