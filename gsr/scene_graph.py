@@ -142,6 +142,10 @@ class Edge(BaseModel):
         return (self.source, self.relation, self.target)
 
 
+#: The relations that hold an object up: what it rests on or lies inside.
+SUPPORT_RELATIONS: tuple[str, ...] = ("on", "in")
+
+
 class SceneGraph(BaseModel):
     """Nodes and typed edges. Node ids are unique; every edge and parent refers to a node."""
 
@@ -198,6 +202,21 @@ class SceneGraph(BaseModel):
     def edges_to(self, node_id: str, relation: str | None = None) -> Iterator[Edge]:
         """Incoming edges of a node, optionally of one relation."""
         return (e for e in self.edges if e.target == node_id and (relation is None or e.relation == relation))
+
+    def support(self, node_id: str) -> Edge | None:
+        """The ``on``/``in`` edge that holds a node up, or ``None`` (a root such as the table, or a part).
+
+        A well-formed graph has at most one; if a malformed one lists several, the last one counts (as in
+        :meth:`supports`)."""
+        found = None
+        for e in self.edges:
+            if e.source == node_id and e.relation in SUPPORT_RELATIONS:
+                found = e
+        return found
+
+    def supports(self) -> dict[str, Edge]:
+        """Every supported node's ``on``/``in`` edge, by node id (one pass over the edges)."""
+        return {e.source: e for e in self.edges if e.relation in SUPPORT_RELATIONS}
 
     def parts(self, node_id: str) -> list[Node]:
         """The articulated parts whose parent is ``node_id``."""

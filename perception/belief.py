@@ -18,25 +18,20 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gsr.scene_graph import Edge, Node, SceneGraph
+from gsr.scene_graph import SUPPORT_RELATIONS, Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
     from perception.frame import Frame
 
-_SUPPORT = ("in", "on")
 #: Something this much nearer (m) than a remembered object's top, where the object would be in the
 #: image, hides it; the margin keeps the object's own supporter (a plate under a cup) from counting.
 OCCLUSION_MARGIN = 0.03
 
 
-def _support(graph: SceneGraph) -> dict[str, Edge]:
-    return {e.source: e for e in graph.edges if e.relation in _SUPPORT}
-
-
 def _hidden_by_closed_container(node_id: str, belief: SceneGraph, observed: SceneGraph) -> bool:
     """True when, following support edges down from ``node_id`` in the belief, an ``in`` edge reaches a
     container that the new observation shows closed."""
-    support = _support(belief)
+    support = belief.supports()
     now = observed.node_map()
     seen: set[str] = set()
     current = node_id
@@ -111,7 +106,9 @@ def update_belief(
     carried = [
         e
         for e in belief.edges
-        if e.source in kept_ids and e.relation in _SUPPORT and e.target in nodes  # where it was last seen
+        if e.source in kept_ids
+        and e.relation in SUPPORT_RELATIONS
+        and e.target in nodes  # where it was last seen
     ]
     return observed.model_copy(
         update={

@@ -49,10 +49,6 @@ def _fixture_spot(
     return order[0]
 
 
-def _support(graph: SceneGraph) -> dict[str, tuple[str, str]]:
-    return {e.source: (e.relation, e.target) for e in graph.edges if e.relation in ("on", "in")}
-
-
 def _is_fixture(graph: SceneGraph, node_id: str) -> bool:
     n = graph.node(node_id)
     if n.attributes.get("fixture") is True or n.attributes.get("movable") is False:
@@ -63,7 +59,7 @@ def _is_fixture(graph: SceneGraph, node_id: str) -> bool:
 def layout_from_graph(graph: SceneGraph, seed: int = 0) -> Layout:
     """A deterministic layout for a graph: fixtures in slots, objects in free spots, stacks from on/in edges."""
     rng = random.Random(seed)
-    support = _support(graph)
+    support = {k: (e.relation, e.target) for k, e in graph.supports().items()}
     tables = {n.id for n in graph.nodes if n.parent is None and is_a(n.category, "table")}
     roots = [
         n for n in graph.nodes if n.parent is None and n.id not in tables and not is_a(n.category, "floor")

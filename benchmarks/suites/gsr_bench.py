@@ -81,13 +81,9 @@ def _primitive_ids(kind: str, entries: list[Mapping[str, Any]], where: str) -> l
     return out
 
 
-def _support(graph: SceneGraph) -> dict[str, str]:
-    return {e.source: e.target for e in graph.edges if e.relation in ("on", "in")}
-
-
 def _layout(config: Mapping[str, Any], graph: SceneGraph, where: str) -> tuple[Layout, list[str]]:
     ids = {n.id for n in graph.nodes}
-    support = _support(graph)
+    support = {k: e.target for k, e in graph.supports().items()}
     placed: list[PlacedObject] = []
     for kind, (asset, size) in PRIMITIVES.items():
         entries = config.get(kind) or []

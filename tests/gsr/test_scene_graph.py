@@ -171,3 +171,25 @@ def test_diff_reports_moves_and_state_changes() -> None:
     assert d.state_changes == {"box": (("closed",), ("open",))}
     assert str(d).splitlines() == ["- cube on table", "+ cube in box", "~ box: closed -> open"]
     assert d.to_dict()["state_changes"] == {"box": {"removed": ["closed"], "added": ["open"]}}
+
+
+def test_support_is_the_on_or_in_edge_and_none_for_roots_and_parts() -> None:
+    g = SceneGraph(
+        nodes=(
+            Node(id="table", category="table"),
+            Node(id="cabinet", category="cabinet"),
+            Node(id="cabinet/drawer", category="drawer", parent="cabinet"),
+            Node(id="bowl", category="bowl"),
+            Node(id="cube", category="cube"),
+        ),
+        edges=(
+            Edge(source="cabinet", relation="on", target="table"),
+            Edge(source="bowl", relation="in", target="cabinet/drawer"),
+            Edge(source="cube", relation="near", target="bowl"),
+        ),
+    )
+    assert g.support("bowl") == Edge(source="bowl", relation="in", target="cabinet/drawer")
+    assert g.support("cabinet").target == "table"
+    assert g.support("table") is None and g.support("cabinet/drawer") is None
+    assert g.support("cube") is None  # "near" holds nothing up
+    assert g.supports() == {"cabinet": g.support("cabinet"), "bowl": g.support("bowl")}
