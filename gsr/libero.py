@@ -4,15 +4,21 @@ LIBERO places objects in *regions* (``kitchen_table_akita_black_bowl_init_region
 ``wooden_cabinet_1_top_region``, ``basket_1_contain_region``). The tabletop domain speaks about
 objects and their parts instead, so each region reference is resolved to a node:
 
-* a region on a table or the floor collapses onto the table (``on`` the table itself), unless the
-  goal names it (``main_table_stove_front_region``): then it is a ``region`` part of the table that
-  objects can be pushed or placed onto;
+* a region on a table or the floor where the scene places something (an ``:init`` fact names it:
+  ``main_table_plate_region``) collapses onto the table (``on`` the table itself; the object keeps the
+  region's name as its ``region`` attribute); a table region where nothing starts
+  (``main_table_stove_front_region``, ``living_room_table_plate_right_region``) is a ``region`` part
+  of the table that objects can be pushed or placed onto;
 * ``top_region`` / ``middle_region`` / ``bottom_region`` of a cabinet are drawer parts
   (``wooden_cabinet_1/top_drawer``, levels 2/1/0); ``top_side`` is the cabinet's top surface;
 * ``contain_region`` (basket, tray), ``heating_region`` (microwave), ``cook_region`` (stove) and
   ``top_region`` of a rack collapse onto their object; ``back_contain_region`` of a caddy is the part
-  ``desk_caddy_1/back_compartment``; other regions of objects become parts (``compartment`` when
-  things go *in* them, else ``region``).
+  ``desk_caddy_1/back_compartment``; other regions of objects become parts (``compartment`` when an
+  ``:init`` fact puts something *in* them or their owner is a container, else ``region``).
+
+The scene graph is built from the scene alone (``:regions``, ``:fixtures``, ``:objects``, ``:init``),
+never from ``:goal``: an agent that sees the graph learns nothing about the task's answer. A goal atom
+``In`` a ``region`` part (or ``On`` a ``compartment``) is read with the part's own predicate.
 
 Predicates: On->on, In->in, Open->open, Close->(not open), TurnOn->turned_on, TurnOff->(not turned_on).
 The mapping is documented in docs/tabletop-domain.md.
@@ -21,7 +27,6 @@ The mapping is documented in docs/tabletop-domain.md.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -61,20 +66,9 @@ def _is_surface(category: str) -> bool:
     return any(is_a(category, s) for s in _SURFACES)
 
 
-def _refs(formula: Formula) -> Iterable[Atom]:
-    """Every atom of a formula."""
-    if isinstance(formula, Atom):
-        yield formula
-    elif isinstance(formula, Not):
-        yield from _refs(formula.formula)
-    elif isinstance(formula, And | Or):
-        for p in formula.parts:
-            yield from _refs(p)
-    elif isinstance(formula, Imply):
-        yield from _refs(formula.condition)
-        yield from _refs(formula.then)
-    elif isinstance(formula, Exists | Forall):
-        yield from _refs(formula.body)
+def _is_container(category: str) -> bool:
+    """Whether things of this category go *in* it (a caddy, a basket), by its affordances."""
+    return "container" in node_affordances(Node(id="owner", category=category))
 
 
 class _Converter:
@@ -91,12 +85,10 @@ class _Converter:
         ]:
             cat, attrs = _category(kind)
             self.entities[fixture.lower()] = (kind.lower(), cat, attrs, is_fixture)
-        goal_atoms = list(_refs(bddl.goal))
-        self.goal_refs = {a for atom in goal_atoms for a in atom.args}
+        # what the scene's :init says about each region: the scene graph never looks at :goal
+        self.init_refs = {a.lower() for atom in bddl.init for a in atom.args}
         self.in_refs = {
-            atom.args[1]
-            for atom in (*bddl.init, *goal_atoms)
-            if atom.predicate == "in" and len(atom.args) == 2
+            atom.args[1].lower() for atom in bddl.init if atom.predicate == "in" and len(atom.args) == 2
         }
         self.targets: dict[str, _Target] = {}
         self.parts: dict[str, Node] = {}
@@ -114,9 +106,7 @@ class _Converter:
             return  # LIBERO declares regions of absent objects (bowl_drainer_1): harmless unless referenced
         _, cat, _, _ = self.entities[target]
         if _is_surface(cat):
-            if (
-                ref in self.goal_refs
-            ):  # a goal place on the table: a region part objects can be put or pushed on
+            if ref not in self.init_refs:  # a place on the table where nothing starts: a region part
                 self._part(ref, target, name, "region")
             else:
                 self.targets[ref] = _Target(target)
@@ -133,7 +123,8 @@ class _Converter:
         elif name.endswith("_contain_region"):
             self._part(ref, target, name.removesuffix("_contain_region") + "_compartment", "compartment")
         else:
-            self._part(ref, target, name, "compartment" if ref in self.in_refs else "region")
+            inside = ref in self.in_refs or _is_container(cat)
+            self._part(ref, target, name, "compartment" if inside else "region")
 
     def _part(self, ref: str, parent: str, part_name: str, category: str, level: int | None = None) -> None:
         node_id = f"{parent}/{part_name}"
@@ -235,6 +226,10 @@ class _Converter:
         args = tuple(self._arg(a) for a in atom.args)
         pred = atom.predicate
         if pred in _SUPPORT and len(args) == 2:
+            # the part's own predicate: a goal "In" a region part is "on" it, "On" a compartment is "in" it
+            part = self.parts.get(args[1])
+            if part is not None and part.category in ("region", "compartment"):
+                return Atom("in" if part.category == "compartment" else "on", args)
             return Atom(_SUPPORT[pred], args)
         if pred == "open" and len(args) == 1:
             return Atom("open", args)

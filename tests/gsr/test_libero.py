@@ -15,9 +15,9 @@ from gsr.pddl.model import And, Atom, Not
 from gsr.resources import load_builtin_domain
 from gsr.semantics import holds
 from gsr.step import Step
+from tests.data_paths import LIBERO as LIBERO_DIR
 
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-LIBERO = sorted((DATA / "libero").glob("*/*.bddl"))
+LIBERO = sorted(LIBERO_DIR.glob("*/*.bddl"))
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def domain():
 
 
 def _task(suite: str, stem: str):
-    return libero_task(load_bddl(DATA / "libero" / suite / f"{stem}.bddl"))
+    return libero_task(load_bddl(LIBERO_DIR / suite / f"{stem}.bddl"))
 
 
 def test_reference_files_present() -> None:
@@ -231,13 +231,15 @@ _SHELF = """(define (problem shelf_task) (:domain robosuite)
 
 def test_shelf_tray_and_microwave_regions(domain) -> None:
     graph, problem = libero_task(parse_bddl(_SHELF, "shelf.bddl"))
-    assert graph.node("wooden_two_layer_shelf_1/bottom_region").category == "compartment"  # things go IN it
+    # a shelf's levels are places to put things on, whatever the goal says (the graph never reads :goal);
+    # the goal's "In" a level is read with the level's own predicate
+    assert graph.node("wooden_two_layer_shelf_1/bottom_region").category == "region"
     assert graph.node("wooden_two_layer_shelf_1/top_region").category == "region"
     assert graph.node("microwave_1/top_side").category == "region"
     assert graph.node("microwave_1").states == ("closed", "off")
     assert problem.goal == And(
         (
-            Atom("in", ("chefmate_8_frypan_1", "wooden_two_layer_shelf_1/bottom_region")),
+            Atom("on", ("chefmate_8_frypan_1", "wooden_two_layer_shelf_1/bottom_region")),
             Atom("in", ("soup_1", "wooden_tray_1")),
             Atom("on", ("mug_1", "microwave_1/top_side")),
             Not(Atom("turned_on", ("microwave_1",))),
@@ -250,7 +252,7 @@ def test_shelf_tray_and_microwave_regions(domain) -> None:
     state = state_from_graph(graph, domain)
     plan = [
         ("pick", "chefmate_8_frypan_1", "study_table"),
-        ("place_in", "chefmate_8_frypan_1", "wooden_two_layer_shelf_1/bottom_region"),
+        ("place_on", "chefmate_8_frypan_1", "wooden_two_layer_shelf_1/bottom_region"),
         ("pick", "soup_1", "wooden_two_layer_shelf_1/top_side"),
         ("place_in", "soup_1", "wooden_tray_1"),
         ("pick", "mug_1", "study_table"),

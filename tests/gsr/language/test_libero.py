@@ -9,7 +9,7 @@ import pytest
 from gsr.language import ground
 from gsr.libero import libero_task
 from gsr.pddl.bddl import parse_bddl
-from gsr.pddl.model import Atom
+from gsr.pddl.model import And, Atom
 from tests.gsr.language.conftest import ground_dnf
 
 #: LIBERO's goal for "put both moka pots on the stove" also requires the stove turned on, which the
@@ -180,3 +180,60 @@ def test_paraphrases_on_libero_scenes(
     _, graph, _ = _task(path)
     got = " ".join(write_formula(ground(instruction, graph).formula).split())
     assert got == expected
+
+
+def _every_region_goal(bddl) -> And:
+    """A goal that names every declared region, with In and On: what would leak if the graph read :goal."""
+    objs = list(bddl.objects)
+    atoms = [
+        Atom(pred, (objs[i % len(objs)], r.qualified_name))
+        for i, r in enumerate(bddl.regions)
+        for pred in ("in", "on")
+    ]
+    return And(tuple(atoms))
+
+
+def test_scene_graph_never_reads_the_goal(libero_files: list[Path]) -> None:
+    """The graph comes from :regions/:fixtures/:objects/:init: removing or changing :goal changes nothing."""
+    from dataclasses import replace
+
+    from gsr.libero import libero_graph
+
+    def snapshot(graph):
+        nodes = sorted(
+            (n.id, n.category, sorted(n.attributes.items()), n.states, n.parent) for n in graph.nodes
+        )
+        return nodes, sorted(e.key() for e in graph.edges), graph.metadata
+
+    for path in libero_files:
+        bddl = parse_bddl(path.read_text(encoding="utf-8"), str(path))
+        graph = snapshot(libero_graph(bddl))
+        for goal in (And(()), _every_region_goal(bddl)):
+            assert snapshot(libero_graph(replace(bddl, goal=goal))) == graph, path.name
+        # removing :goal from the text: the graph of the goal-less file is the same
+        text = path.read_text(encoding="utf-8")
+        start = text.index("(:goal")
+        goalless = text[:start] + "(:goal (And))" + text[_close(text, start) :]
+        assert snapshot(libero_graph(parse_bddl(goalless, path.name))) == graph, path.name
+
+
+def _close(text: str, start: int) -> int:
+    """The index after the parenthesis that closes the one at ``start``."""
+    depth = 0
+    for i in range(start, len(text)):
+        depth += {"(": 1, ")": -1}.get(text[i], 0)
+        if depth == 0:
+            return i + 1
+    raise AssertionError("unbalanced")
+
+
+def test_every_declared_table_region_without_an_object_is_a_place(libero_files: list[Path]) -> None:
+    """Goal places on the table (the front of the stove, right of the plate) exist whatever the goal is."""
+    path = next(p for p in libero_files if p.name.startswith("push_the_plate_to_the_front_of_the_stove"))
+    bddl = parse_bddl(path.read_text(encoding="utf-8"), str(path))
+    from dataclasses import replace
+
+    from gsr.libero import libero_graph
+
+    graph = libero_graph(replace(bddl, goal=And(())))
+    assert graph.node("main_table/stove_front_region").category == "region"
