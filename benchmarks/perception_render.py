@@ -7,24 +7,21 @@
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from benchmarks.perception_scenes import Scene
 from perception.frame import Frame
+from skills.camera import CameraSpec, capture_gl
+
+#: Where the procedural scenes' cameras look: the middle of the table in front of the robot.
+TABLE_TARGET = (0.65, 0.0, 0.0)
 
 
-@dataclass(frozen=True)
-class CameraSpec:
-    """A look-at camera: eye, target, vertical field of view, resolution."""
-
-    eye: tuple[float, float, float]
-    target: tuple[float, float, float] = (0.65, 0.0, 0.0)
-    fov: float = 60.0
-    width: int = 640
-    height: int = 480
+def table_camera(eye: tuple[float, float, float], width: int = 640, height: int = 480) -> CameraSpec:
+    """A camera at ``eye`` looking at the table's middle (:data:`TABLE_TARGET`), 60 deg vertical view."""
+    return CameraSpec(eye, TABLE_TARGET, width=width, height=height, far=5.0)
 
 
 def camera_specs(
@@ -32,19 +29,13 @@ def camera_specs(
 ) -> list[CameraSpec]:
     """Cameras above the robot looking down at the table; extra cameras come from the sides."""
     specs = [
-        CameraSpec(
-            (rng.uniform(-0.15, 0.0), rng.uniform(-0.1, 0.1), rng.uniform(0.85, 1.0)),
-            width=width,
-            height=height,
-        )
+        table_camera((rng.uniform(-0.15, 0.0), rng.uniform(-0.1, 0.1), rng.uniform(0.85, 1.0)), width, height)
     ]
     for k in range(1, count):
         side = 1.0 if k % 2 else -1.0
         specs.append(
-            CameraSpec(
-                (rng.uniform(0.2, 0.4), side * rng.uniform(0.6, 0.8), rng.uniform(0.7, 0.85)),
-                width=width,
-                height=height,
+            table_camera(
+                (rng.uniform(0.2, 0.4), side * rng.uniform(0.6, 0.8), rng.uniform(0.7, 0.85)), width, height
             )
         )
     return specs
@@ -52,10 +43,8 @@ def camera_specs(
 
 def render(scene: Scene, spec: CameraSpec) -> Frame:
     """Render RGB, metric depth and the segmentation (labelled) with PyBullet's TinyRenderer."""
-    from skills.camera import capture_gl
-
     rgb, depth, seg, camera = capture_gl(
-        scene.client, spec.eye, spec.target, (0, 0, 1), spec.fov, spec.width, spec.height, 0.05, 5.0
+        scene.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
     )
     masks = np.asarray(seg, dtype=np.int64).astype(np.int32)
     return Frame(rgb=rgb, depth=depth, masks=masks, camera=camera, labels=dict(scene.labels))

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmarks.perception_render import CameraSpec, render
+from benchmarks.perception_render import render, table_camera
 from benchmarks.perception_scenes import Scene, SceneBuilder
 from perception.frame import Frame
+from skills.camera import CameraSpec
 
-FRONT = CameraSpec((-0.1, 0.0, 0.95))
-LEFT = CameraSpec((0.3, 0.7, 0.8))
+FRONT = table_camera((-0.1, 0.0, 0.95))
+LEFT = table_camera((0.3, 0.7, 0.8))
 
 
 def hand_scene() -> tuple[Scene, dict[str, np.ndarray]]:
