@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from skills.asset_model import Articulation
-from skills.grasping import APPROACH, _lift, transit_height
+from skills.grasping import APPROACH, lift, transit_height
 from skills.motion import Motion
 from skills.result import Failure, SkillError
 from skills.robot import angled, approach_axis, top_down
@@ -56,7 +56,7 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     quat = angled(math.atan2(-axis[1], -axis[0]), fingers_vertical=False) if front else top_down(yaw)
     back = -approach_axis(quat) * 0.1 if front else np.array([0, 0, APPROACH])
     contact = handle + axis * (0.02 if pushing else 0.0)  # pushing: the fingertips meet the bar's front
-    _lift(m, transit_height(world))
+    lift(m, transit_height(world))
     # the arm works best in the middle of the stroke; a tilted hand keeps its wrist 6 cm further back
     overshoot = axis * 0.01 * (-1 if pushing else 1)
     poses = [(contact + back, quat), (contact, quat), (contact + travel + overshoot, quat)]
@@ -74,10 +74,8 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.ignore_links = {(obj.body, obj.links[art.link])}
     m.move_line((contact, quat))
     m.ignore_links = set()
-    if not pushing:
-        width = m.gripper(0.0, force=60.0, steps=90)
-        if width < 0.002:
-            raise SkillError(Failure.GRASP_MISSED, f"missed the handle of {obj.id}:{part}")
+    if not pushing and not m.grasp_close():
+        raise SkillError(Failure.GRASP_MISSED, f"missed the handle of {obj.id}:{part}")
     # what rides in the part moves with it: not an obstacle for the stroke
     riders = {
         o.body
@@ -88,7 +86,7 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.move_line((contact + travel + overshoot, quat), check=True)
     m.step(30)
     if not pushing:
-        m.gripper(0.08, steps=48)
+        m.release()
     pos, _ = m.pose()
     retreat = pos + (back * 0.4 + np.array([0, 0, 0.05]) if front else np.array([0, 0, APPROACH]))
     m.move_line((retreat, quat), check=False)
@@ -137,7 +135,7 @@ def _swing(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
         ends = [art.closed + span * f for f in (1.0, 0.85, 0.7)]
     else:
         ends = [target]
-    _lift(m, transit_height(world))
+    lift(m, transit_height(world))
     errors = []
     for end in ends:
         arc = _door_arc(world, obj, part, art, end)
@@ -165,13 +163,13 @@ def _swing(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.ignore_links = {(obj.body, obj.links[art.link])}
     m.move_line((contact, quat))
     m.ignore_links = set()
-    if m.gripper(0.0, force=60.0, steps=90) < 0.002:
+    if not m.grasp_close():
         raise SkillError(Failure.GRASP_MISSED, f"missed the door handle of {obj.id}")
     m.ignore = {obj.body}  # the door moves with the hand; the rest of the world is still checked
     for pose in arc[1:]:
         m.move_line(pose, check=True)
     m.step(30)
-    m.gripper(0.08, steps=48)
+    m.release()
     pos, quat = m.pose()
     m.move_line((pos - approach_axis(quat) * 0.06 + np.array([0, 0, 0.04]), quat), check=False)
     m.ignore = set()
@@ -183,7 +181,7 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
 
     handle, yaw = _handle(world, obj, art)
     delta = target - world.joint_position(obj, part)
-    _lift(m, transit_height(world))
+    lift(m, transit_height(world))
     # the hand is symmetric: of the grasp yaws a and a + pi, take one whose turned pose the wrist reaches
     # from some base position (parking is planned before anything moves)
     quat = goal = None
@@ -217,7 +215,7 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
         m.gripper(0.06)
         m.move_line((handle + np.array([0, 0, APPROACH]), quat))
         m.move_line((handle, quat))
-        if m.gripper(0.0, force=60.0, steps=90) >= 0.002:
+        if m.grasp_close():
             break
         m.gripper(0.06)
         m.move_line((handle + np.array([0, 0, APPROACH]), quat), check=False)
@@ -232,7 +230,7 @@ def _turn(world: World, m: Motion, obj: SimObject, part: str, art: Articulation,
     m.ignore = {obj.body}
     m.move_line((handle, goal), check=False)
     m.step(20)
-    m.gripper(0.06, steps=48)
+    m.release(0.06)
     m.move_line((handle + np.array([0, 0, APPROACH]), goal), check=False)
     m.ignore = set()
     m.ignore_links = set()
@@ -245,7 +243,7 @@ def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     lo, hi = world.body_aabb(obj.body)
     to_centre = (lo[:2] + hi[:2]) / 2 - top[:2]
     quat = top_down(math.atan2(to_centre[1], to_centre[0]) + math.pi / 2)
-    _lift(m, transit_height(world))
+    lift(m, transit_height(world))
     m.park_for(top, poses=[(top, quat), (top - np.array([0, 0, abs(art.open - art.closed) + 0.004]), quat)])
     m.gripper(0.0, steps=30)
     m.move_line((top + np.array([0, 0, APPROACH]), quat))
@@ -326,7 +324,7 @@ def _push_leg(
         end = start + np.array([*(u * (dist + 0.012)), 0.0])
     above = start + np.array([0, 0, 0.12])
     z_transit = max(transit_height(world), above[2])
-    _lift(m, z_transit)
+    lift(m, z_transit)
     m.park_for((start + end) / 2, poses=[(start, quat), (end, quat), (above, quat)])
     m.gripper(0.0, steps=30)
     m.move_line((np.array([start[0], start[1], z_transit]), quat))

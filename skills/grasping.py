@@ -16,7 +16,7 @@ import numpy as np
 from skills.asset_model import GraspSite
 from skills.motion import Motion
 from skills.result import Failure, SkillError
-from skills.robot import angled, top_down
+from skills.robot import GRIPPER, angled, top_down
 from skills.sim_graph import interior_boxes, support_of
 from skills.world import SimObject, World
 
@@ -78,7 +78,8 @@ def transit_height(world: World, extra: float = 0.0, exclude: tuple[str, ...] = 
     return max([world.layout.table_height + 0.1, *tops]) + TRANSIT_CLEARANCE + extra
 
 
-def _lift(m: Motion, z: float) -> None:
+def lift(m: Motion, z: float) -> None:
+    """Raise the hand straight up to height ``z`` (no-op when it is already there), orientation kept."""
     pos, quat = m.pose()
     if pos[2] >= z - 0.005:
         return
@@ -200,7 +201,7 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     if not obj.model.grasps or obj.model.fixed:
         raise SkillError(Failure.UNSUPPORTED, f"{obj.id} has no grasp site (a fixture)")
     z_transit = transit_height(world)
-    _lift(m, z_transit)
+    lift(m, z_transit)
     centre = world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5
     m.ignore = {obj.body}
     errors = []
@@ -211,14 +212,14 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
             poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
             base, _grasp_q = m.plan_base(centre, poses, clear=True)
             m.move_base(float(base[0]), float(base[1]))
-            m.gripper(min(0.08, site_width + 0.035))
+            m.gripper(min(GRIPPER.open_width, site_width + 0.035))
             m.move_continuous(above, [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)])
             m.move_line((pos + np.array([0, 0, APPROACH]), quat))
             m.move_line((pos, quat))
             break
         except SkillError as exc:
             errors.append(exc)
-            _lift(m, z_transit)
+            lift(m, z_transit)
     else:
         worst = max(errors, key=lambda e: list(Failure).index(e.failure)) if errors else None
         raise SkillError(
@@ -226,8 +227,7 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
             f"cannot reach a grasp on {obj.id}: " + "; ".join(e.message for e in errors[:3]),
         )
     z0 = world.body_aabb(obj.body)[0][2]
-    width = m.gripper(0.0, force=60.0, steps=90)
-    if width < 0.002:
+    if not m.grasp_close():
         raise SkillError(Failure.GRASP_MISSED, f"fingers closed on nothing at {obj.id}")
     if world.debug_weld:
         _weld(world, obj)
@@ -447,7 +447,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     goal = spot + offset + np.array([0, 0, 0.012])
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
     m.ignore = {obj.body}
-    _lift(m, z_transit)
+    lift(m, z_transit)
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     above = (np.array([goal[0], goal[1], z_transit]), quat)
     m.move_continuous(above, [above, (goal + np.array([0, 0, 0.04]), quat), (goal, quat)])
@@ -467,7 +467,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     m.step(10)
     # open just enough to let go: wide-open fingers would sweep into neighbours (packed boxes)
     _unweld(world, obj)
-    m.gripper(min(0.08, world.robot.finger_width() + 0.016), steps=60)
+    m.gripper(min(GRIPPER.open_width, world.robot.finger_width() + 0.016), steps=60)
     m.held = None
     m.step(40)
     pos, quat = m.pose()

@@ -15,7 +15,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from skills.result import Failure, SkillError
-from skills.robot import ARM_FRONT, ARM_HOME
+from skills.robot import ARM_FRONT, ARM_HOME, GRIPPER
 from skills.world import World
 
 Pose = tuple[np.ndarray, tuple[float, float, float, float]]
@@ -268,8 +268,6 @@ class Motion:
     def continuous_start(self, poses: list[Pose], base: np.ndarray) -> np.ndarray | None:
         """An arm configuration at ``poses[0]`` from which straight moves through the poses (in order)
         need no IK branch flip (which position control cannot track), with the base at ``base``; or None."""
-        from skills.robot import ARM_FRONT, ARM_HOME
-
         saved = self.robot.q()
         try:
             for seed in (ARM_HOME, ARM_FRONT):
@@ -313,8 +311,6 @@ class Motion:
         self.follow(qs)
 
     def _reachable(self, pose: Pose, base: np.ndarray) -> bool:
-        from skills.robot import ARM_FRONT, ARM_HOME
-
         for seed in (ARM_HOME, ARM_FRONT):
             q = self.robot.ik(np.asarray(pose[0]), pose[1], base, seed=np.array((*base, *seed)))
             dp, da = self.robot.fk_error(q, np.asarray(pose[0]), pose[1])
@@ -333,3 +329,12 @@ class Motion:
                 break
             last = now
         return self.robot.finger_width()
+
+    def grasp_close(self) -> bool:
+        """Close the fingers with the grasp force; True when they stopped on something, False on nothing."""
+        width = self.gripper(0.0, force=GRIPPER.grasp_force, steps=GRIPPER.grasp_steps)
+        return width >= GRIPPER.empty_width
+
+    def release(self, width: float = GRIPPER.open_width) -> float:
+        """Open the fingers to ``width`` (default fully open) over the release steps; the width reached."""
+        return self.gripper(width, steps=GRIPPER.release_steps)

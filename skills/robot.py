@@ -26,6 +26,26 @@ FINGER_OPEN = 0.04
 DOWN_QUAT = (1.0, 0.0, 0.0, 0.0)  # rotation by pi about x: the gripper points down
 
 
+@dataclass(frozen=True)
+class GripperParams:
+    """The Panda hand's numbers that every skill shares (widths are between the fingers, in metres)."""
+
+    #: fully open: each finger joint at :data:`FINGER_OPEN`
+    open_width: float = 2 * FINGER_OPEN
+    #: closing force (N) on an object, a handle or a knob
+    grasp_force: float = 60.0
+    #: simulation steps a grasping close may take (bounded wait)
+    grasp_steps: int = 90
+    #: fingers closer than this after a grasping close met nothing
+    empty_width: float = 0.002
+    #: simulation steps of an opening release
+    release_steps: int = 48
+
+
+#: The gripper constants the skills use.
+GRIPPER = GripperParams()
+
+
 def _panda_on_rails(x_range: tuple[float, float], y_range: tuple[float, float]) -> Path:
     import pybullet_data
 
