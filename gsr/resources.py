@@ -50,6 +50,21 @@ def shared_data_dir() -> Path:
     return Path(env).expanduser() if env else _PACKAGE_DIR.parents[1] / "shared" / "data"
 
 
+def cache_dir() -> Path:
+    """Where ``gsr data fetch`` keeps fetched reference sets: ``$GSR_CACHE``, else the user cache folder
+    (``$XDG_CACHE_HOME/gsr`` or ``~/.cache/gsr``; ``~/Library/Caches/gsr`` on macOS, ``%LOCALAPPDATA%\\gsr``
+    on Windows). Separate from ``$GSR_DATA``, the project's own data folder (domains, catalog)."""
+    env = os.environ.get("GSR_CACHE")
+    if env:
+        return Path(env).expanduser()
+    if sys.platform == "darwin":
+        return Path.home() / "Library" / "Caches" / "gsr"
+    if sys.platform == "win32" and os.environ.get("LOCALAPPDATA"):
+        return Path(os.environ["LOCALAPPDATA"]) / "gsr"
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg).expanduser() if xdg else Path.home() / ".cache") / "gsr"
+
+
 def domain_path(name: str = "tabletop") -> Path:
     """The path of a built-in domain file ``data/domains/<name>.pddl``."""
     path = data_dir() / "domains" / f"{name}.pddl"

@@ -1,19 +1,57 @@
-"""Shared fixtures: the third-party reference data lies in ../shared/data beside the checkout."""
+"""Shared fixtures: where tests find data (see tests/data_paths.py).
+
+Shipped data (``data/``, ``tests/fixtures/``) is always there; ``shared_data`` is the third-party
+reference folder (``$GSR_SHARED_DATA`` or ``../shared/data``) and skips the test when it is absent.
+"""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED_DATA = Path(os.environ.get("GSR_SHARED_DATA", REPO.parent / "shared" / "data"))
+from tests.data_paths import BEHAVIOR, GSR_BENCH_FILE, LIBERO, NO_SHARED, PDDL, REPO, SHARED_DATA
+
+__all__ = ["REPO", "SHARED_DATA"]
 
 
 @pytest.fixture(scope="session")
 def shared_data() -> Path:
-    """Path to ../shared/data (LIBERO, IPC PDDL, BEHAVIOR, GSR-Bench); fails loudly if absent."""
+    """The reference folder (LIBERO, IPC PDDL, BEHAVIOR, GSR-Bench, PRS); skips the test when absent."""
     if not SHARED_DATA.is_dir():
-        pytest.fail(f"reference data not found at {SHARED_DATA}; set GSR_SHARED_DATA")
+        pytest.skip(NO_SHARED)
     return SHARED_DATA
+
+
+@pytest.fixture(scope="session")
+def libero_dir() -> Path:
+    """The 40 shipped LIBERO task files: ``data/libero/<suite>/<task>.bddl``."""
+    return LIBERO
+
+
+@pytest.fixture(scope="session")
+def behavior_dir() -> Path:
+    """The shipped BEHAVIOR-100 activities and ``domain_igibson.bddl``: ``data/behavior``."""
+    return BEHAVIOR
+
+
+@pytest.fixture(scope="session")
+def pddl_dir() -> Path:
+    """IPC sets (``<set>/domain.pddl`` + problems): ``tests/fixtures/pddl``."""
+    return PDDL
+
+
+@pytest.fixture(scope="session")
+def published_gsr_bench_file() -> Path:
+    """The published GSR-Bench dev configs (never shipped); skips the test when absent."""
+    if not GSR_BENCH_FILE.is_file():
+        pytest.skip(f"published GSR-Bench configs absent at {GSR_BENCH_FILE}: set GSR_SHARED_DATA")
+    return GSR_BENCH_FILE
+
+
+@pytest.fixture(scope="session")
+def generated_gsr_bench_configs() -> list[dict]:
+    """36 GSR-Bench-format configs from the project's generator (4 per cell), for format mechanics."""
+    from tests.data_paths import generated_gsr_bench_configs
+
+    return generated_gsr_bench_configs()

@@ -15,6 +15,7 @@ from importlib import import_module
 from pathlib import Path
 from typing import Any
 
+from gsr.data_sets import locate
 from gsr.errors import GSRError
 from gsr.resources import shared_data_dir
 from gsr.task_spec import TaskSpec, load_task
@@ -56,7 +57,8 @@ class Suite:
             Path(source) if source is not None else (self.default_source() if self.default_source else None)
         )
         if path is not None and not path.exists():
-            raise GSRError(f"suite {self.name}: {path} does not exist (pass --source PATH)")
+            hint = " or set GSR_SHARED_DATA; see gsr data list" if self.name == "gsr-bench" else ""
+            raise GSRError(f"suite {self.name}: {path} does not exist (pass --source PATH{hint})")
         return self.load(path, seed)
 
 
@@ -116,7 +118,12 @@ SUITES: dict[str, Suite] = {
             lambda: shared_data() / "gsr_bench" / "saved_configs_dev.yaml",
         ),
         Suite("gsr-bench-gen", "the nine GSR-Bench cells, 20 seeded tasks each (180)", _gsr_bench_gen),
-        Suite("libero", "every LIBERO BDDL task file of a folder", _libero, lambda: shared_data() / "libero"),
+        Suite(
+            "libero",
+            "every LIBERO BDDL task file of a folder (default: the fetched 130, else the shipped 40)",
+            _libero,
+            lambda: locate("libero"),
+        ),
         Suite("rlbench", "100 RLBench-style tasks in 5 categories (seeded)", _rlbench),
         Suite("tasks", "TaskSpec JSON/YAML files (a file or a folder)", load_task_files),
         Suite(

@@ -257,16 +257,29 @@ def _gcg(c: _Config, level: int, rng: random.Random) -> str:
 _BUILD = {CELLS[0]: _sod, CELLS[1]: _sas, CELLS[2]: _gcg}
 
 
-def generate_cell(cell: str, level: str, n: int = 20, seed: int = 0) -> list[TaskSpec]:
-    """``n`` tasks of one cell, deterministic for ``seed``."""
-    tasks = []
+def cell_configs(cell: str, level: str, n: int = 20, seed: int = 0) -> list[dict[str, Any]]:
+    """The configs of ``n`` tasks of one cell in the public GSR-Bench format, deterministic for ``seed``
+    (numbered 1000 * cell index + k)."""
+    configs = []
     li = LEVELS.index(level)
     for k in range(n):
         rng = random.Random(f"{seed}:{cell}:{level}:{k}")
         cfg = _Config(rng)
         query = _BUILD[cell](cfg, li, rng)
-        number = 1000 * (CELLS.index(cell) * 3 + li + 1) + k
-        task = task_from_config(cfg.config(number, query), source=f"generated {cell}/{level}")
+        configs.append(cfg.config(1000 * (CELLS.index(cell) * 3 + li + 1) + k, query))
+    return configs
+
+
+def generate_configs(seed: int = 0, per_cell: int = 20) -> list[dict[str, Any]]:
+    """The configs of all nine cells (a ``configs:`` list as in the benchmark's saved_configs.yaml)."""
+    return [c for cell in CELLS for level in LEVELS for c in cell_configs(cell, level, per_cell, seed)]
+
+
+def generate_cell(cell: str, level: str, n: int = 20, seed: int = 0) -> list[TaskSpec]:
+    """``n`` tasks of one cell, deterministic for ``seed``."""
+    tasks = []
+    for k, config in enumerate(cell_configs(cell, level, n, seed)):
+        task = task_from_config(config, source=f"generated {cell}/{level}")
         slug = "".join(w[0] for w in cell.split()).lower()
         tasks.append(
             task.model_copy(
