@@ -1,4 +1,4 @@
-"""Fixtures for the benchmark tests: the domain and the GSR-Bench dev configs (read from ../shared/data)."""
+"""Fixtures for the benchmark tests: the domain and the published GSR-Bench dev configs (skipped when absent)."""
 
 from __future__ import annotations
 
@@ -18,9 +18,9 @@ def domain() -> Domain:
 
 
 @pytest.fixture(scope="session")
-def gsr_bench_file(shared_data: Path) -> Path:
-    """The 90 public GSR-Bench dev configs."""
-    return shared_data / "gsr_bench" / "saved_configs_dev.yaml"
+def gsr_bench_file(published_gsr_bench_file: Path) -> Path:
+    """The 90 public GSR-Bench dev configs (skipped when absent: never shipped)."""
+    return published_gsr_bench_file
 
 
 @pytest.fixture(scope="session")

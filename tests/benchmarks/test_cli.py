@@ -31,7 +31,7 @@ def test_bench_run_writes_reports(tmp_path: Path) -> None:
     assert (out / "report.html").exists()
 
 
-def test_bench_run_json_and_failure_exit(shared_data: Path) -> None:
+def test_bench_run_json_and_failure_exit() -> None:
     args = ["bench", "run", "tasks", "--tasks", str(REPO / "data" / "tasks" / "examples")]
     result = runner.invoke(app, [*args, "--agent", "random", "--max-steps", "3", "--json"])
     assert result.exit_code == 1  # not every episode succeeded

@@ -13,7 +13,7 @@ pytest.importorskip("open3d")
 from benchmarks.demo import run_demo
 
 
-def test_demo_verifies_the_goal_and_writes_the_report(tmp_path: Path, shared_data: Path) -> None:
+def test_demo_verifies_the_goal_and_writes_the_report(tmp_path: Path) -> None:
     out = tmp_path / "demo"
     (out).mkdir()
     (out / "stale.txt").write_text("from an older run")  # replaced whole, never mixed

@@ -49,8 +49,8 @@ def test_rlbench_100_tasks_in_5_categories() -> None:
     assert all(t.layout is not None and t.layout.objects for t in tasks)
 
 
-def test_libero_40_tasks(shared_data) -> None:
-    tasks = load_libero(shared_data / "libero")
+def test_libero_40_tasks(libero_dir) -> None:
+    tasks = load_libero(libero_dir)
     assert len(tasks) == 40 and len({t.id for t in tasks}) == 40
     assert Counter(t.category for t in tasks) == {
         "libero_10": 10,
@@ -82,17 +82,17 @@ def _solve_all(tasks: list) -> list:
     return results
 
 
-def test_planner_solves_fast_subsets(shared_data) -> None:
+def test_planner_solves_fast_subsets(libero_dir) -> None:
     _solve_all(generate_rlbench(0)[::4])
-    _solve_all(load_libero(shared_data / "libero")[::5])
+    _solve_all(load_libero(libero_dir)[::5])
     results = _solve_all([generate_cell(c, lv, 1, seed=0)[0] for c in CELLS for lv in ("Simple",)])
     assert all(r.steps > 10 for r in results)
 
 
 @pytest.mark.slow
-def test_planner_solves_everything(shared_data) -> None:
+def test_planner_solves_everything(libero_dir) -> None:
     _solve_all(generate_rlbench(0))
-    _solve_all(load_libero(shared_data / "libero"))
+    _solve_all(load_libero(libero_dir))
     results = _solve_all(generate_gsr_bench(0))
     by_cell: dict[tuple, list[int]] = {}
     for r in results:

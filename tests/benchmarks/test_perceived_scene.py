@@ -130,7 +130,7 @@ def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
 
 
 @pytest.mark.physics
-def test_perceived_scene_in_a_real_world(shared_data) -> None:
+def test_perceived_scene_in_a_real_world(libero_dir) -> None:
     """Held from the gripper, regions from the map, a bowl in a closed drawer remembered."""
     pytest.importorskip("open3d")
     from benchmarks.perceived_scene import PerceivedScene
@@ -139,8 +139,7 @@ def test_perceived_scene_in_a_real_world(shared_data) -> None:
     from skills import build_world, run_step
 
     task = task_from_bddl(
-        shared_data
-        / "libero"
+        libero_dir
         / "libero_10"
         / "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
     )
@@ -167,7 +166,7 @@ def test_perceived_scene_in_a_real_world(shared_data) -> None:
 
 
 @pytest.mark.physics
-def test_a_door_without_a_part_node_is_segmented_and_measured(shared_data) -> None:
+def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> None:
     """The microwave's door is no graph node: its own mask lets perception see it open or closed."""
     pytest.importorskip("open3d")
     import pybullet as p
@@ -177,8 +176,7 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(shared_data) -> No
     from skills import build_world
 
     task = task_from_bddl(
-        shared_data
-        / "libero"
+        libero_dir
         / "libero_10"
         / "KITCHEN_SCENE6_put_the_yellow_and_white_mug_in_the_microwave_and_close_it.bddl"
     )

@@ -201,10 +201,10 @@ def test_perceive_needs_physical(task) -> None:
 
 
 @pytest.fixture()
-def libero_goal_tasks(shared_data):
+def libero_goal_tasks(libero_dir):
     from benchmarks.suites import get_suite
 
-    return get_suite("libero").tasks(str(shared_data / "libero" / "libero_goal"), 0)
+    return get_suite("libero").tasks(str(libero_dir / "libero_goal"), 0)
 
 
 @pytest.mark.physics

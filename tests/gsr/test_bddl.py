@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from pathlib import Path
 
 import networkx as nx
 import pytest
@@ -30,10 +29,11 @@ from gsr.pddl import (
     parse_bddl_domain,
     parse_formula,
 )
+from tests.data_paths import BEHAVIOR as BEHAVIOR_DIR
+from tests.data_paths import LIBERO as LIBERO_DIR
 
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-LIBERO = sorted((DATA / "libero").glob("*/*.bddl"))
-BEHAVIOR = sorted(p for p in (DATA / "behavior").glob("*.bddl") if p.name != "domain_igibson.bddl")
+LIBERO = sorted(LIBERO_DIR.glob("*/*.bddl"))
+BEHAVIOR = sorted(p for p in BEHAVIOR_DIR.glob("*.bddl") if p.name != "domain_igibson.bddl")
 
 
 def test_every_shipped_file_loads() -> None:
@@ -46,14 +46,14 @@ def test_every_shipped_file_loads() -> None:
     for path in BEHAVIOR:
         problem = load_bddl(path)
         assert problem.domain_name == "igibson" and problem.objects and problem.language is None
-    domain = parse_bddl_domain((DATA / "behavior" / "domain_igibson.bddl").read_text())
+    domain = parse_bddl_domain((BEHAVIOR_DIR / "domain_igibson.bddl").read_text())
     assert domain.name == "igibson" and len(domain.predicates) == 17 and not domain.actions
     assert domain.predicates["ontop"].arity == 2
 
 
 def test_libero_kitchen_scene4() -> None:
     name = "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
-    problem = load_bddl(DATA / "libero" / "libero_10" / name)
+    problem = load_bddl(LIBERO_DIR / "libero_10" / name)
     assert problem.name == "libero_kitchen_tabletop_manipulation"
     assert problem.language == "put the black bowl in the bottom drawer of the cabinet and close it"
     assert len(problem.regions) == 9
@@ -86,13 +86,13 @@ def test_libero_kitchen_scene4() -> None:
 
 
 def test_behavior_goals() -> None:
-    tea = load_bddl(DATA / "behavior" / "making_tea.bddl")
+    tea = load_bddl(BEHAVIOR_DIR / "making_tea.bddl")
     assert tea.goal.parts[1] == Atom("ontop", ("teapot.n.01_1", "stove.n.01_1"))  # '?object' stored bare
     assert Atom("inroom", ("cabinet.n.01_1", "kitchen")) in tea.init  # a room, not an object
-    candles = load_bddl(DATA / "behavior" / "setting_up_candles.bddl")
+    candles = load_bddl(BEHAVIOR_DIR / "setting_up_candles.bddl")
     candle = TypedVar("?candle.n.01", ("candle.n.01",))
     assert candles.goal.parts[0] == ForN(3, (candle,), Atom("ontop", ("?candle.n.01", "table.n.02_1")))
-    dishes = load_bddl(DATA / "behavior" / "putting_dishes_away_after_cleaning.bddl")
+    dishes = load_bddl(BEHAVIOR_DIR / "putting_dishes_away_after_cleaning.bddl")
     exists = dishes.goal.parts[0]
     assert isinstance(exists, Exists) and isinstance(exists.body, Forall)
     assert exists.body.body == Atom("inside", ("?plate.n.04", "cabinet.n.01_1"))  # bound kept, object bare

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 
@@ -17,14 +16,13 @@ from gsr.scene_graph import Edge, Node, SceneGraph
 from gsr.state import State, initial_state
 from gsr.step import Step
 from gsr.validate import explain_goal
-
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
+from tests.data_paths import PDDL
 
 
 @pytest.fixture(scope="module")
 def blocks():
-    domain = load_domain(DATA / "pddl" / "blocks" / "domain.pddl")
-    problem = load_problem(DATA / "pddl" / "blocks" / "probBLOCKS-4-0.pddl", domain)
+    domain = load_domain(PDDL / "blocks" / "domain.pddl")
+    problem = load_problem(PDDL / "blocks" / "probBLOCKS-4-0.pddl", domain)
     return domain, initial_state(domain, problem)
 
 

@@ -36,9 +36,8 @@ from gsr.pddl import (
     parse_pddl,
     parse_problem,
 )
+from tests.data_paths import PDDL
 
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-PDDL = DATA / "pddl"
 PROBLEM_COUNTS = {"blocks": 35, "gripper": 20, "miconic-simpleadl": 30}
 
 

@@ -43,9 +43,8 @@ from gsr.pddl import (
     write_formula,
     write_problem,
 )
+from tests.data_paths import PDDL
 
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-PDDL = DATA / "pddl"
 KEYWORDS = {
     "and",
     "or",

@@ -8,8 +8,8 @@ import pytest
 
 from gsr.plan.cli import plan_command
 from gsr.plan_format import parse_plan
-
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "pddl"
+from tests.data_paths import LIBERO
+from tests.data_paths import PDDL as DATA
 
 TOY_DOMAIN = """(define (domain toy) (:requirements :strips)
   (:predicates (at-a) (at-b))
@@ -19,8 +19,6 @@ TOY_UNSOLVABLE = """(define (problem u) (:domain toy) (:init (at-a)) (:goal (and
 
 @pytest.fixture
 def blocks() -> tuple[Path, Path]:
-    if not DATA.is_dir():
-        pytest.skip(f"reference data not found at {DATA}")
     return DATA / "blocks" / "domain.pddl", DATA / "blocks" / "probBLOCKS-5-0.pddl"
 
 
@@ -50,8 +48,6 @@ def test_unsolvable_exit_code(tmp_path: Path, capsys) -> None:
 
 
 def test_timeout_exit_code(capsys) -> None:
-    if not DATA.is_dir():
-        pytest.skip(f"reference data not found at {DATA}")
     code = plan_command(DATA / "gripper" / "domain.pddl", DATA / "gripper" / "prob10.pddl", "bfs", 0.0, None)
     assert code == 3
     assert "timeout" in capsys.readouterr().err
@@ -70,7 +66,6 @@ def test_bad_files_exit_1_with_one_line(tmp_path: Path, capsys) -> None:
     assert plan_command(tmp_path / "bad.pddl", tmp_path / "p.pddl", "no-such", 1.0, None) == 1
 
 
-LIBERO = DATA.parent / "libero"
 BOWL_IN_DRAWER = (
     "libero_10/KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
 )

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import pytest
 
@@ -11,8 +10,7 @@ from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan
 from gsr.plan.fast_downward import find_fast_downward, run_fast_downward
 from gsr.validate import validate_plan
-
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "pddl"
+from tests.data_paths import PDDL as DATA
 
 SATISFICING = [
     ("blocks", "probBLOCKS-4-0.pddl"),
@@ -30,8 +28,6 @@ OPTIMAL = (
 
 @functools.cache
 def _load(domain_set: str, name: str) -> tuple:
-    if not DATA.is_dir():
-        pytest.skip(f"reference data not found at {DATA}")
     domain = load_domain(DATA / domain_set / "domain.pddl")
     return domain, load_problem(DATA / domain_set / name, domain)
 

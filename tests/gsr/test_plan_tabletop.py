@@ -34,19 +34,19 @@ def _tabletop():
     return load_builtin_domain("tabletop")
 
 
-def _libero(shared_data: Path, name: str):
+def _libero(libero_dir: Path, name: str):
     from gsr.libero import libero_task
     from gsr.pddl.bddl import load_bddl
 
     domain = _tabletop()
-    return domain, libero_task(load_bddl(shared_data / "libero" / name), domain)[1]
+    return domain, libero_task(load_bddl(libero_dir / name), domain)[1]
 
 
-def test_all_libero_tasks_plan_and_validate(shared_data: Path) -> None:
-    files = sorted((shared_data / "libero").rglob("*.bddl"))
+def test_all_libero_tasks_plan_and_validate(libero_dir: Path) -> None:
+    files = sorted(libero_dir.rglob("*.bddl"))
     assert len(files) == 40
     for bddl in files:
-        domain, problem = _libero(shared_data, str(bddl.relative_to(shared_data / "libero")))
+        domain, problem = _libero(libero_dir, str(bddl.relative_to(libero_dir)))
         result = plan(domain, problem, timeout=30)
         assert result.status == "solved", (bddl.name, result.message)
         assert validate_plan(domain, problem, result.plan).valid, bddl.name
@@ -54,9 +54,9 @@ def test_all_libero_tasks_plan_and_validate(shared_data: Path) -> None:
 
 @pytest.mark.parametrize("name", SMALL_LIBERO)
 def test_libero_optimal_cost_matches_bfs_and_fast_downward(
-    shared_data: Path, name: str, tmp_path: Path
+    libero_dir: Path, name: str, tmp_path: Path
 ) -> None:
-    domain, problem = _libero(shared_data, name)
+    domain, problem = _libero(libero_dir, name)
     costs = {
         p: plan(domain, problem, planner=p, timeout=30).cost for p in ("astar-lmcut", "astar-hmax", "bfs")
     }
@@ -244,14 +244,14 @@ def test_negative_preconditions_optimal_cost_matches_fast_downward_lmcut(n: int,
     assert results["astar-lmcut"].cost == len(fd_plan)
 
 
-def test_fast_simplifier_equals_reference_ground_simplify(shared_data: Path) -> None:
+def test_fast_simplifier_equals_reference_ground_simplify(libero_dir: Path) -> None:
     from gsr.plan.ground import _TypedObjects
     from gsr.plan.normalize import ground_simplify, normalize_action, to_dnf
     from gsr.plan.simplify import Simplifier
 
     domain = _tabletop()
     _, graph, goal, _ = long_tabletop_task(3)
-    scenes = [problem_from_graph(graph, goal, domain=domain), _libero(shared_data, SMALL_LIBERO[3])[1]]
+    scenes = [problem_from_graph(graph, goal, domain=domain), _libero(libero_dir, SMALL_LIBERO[3])[1]]
     schemas = [normalize_action(a) for a in domain.actions.values()]
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     checked = 0

@@ -16,9 +16,7 @@ from gsr.semantics import applicable, apply
 from gsr.state import initial_state
 from gsr.step import Plan, Step
 from gsr.validate import validate_plan
-
-DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
-PDDL = DATA / "pddl"
+from tests.data_paths import PDDL
 
 ORACLE_PROBLEMS = [
     ("blocks", "probBLOCKS-4-0.pddl"),

@@ -116,7 +116,7 @@ def test_perceive_eval_rejects_bad_options():
 
 @pytest.mark.physics
 @pytest.mark.parametrize("flag", ["--perceive", "--no-perceive"])
-def test_demo_perceive_flag(flag, tmp_path, shared_data) -> None:
+def test_demo_perceive_flag(flag, tmp_path) -> None:
     import json
 
     res = _gsr("demo", flag, "--out", str(tmp_path / "demo"))
@@ -127,10 +127,10 @@ def test_demo_perceive_flag(flag, tmp_path, shared_data) -> None:
 
 
 @pytest.mark.physics
-def test_bench_run_physical_perceive_writes_frames(tmp_path, shared_data) -> None:
+def test_bench_run_physical_perceive_writes_frames(tmp_path, libero_dir) -> None:
     import json
 
-    tasks = shared_data / "libero" / "libero_goal"
+    tasks = libero_dir / "libero_goal"
     out = tmp_path / "run"
     res = _gsr(
         "bench", "run", "libero", "--source", str(tasks), "--physical", "--perceive", "--limit", "1",

@@ -13,9 +13,9 @@ from gsr.pddl.bddl import parse_bddl
 from gsr.task_spec import TaskSpec
 
 
-def libero_goal_task(shared_data: Path, name: str, goal: str = "(and)") -> TaskSpec:
+def libero_goal_task(libero_dir: Path, name: str, goal: str = "(and)") -> TaskSpec:
     """A TaskSpec (no layout: the world generates one) for a LIBERO goal-suite BDDL file."""
-    path = shared_data / "libero" / "libero_goal" / f"{name}.bddl"
+    path = libero_dir / "libero_goal" / f"{name}.bddl"
     graph, _problem = libero_task(parse_bddl(path.read_text(encoding="utf-8")))
     return TaskSpec(
         id=name, suite="libero_goal", instructions=(name.replace("_", " "),), initial=graph, goal=goal
@@ -23,9 +23,9 @@ def libero_goal_task(shared_data: Path, name: str, goal: str = "(and)") -> TaskS
 
 
 @pytest.fixture
-def bowl_task(shared_data: Path) -> TaskSpec:
+def bowl_task(libero_dir: Path) -> TaskSpec:
     """LIBERO goal 'put the bowl on the plate' with its goal formula."""
-    return libero_goal_task(shared_data, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
+    return libero_goal_task(libero_dir, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
 
 
 @pytest.fixture

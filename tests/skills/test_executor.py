@@ -36,13 +36,13 @@ def test_executor_runs_a_plan_and_tracks_the_graph(bowl_world) -> None:
 
 
 @pytest.mark.physics
-def test_libero_goal_plans_execute(shared_data) -> None:
+def test_libero_goal_plans_execute(libero_dir) -> None:
     from gsr.plan.api import plan_graph
     from skills.world import build_world
     from tests.skills.conftest import libero_goal_task
 
     task = libero_goal_task(
-        shared_data,
+        libero_dir,
         "open_the_top_drawer_and_put_the_bowl_inside",
         "(in akita_black_bowl_1 wooden_cabinet_1/top_drawer)",
     )
@@ -68,10 +68,10 @@ def test_gym_env_episode(bowl_task) -> None:
 
 
 @pytest.mark.physics
-def test_runner_physical_mode(shared_data) -> None:
+def test_runner_physical_mode(libero_dir) -> None:
     from benchmarks.runner import RunConfig, _episode_job
     from tests.skills.conftest import libero_goal_task
 
-    task = libero_goal_task(shared_data, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
+    task = libero_goal_task(libero_dir, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
     record = _episode_job(task.model_dump(mode="json"), 0, RunConfig(physical=True))
     assert record["success"] and record["steps"] == 2, record["reason"]

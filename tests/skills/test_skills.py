@@ -48,12 +48,12 @@ def test_place_without_holding_reports_it(bowl_world) -> None:
         [Step("push", ("plate_1", "main_table", "main_table/stove_front_region"))],
     ],
 )
-def test_articulated_and_push_skills(shared_data, steps) -> None:
+def test_articulated_and_push_skills(libero_dir, steps) -> None:
     from skills.world import build_world
     from tests.skills.conftest import libero_goal_task
 
     name = "push_the_plate_to_the_front_of_the_stove"
-    with build_world(libero_goal_task(shared_data, name), seed=0) as world:
+    with build_world(libero_goal_task(libero_dir, name), seed=0) as world:
         for step in steps:
             result = run_step(world, step)
             assert result.ok, f"{step}: {result.message}"

@@ -20,19 +20,19 @@ def domain() -> Domain:
 
 
 @pytest.fixture(scope="session")
-def libero_files(shared_data: Path) -> list[Path]:
-    """The 40 LIBERO task files."""
-    files = sorted((shared_data / "libero").glob("*/*.bddl"))
+def libero_files(libero_dir: Path) -> list[Path]:
+    """The 40 shipped LIBERO task files."""
+    files = sorted(libero_dir.glob("*/*.bddl"))
     assert len(files) == 40
     return files
 
 
 @pytest.fixture(scope="session")
-def gsr_bench_configs(shared_data: Path) -> list[dict]:
-    """The 90 GSR-Bench dev configs."""
+def gsr_bench_configs(published_gsr_bench_file: Path) -> list[dict]:
+    """The 90 published GSR-Bench dev configs (skipped when absent: never shipped)."""
     import yaml
 
-    data = yaml.safe_load((shared_data / "gsr_bench" / "saved_configs_dev.yaml").read_text(encoding="utf-8"))
+    data = yaml.safe_load(published_gsr_bench_file.read_text(encoding="utf-8"))
     configs = data["configs"]
     assert len(configs) == 90
     return configs

@@ -44,8 +44,8 @@ def test_grounding_error_exits_1(tmp_path: Path) -> None:
     assert data["candidates"] == ["red_cube1", "red_cube2"]
 
 
-def test_libero_bddl_scene(shared_data: Path) -> None:
-    bddl = shared_data / "libero" / "libero_goal" / "turn_on_the_stove.bddl"
+def test_libero_bddl_scene(libero_dir: Path) -> None:
+    bddl = libero_dir / "libero_goal" / "turn_on_the_stove.bddl"
     result = CliRunner().invoke(app, ["ground", "--scene", str(bddl), "turn on the stove"])
     assert result.exit_code == 0 and "(turned_on flat_stove_1)" in result.stdout
 

@@ -12,8 +12,8 @@ from gsr.pddl.bddl import parse_bddl
 from gsr.step import Step
 
 
-def test_matches_brute_force_and_planner_grounding(shared_data, domain, monkeypatch):
-    path = next((shared_data / "libero" / "libero_goal").glob("open_the_top_drawer*.bddl"))
+def test_matches_brute_force_and_planner_grounding(libero_dir, domain, monkeypatch):
+    path = next((libero_dir / "libero_goal").glob("open_the_top_drawer*.bddl"))
     graph, _ = libero_task(parse_bddl(path.read_text(), str(path)))
     found = applicable.applicable_steps(domain, graph)
     state = state_from_graph(graph, domain)

@@ -78,13 +78,8 @@ def test_reason_prompt_and_check(tmp_path):
     assert res.exit_code == 1 and "missing delete effect" in res.output
 
 
-def test_solve_libero_file_with_the_embedded_grounder(shared_data):
-    scene = (
-        shared_data
-        / "libero"
-        / "libero_10"
-        / "KITCHEN_SCENE3_turn_on_the_stove_and_put_the_moka_pot_on_it.bddl"
-    )
+def test_solve_libero_file_with_the_embedded_grounder(libero_dir):
+    scene = libero_dir / "libero_10" / "KITCHEN_SCENE3_turn_on_the_stove_and_put_the_moka_pot_on_it.bddl"
     res = runner.invoke(app, ["solve", "turn on the stove and put the moka pot on it", "--scene", str(scene)])
     assert res.exit_code == 0, res.output
     assert "goal: (and (turned_on flat_stove_1) (on moka_pot_1 flat_stove_1))  (grounder)" in res.output

@@ -8,23 +8,23 @@ from gsr.reason.measure import libero_cases, main, run_cases, summary
 from gsr.reason.tiny_model import random_goals, split_cases, trace_pairs
 
 
-def test_grounder_solves_libero_tasks(shared_data, capsys):
-    assert main([str(shared_data / "libero" / "libero_10"), "--limit", "3", "--mode", "hybrid"]) == 0
+def test_grounder_solves_libero_tasks(libero_dir, capsys):
+    assert main([str(libero_dir / "libero_10"), "--limit", "3", "--mode", "hybrid"]) == 0
     out = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert out["tasks"] == 3 and out["success"] == 3 and out["bench_goal"] == 3 and out["rejections"] == 0
 
 
-def test_given_goal_rows_and_summary(shared_data):
-    cases = libero_cases(shared_data / "libero" / "libero_goal")[:2]
+def test_given_goal_rows_and_summary(libero_dir):
+    cases = libero_cases(libero_dir / "libero_goal")[:2]
     rows = run_cases(cases, "grounder", "goal", given_goal=True)
     assert all(r["bench_goal"] and r["planner_steps"] == r["steps"] for r in rows)
     assert summary(rows)["tasks"] == 2
 
 
-def test_training_pairs_are_checked_traces(shared_data, domain):
+def test_training_pairs_are_checked_traces(libero_dir, domain):
     from gsr.reason import parse_first_step
 
-    cases = split_cases(libero_cases(shared_data / "libero" / "libero_10"), "even")[:2]
+    cases = split_cases(libero_cases(libero_dir / "libero_10"), "even")[:2]
     assert [c[0] for c in cases] == sorted(c[0] for c in cases)
     pairs = trace_pairs(cases)
     assert pairs and all(p.endswith("Next step:\n") for p, _ in pairs)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 
@@ -11,8 +10,8 @@ pytest.importorskip("fastapi")
 from fastapi.testclient import TestClient
 
 from gsr.service import ServiceSettings, create_app
+from tests.data_paths import PDDL
 
-PDDL = Path(__file__).resolve().parents[3].parent / "shared" / "data" / "pddl"
 SCENE = {
     "nodes": ["table", "blue_box", "red_cube1", "red_cube2"],
     "edges": ["blue_box(on)table", "red_cube1(on)table", "red_cube2(on)blue_box"],
