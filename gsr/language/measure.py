@@ -60,11 +60,16 @@ def dataset_rows(data: Path) -> Iterator[dict[str, Any]]:
                     yield row
 
 
-def classify(instruction: str, graph, reference) -> tuple[str, str]:
-    """(kind, detail) for one instruction against its reference goal formula."""
+def classify(instruction: str, graph, reference, equivalent=None) -> tuple[str, str]:
+    """(kind, detail) for one instruction against its reference goal formula.
+
+    ``equivalent(a, b, graph)`` decides goal equivalence (default: equal ground DNFs).
+    """
     from gsr.language import GroundingError, ground
     from gsr.language.equivalence import equivalent_goals
     from gsr.pddl.writer import write_formula
+
+    equivalent = equivalent or equivalent_goals
 
     try:
         goal = ground(instruction, graph)
@@ -79,7 +84,7 @@ def classify(instruction: str, graph, reference) -> tuple[str, str]:
         if msg.startswith("no object in the scene matches"):
             return "no_match", msg
         return "other_error", msg
-    if equivalent_goals(goal.formula, reference, graph):
+    if equivalent(goal.formula, reference, graph):
         return "equivalent", ""
     return "wrong_goal", write_formula(goal.formula)
 
@@ -115,6 +120,31 @@ def measure(rows: Iterator[dict[str, Any]], limit: int | None = None, examples: 
     }
 
 
+def measure_paraphrase(parts: dict[str, int]) -> dict[str, Any]:
+    """The paraphrase benchmark (gsr.language.paraphrase): a report per part, examples only when asked."""
+    from gsr.language.paraphrase import load_items, run_items
+
+    out: dict[str, Any] = {}
+    for part, examples in parts.items():
+        counts: Counter[str] = Counter()
+        shown: dict[str, list[dict[str, str]]] = {k: [] for k in KINDS}
+        items = load_items(part)
+        for item, kind, detail in run_items(items):
+            counts[kind] += 1
+            if kind != "equivalent" and len(shown[kind]) < examples:
+                shown[kind].append(
+                    {"scene": item.scene, "instruction": item.say, "reference": item.goal, "got": detail}
+                )
+        n = len(items)
+        out[part] = {
+            "rows": n,
+            "equivalent": round(counts["equivalent"] / n, 4) if n else 0.0,
+            "counts": {k: counts[k] for k in KINDS},
+            "examples": {k: v for k, v in shown.items() if v},
+        }
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Command line: print the JSON report; exit 1 with a one-line message on bad input."""
     ap = argparse.ArgumentParser(prog="python -m gsr.language.measure", description=__doc__.split("\n")[0])
@@ -124,7 +154,30 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=7, help="generator seed (as gsr datagen --seed)")
     ap.add_argument("--limit", type=int, default=None, help="classify at most this many instructions")
     ap.add_argument("--examples", type=int, default=5, help="examples shown per failure kind")
+    ap.add_argument(
+        "--suite",
+        choices=("datagen", "paraphrase"),
+        default="datagen",
+        help="datagen: the dataset generator's instructions (default); paraphrase: the hand-written benchmark",
+    )
+    ap.add_argument(
+        "--part",
+        choices=("dev", "heldout", "both"),
+        default="both",
+        help="paraphrase part(s) to score (examples of failures are shown for the dev part only)",
+    )
     args = ap.parse_args(argv)
+    if args.suite == "paraphrase":
+        try:
+            names = ["dev", "heldout"] if args.part == "both" else [args.part]
+            # failures are listed for the development part only: the kept-apart part reports counts
+            parts = {name: args.examples if name == "dev" else 0 for name in names}
+            report = {"suite": "paraphrase", "parts": measure_paraphrase(parts)}
+        except GSRError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 1
+        print(json.dumps(report, indent=1))
+        return 0
     try:
         rows = dataset_rows(args.data) if args.data else generated_rows(args.samples, args.seed)
         report = measure(rows, args.limit, args.examples)
