@@ -361,6 +361,25 @@ def delivery_run(
     raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent, by_kind))
 
 
+@delivery_app.command("prs")
+def delivery_prs(
+    data: Annotated[Path, typer.Option(help="PRS data folder (env/data of prs-delivery).")],
+    tasks: Annotated[Path, typer.Option(help="PRS task file (JSON keyed by task id).")],
+    out: Annotated[Path, typer.Option(help="Output folder: results.json, prs_submission.json, report.html.")],
+    workers: Annotated[int, typer.Option(help="Worker processes.")] = 1,
+    captions: Annotated[
+        str,
+        typer.Option(
+            help="Object captions for the sensor: dev (the data folder's dev tasks), none, or a task file."
+        ),
+    ] = "dev",
+) -> None:
+    """Run the PRS delivery benchmark in the offline PRS environment, scored by PRS's rules."""
+    from benchmarks.delivery.prs_cli import prs_command
+
+    raise typer.Exit(prs_command(data, tasks, out, workers, captions))
+
+
 @delivery_app.command("schedule")
 def delivery_schedule(
     person: Annotated[str, typer.Argument(help="Person id or name, e.g. imani.")],

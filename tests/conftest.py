@@ -55,3 +55,15 @@ def generated_gsr_bench_configs() -> list[dict]:
     from tests.data_paths import generated_gsr_bench_configs
 
     return generated_gsr_bench_configs()
+
+
+@pytest.fixture(scope="session", params=["generated", "published"])
+def gsr_bench_style_configs(request: pytest.FixtureRequest) -> list[dict]:
+    """GSR-Bench-format configs for format mechanics, twice: the project's generated ones (always) and the
+    published dev configs (skipped when absent)."""
+    if request.param == "generated":
+        return request.getfixturevalue("generated_gsr_bench_configs")
+    import yaml
+
+    path = request.getfixturevalue("published_gsr_bench_file")
+    return yaml.safe_load(path.read_text(encoding="utf-8"))["configs"]
