@@ -1,0 +1,82 @@
+"""The PRS station importer and its calibration, on a synthetic folder and (when present) PRS's data."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gsr.building.prs import load_station, location_key
+from gsr.building.prs_calibrate import observations_from_tasks, schedule_agreement
+from gsr.building.prs_files import PrsDataError
+from tests.gsr.building.prs_synthetic import SCALE, X0, Z0, make_folder
+
+
+@pytest.fixture
+def folder(tmp_path: Path) -> Path:
+    return make_folder(tmp_path)
+
+
+def test_location_keys_match_room_names() -> None:
+    assert location_key("Bedroom_0") == location_key("bed room 0")
+    assert location_key("OfficeRoom01") == location_key("office room 1")
+    assert location_key("OfficeSpaceRoom") == location_key("office space")
+    assert location_key("HallRoom02") != location_key("hall room 3")
+
+
+def test_rooms_receptacles_and_free_space(folder: Path) -> None:
+    st = load_station(folder, None)
+    floor = st.floors[0]
+    assert floor.tag_offset == 1  # grid values one below their tags, found from the room extents
+    assert {r.name for r in st.rooms} == {"kitchen room", "office space", "bed room 0"}
+    recs = {(r.name, st.room(r.room).name) for r in st.receptacles}
+    assert recs == {("kitchen counter", "kitchen room"), ("desk", "office space"), ("table", "bed room 0")}
+    assert not floor.walkable[2, 6] and floor.walkable[5, 5] and floor.walkable[11, 20]
+    assert st.room_at(0, (5, 5)).name == "kitchen room" and st.room_at(0, (11, 20)) is None
+    assert floor.transform is None  # uncalibrated without observations
+
+
+def test_calibration_recovers_transform_and_codes(folder: Path) -> None:
+    st = load_station(folder)  # calibrates from the folder's delivery_tasks_dev.json
+    t = st.floors[0].transform
+    assert t is not None
+    # inclusion in room extents bounds the transform, not pins it: within 10 % / 1 m on three rooms
+    assert t.scale == pytest.approx(SCALE, rel=0.1)
+    assert t.x0 == pytest.approx(X0, abs=1.0) and t.z0 == pytest.approx(Z0, abs=1.0)
+    assert st.room_of_location("F1_Bedroom_5").name == "bed room 0"  # re-assigned by position
+    hits, total = schedule_agreement(st, observations_from_tasks(st, folder / "delivery_tasks_dev.json"))
+    assert hits / total >= 0.95
+
+
+def test_malformed_files_name_file_and_field(folder: Path) -> None:
+    good = (folder / "map_room_data.json").read_text()
+    rooms = json.loads(good)
+    rooms["0"]["room1"]["x"] = [10, 1]
+    (folder / "map_room_data.json").write_text(json.dumps(rooms))
+    with pytest.raises(PrsDataError, match=r"map_room_data.json: .*room1.x: expected \[lo, hi\]"):
+        load_station(folder, None)
+    (folder / "npc_schedule.json").write_text("{bad json")
+    (folder / "map_room_data.json").write_text(good)
+    with pytest.raises(PrsDataError, match=r"npc_schedule.json: bad JSON at line 1"):
+        load_station(folder, None)
+    (folder / "semantic_map_0.txt").write_text("1\t2\n1\tx\n")
+    with pytest.raises(PrsDataError, match=r"semantic_map_0.txt: row 1: non-integer"):
+        load_station(folder, None)
+
+
+def test_prs_dev_person_positions_fall_in_scheduled_rooms(shared_data: Path) -> None:
+    data = shared_data / "prs"
+    if not (data / "delivery_tasks_dev.json").is_file():
+        pytest.skip(f"PRS data not found at {data}")
+    st = load_station(data)
+    obs = observations_from_tasks(st, data / "delivery_tasks_dev.json")
+    hits, total = schedule_agreement(st, obs)
+    assert total == 324 and hits / total >= 0.95
+    # held-out check: calibrate on one half, measure on the other
+    from gsr.building.prs_calibrate import calibrate_station
+
+    half = load_station(data, None)
+    calibrate_station(half, obs[::2])
+    h, n = schedule_agreement(half, obs[1::2])
+    assert h / n >= 0.9
