@@ -152,8 +152,8 @@ def long_tabletop_task(seed: int) -> tuple[str, SceneGraph, Formula, int]:
     """One GSR-Bench-style task: (name, scene graph, goal, lower bound on its plan length >= 10).
 
     A table, a short cabinet with three drawers (each open or closed), three coloured boxes (some
-    lidded and closed, some stacked on another box) and 5-9 cubes and mugs on the table, on boxes, in
-    boxes or in drawers. Goals: everything into the box of its colour with lids closed (``boxes``), one
+    lidded and closed, some stacked on another box) and 5-9 cubes and mugs on the table, on boxes (mugs
+    only: a GSR-Bench cube on a box can never be moved again), in boxes or in drawers. Goals: everything into the box of its colour with lids closed (``boxes``), one
     colour per drawer with every drawer closed (``drawers``), or cubes into boxes and mugs into the low
     drawer (``mixed``). The graph is built from GSR-Bench strings with graph_from_gsr_bench.
     """
@@ -189,6 +189,8 @@ def long_tabletop_task(seed: int) -> tuple[str, SceneGraph, Formula, int]:
             where = "on)table" if r < 0.6 else f"on){rng.choice(list(boxes.values()))}" if r < 0.7 else None
             if where is None:
                 where = f"in){rng.choice(list(boxes.values()) + drawers)}"
+            elif what == "cube" and where != "on)table":
+                where = "in" + where[2:]  # GSR-Bench never lets a cube off a box it lies on: cubes go in
             edges.append(f"{name}({where}")
         goal, targets = [], {}
         for name, c in objects:

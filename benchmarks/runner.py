@@ -170,7 +170,10 @@ def run_episode(
     executor: Executor | None = None,
 ) -> EpisodeResult:
     """Run one episode: ask the agent for steps until done, a rejected step, or the step limit."""
-    executor = executor or SymbolicExecutor()
+    if executor is None:
+        from benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
+
+        executor = GSRBenchExecutor() if task.suite in GSR_BENCH_SUITES else SymbolicExecutor()
     eseed = episode_seed(seed, task.id, trial)
     start = time.perf_counter()
     state = executor.reset(task, domain)

@@ -71,16 +71,21 @@ class ReasonKind(Enum):
     UNSATISFIED_PRECONDITION = "unsatisfied_precondition"
     EFFECT_MISMATCH = "effect_mismatch"
     GOAL_UNSATISFIED = "goal_unsatisfied"
+    RULE_VIOLATION = "rule_violation"  # a benchmark's own action rule (``rule`` names it), e.g. GSR-Bench's
 
 
 @dataclass(frozen=True, slots=True)
 class Reason:
-    """One problem: its kind, a human sentence, the failing literal (PDDL text) and witness bindings."""
+    """One problem: its kind, a human sentence, the failing literal (PDDL text) and witness bindings.
+
+    ``rule`` names the broken benchmark rule of a ``RULE_VIOLATION`` (``target_blocked`` ...).
+    """
 
     kind: ReasonKind
     detail: str
     literal: str | None = None
     bindings: tuple[tuple[str, str], ...] = ()
+    rule: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-friendly form."""
@@ -89,6 +94,8 @@ class Reason:
             out["literal"] = self.literal
         if self.bindings:
             out["bindings"] = dict(self.bindings)
+        if self.rule is not None:
+            out["rule"] = self.rule
         return out
 
     def __str__(self) -> str:

@@ -66,11 +66,32 @@ def _drawer_level(node: Node) -> int | None:
     return int(level)
 
 
+#: Graph metadata key naming the rule set of the scene's world (``gsr-bench``: GSR-Bench's validator).
+RULES_KEY = "rules"
+#: Categories of the surfaces everything stands on; only there may a GSR-Bench cube be picked from ``on``.
+BASE_SURFACES = frozenset({"table", "floor"})
+
+
 def static_facts(graph: SceneGraph) -> frozenset[Atom]:
-    """Affordances, colours, part_of, drawer ``above`` relations and the counter successor facts."""
+    """Affordances, colours, part_of, drawer ``above`` relations and the counter successor facts.
+
+    Also ``(base_surface x)`` for tables and floors, ``(full x)`` for a node in state ``full`` (a
+    GSR-Bench ``0=F`` table) and, when the graph's ``rules`` metadata is ``gsr-bench``,
+    ``(receives_uncovered x)`` for every other supporter: GSR-Bench accepts nothing onto a target
+    that has something on top.
+    """
     atoms: set[Atom] = {Atom("next", (a, b)) for a, b in itertools.pairwise(COUNTS)}
+    gsr_bench = graph.metadata.get(RULES_KEY) == "gsr-bench"
     for n in graph.nodes:
-        atoms.update(Atom(a, (n.id,)) for a in node_affordances(n))
+        aff = node_affordances(n)
+        atoms.update(Atom(a, (n.id,)) for a in aff)
+        base = n.category in BASE_SURFACES or bool(BASE_SURFACES & set(ancestors(n.category)))
+        if base:
+            atoms.add(Atom("base_surface", (n.id,)))
+        elif gsr_bench and "supporter" in aff:
+            atoms.add(Atom("receives_uncovered", (n.id,)))
+        if "full" in n.states:
+            atoms.add(Atom("full", (n.id,)))
         atoms.update(Atom("has_color", (n.id, c)) for c in node_colors(n))
         if n.parent is not None:
             atoms.add(Atom("part_of", (n.id, n.parent)))

@@ -4,6 +4,12 @@ Nodes are names with an optional state suffix (``table``, ``short_cabinet/drawer
 a ``parent/part`` name is an articulated part of ``parent``. Edges are ``source(relation)target``
 (``red_cube1(on)table``). Categories and colours come from the category registry; drawer levels
 from ``drawer_low`` / ``drawer_middle`` / ``drawer_high``.
+
+A ``0=<status>`` edge is the table's status in the benchmark's older text format (node ``0`` is the
+table; ``0=F``: the table is full, ``0=T``: it is not). Its validator rejects moves onto a full table;
+``0=F`` becomes the table node's state ``full`` (the 3D desk's messages carry no status edge). Graphs
+read here carry ``metadata["rules"] = "gsr-bench"``: the scene obeys GSR-Bench's action rules
+(:mod:`gsr.gsr_bench_rules`), which the tabletop domain's facts take into account.
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ from gsr.scene_graph import RELATIONS, Edge, Node, SceneGraph, format_validation
 from gsr.step import Step
 
 _NODE = re.compile(r"^\s*([^()\s]+)\s*(?:\(\s*([A-Za-z_]+)\s*\))?\s*$")
+_STATUS = re.compile(r"^\s*0\s*=\s*([A-Za-z]+)\s*$")
 _EDGE = re.compile(r"^\s*([^()\s]+?)\s*\(\s*([A-Za-z_]+)\s*\)\s*([^()\s]+?)\s*(?:\(\s*[A-Za-z_]+\s*\))?\s*$")
 #: States written as a suffix, in order of preference when a node has several.
 SUFFIX_STATES: tuple[str, ...] = ("open", "closed", "on", "off", "held")
@@ -99,7 +106,12 @@ def graph_from_gsr_bench(message: Mapping[str, Any]) -> SceneGraph:
         nodes.append(node_from_name(node_id, state, parent))
     edges: list[Edge] = []
     seen: set[tuple[str, str, str]] = set()
+    table_full = False
     for text in raw_edges:
+        status = _STATUS.match(text) if isinstance(text, str) else None
+        if status is not None:
+            table_full = status.group(1).upper() == "F"
+            continue
         source, relation, target = parse_edge(text)
         for end in (source, target):
             if end not in ids:
@@ -110,7 +122,14 @@ def graph_from_gsr_bench(message: Mapping[str, Any]) -> SceneGraph:
             continue  # repeated strings carry no information
         seen.add((source, relation, target))
         edges.append(Edge(source=source, relation=relation, target=target))
-    return SceneGraph(nodes=tuple(nodes), edges=tuple(edges))
+    if table_full:
+        if "table" not in ids:
+            raise GSRError("GSR-Bench scene graph: a 0=F table status but no 'table' node")
+        nodes = [
+            n.model_copy(update={"states": tuple(sorted({*n.states, "full"}))}) if n.id == "table" else n
+            for n in nodes
+        ]
+    return SceneGraph(nodes=tuple(nodes), edges=tuple(edges), metadata={"rules": "gsr-bench"})
 
 
 def node_text(node: Node) -> str:
@@ -123,10 +142,10 @@ def node_text(node: Node) -> str:
 
 def gsr_bench_message(graph: SceneGraph) -> dict[str, list[str]]:
     """The GSR-Bench ``{"nodes": [...], "edges": [...]}`` message of a graph (node and edge order kept)."""
-    return {
-        "nodes": [node_text(n) for n in graph.nodes],
-        "edges": [f"{e.source}({e.relation}){e.target}" for e in graph.edges],
-    }
+    edges = [f"{e.source}({e.relation}){e.target}" for e in graph.edges]
+    if any(n.id == "table" and "full" in n.states for n in graph.nodes):
+        edges.append("0=F")
+    return {"nodes": [node_text(n) for n in graph.nodes], "edges": edges}
 
 
 _MOVES = {"place_in": "in", "place_on": "on", "stack": "on"}

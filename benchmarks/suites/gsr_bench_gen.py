@@ -18,7 +18,7 @@ optimal plan needs more than 10 steps):
   lidded box with something on the lid, an open upper drawer and the table, into ``drawer_low``.
 * Goal-conditioned Generalization — abstract goals. Simple: ``put all items on the table into the
   C_box``. General: ``place the milk, the popcorn, and the book into different drawer layers`` with the
-  book in a closed lidded box under a cube and the top drawer open. Complex: ``Put all the cubes and mugs
+  book in a closed lidded box under a mug and the top drawer open. Complex: ``Put all the cubes and mugs
   into the drawers by color - one color per drawer level`` with objects in boxes and open drawers.
 """
 
@@ -238,7 +238,8 @@ def _gcg(c: _Config, level: int, rng: random.Random) -> str:
         lid = rng.choice(COLORS)
         c.add("boxes_with_lid", lid, state="closed")
         c.asset("yellow_book", "in", f"{lid}_lid_box")
-        c.add("cubes", rng.choice(COLORS), "on", f"{lid}_lid_box")
+        # a mug, not a cube, on the lid: GSR-Bench never lets a cube off anything but the table
+        c.add("mugs", rng.choice(COLORS), "on", f"{lid}_lid_box")
         c.asset("milk")
         c.asset("popcorn")
         c.add("mugs", rng.choice(COLORS))

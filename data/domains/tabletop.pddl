@@ -5,10 +5,15 @@
 ; (container x), (supporter x), (openable x), (switchable x), (pressable x), (pushable x),
 ; (stackable x), (counted x). The GSR-Bench validity rules are preconditions here:
 ;   * an object with something on top of it cannot be picked or opened;
+;   * an object inside a container that has something on top cannot be taken out;
+;   * a cube resting on anything but a base surface (the table) cannot be picked (GSR-Bench counts it
+;     among what covers its own support);
 ;   * a closed openable container must be open to put something in or take it out;
 ;   * a drawer is reachable (open, close, put in, take out) only while the drawers above it are closed;
-;   * no container goes inside a container;
-;   * nothing is placed on a cube or a mug (they are not supporters);
+;   * a container with something on top receives nothing, in or on; so does any (receives_uncovered)
+;     surface (every non-table support of a GSR-Bench scene);
+;   * no container goes inside or onto a container;
+;   * nothing is placed on a cube or a mug (they are not supporters), nor on a (full) table;
 ;   * a container takes a cube only while it holds fewer than 10 cubes.
 ; Cube capacity is counted without numeric fluents: (cube_count ?c ?n) over the count constants
 ; n0..n10 with the static successor relation (next ?n ?m), updated by conditional effects.
@@ -52,6 +57,9 @@
     (pushable ?x - thing)
     (stackable ?x - thing)
     (counted ?x - thing)
+    (base_surface ?x - thing)
+    (receives_uncovered ?x - thing)
+    (full ?x - thing)
     (part_of ?p - thing ?o - thing)
     (above ?upper - thing ?lower - thing)
     (has_color ?x - thing ?c - color)
@@ -77,6 +85,10 @@
       (not (exists (?z - thing) (on ?z ?o)))
       ; taking out of a closed container is impossible
       (imply (and (in ?o ?from) (openable ?from)) (open ?from))
+      ; ... and so is taking out of a container with something on top
+      (imply (in ?o ?from) (not (exists (?y - thing) (on ?y ?from))))
+      ; a cube on anything but a base surface is stuck
+      (imply (and (counted ?o) (on ?o ?from)) (base_surface ?from))
       ; a drawer is reachable only while the drawers above it are closed
       (imply (in ?o ?from) (not (exists (?d - thing) (and (above ?d ?from) (open ?d)))))
       ; a supporter inside a closed container is out of reach
@@ -98,6 +110,13 @@
       (supporter ?s)
       (not (= ?o ?s))
       (not (on ?o ?s))
+      (not (full ?s))
+      ; no container onto a container
+      (not (and (container ?o) (container ?s)))
+      ; a covered container or receives_uncovered surface takes nothing
+      (imply (or (container ?s) (receives_uncovered ?s)) (not (exists (?y - thing) (on ?y ?s))))
+      ; GSR-Bench: a closed lidded box takes nothing, not even on its lid
+      (imply (and (receives_uncovered ?s) (openable ?s)) (open ?s))
       (not (exists (?c - thing) (and (in ?s ?c) (openable ?c) (not (open ?c))))))
     :effect (and
       (not (holding ?o))
@@ -114,6 +133,8 @@
       (not (in ?o ?c))
       ; no container inside a container
       (not (container ?o))
+      ; a container with something on top takes nothing
+      (not (exists (?y - thing) (on ?y ?c)))
       ; a closed container must be opened first
       (imply (openable ?c) (open ?c))
       ; a drawer is reachable only while the drawers above it are closed

@@ -127,7 +127,8 @@ def test_forall_witness_and_deleting_hint(tabletop) -> None:
         d.message
         == "(pick red_box table): precondition (not (on blue_cube1 red_box)) is false: blue_cube1 is on red_box"
     )
-    assert d.hints[0] == "(pick blue_cube1 red_box) first (it deletes (on blue_cube1 red_box))"
+    # a GSR-Bench cube on a box is stuck there: the only achiever cannot apply
+    assert d.hints[0].startswith("(pick blue_cube1 red_box) deletes (on blue_cube1 red_box), but it needs")
 
 
 def test_drawer_hint_closes_the_drawer_above(tabletop) -> None:

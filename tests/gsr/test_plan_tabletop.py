@@ -80,7 +80,7 @@ def test_plan_graph_on_a_gsr_bench_scene() -> None:
     message = {
         "nodes": ["table", "short_cabinet", "short_cabinet/drawer_high(open)", "short_cabinet/drawer_low(closed)",
                   "red_cube1", "red_cube2", "blue_box"],
-        "edges": ["short_cabinet(on)table", "red_cube1(on)table", "red_cube2(on)blue_box", "blue_box(on)table"],
+        "edges": ["short_cabinet(on)table", "red_cube1(on)table", "red_cube2(in)blue_box", "blue_box(on)table"],
     }  # fmt: skip
     graph = graph_from_gsr_bench(message)
     drawer = "short_cabinet/drawer_low"

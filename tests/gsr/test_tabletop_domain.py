@@ -111,18 +111,18 @@ def test_cannot_open_a_lid_with_something_on_it(domain) -> None:
         nodes=(
             Node(id="table", category="table"),
             Node(id="box", category="lidded_box", states=("closed",)),
-            Node(id="cube", category="cube"),
+            Node(id="mug", category="mug"),
         ),
         edges=(
             Edge(source="box", relation="on", target="table"),
-            Edge(source="cube", relation="on", target="box"),
+            Edge(source="mug", relation="on", target="box"),
         ),
     )
     s = state_from_graph(g, domain)
     _rejected(domain, s, "open", "box")
-    _rejected(domain, _run(domain, s, ("pick", "cube", "box")), "open", "box")  # hand is full
-    s = _run(domain, s, ("pick", "cube", "box"), ("place_on", "cube", "table"), ("open", "box"))
-    _run(domain, s, ("pick", "cube", "table"), ("place_in", "cube", "box"), ("close", "box"))
+    _rejected(domain, _run(domain, s, ("pick", "mug", "box")), "open", "box")  # hand is full
+    s = _run(domain, s, ("pick", "mug", "box"), ("place_on", "mug", "table"), ("open", "box"))
+    _run(domain, s, ("pick", "mug", "table"), ("place_in", "mug", "box"), ("close", "box"))
 
 
 def test_cannot_place_into_a_closed_drawer(configs, domain) -> None:
@@ -155,11 +155,15 @@ def test_no_container_in_a_container(configs, domain) -> None:
     s = _run(domain, s, ("pick", "yellow_box", "red_box"))
     _rejected(domain, s, "place_in", "yellow_box", "blue_box")
     _rejected(domain, s, "place_in", "yellow_box", "short_cabinet/drawer_high")
-    _run(domain, s, ("place_on", "yellow_box", "blue_box"))  # boxes may be stacked on top of each other
+    _rejected(domain, s, "place_on", "yellow_box", "blue_box")  # nor onto one (GSR-Bench's validator)
+    _run(domain, s, ("place_on", "yellow_box", "table"))
 
 
 def test_nothing_on_a_cube_or_a_mug(configs, domain) -> None:
     s = state_from_graph(_graph(configs, 122), domain)
+    _rejected(domain, s, "pick", "milk", "blue_box")  # red_box lies on blue_box
+    s = _run(domain, s, ("pick", "yellow_box", "red_box"), ("place_on", "yellow_box", "table"))
+    s = _run(domain, s, ("pick", "red_box", "blue_box"), ("place_on", "red_box", "table"))
     s = _run(domain, s, ("pick", "milk", "blue_box"))
     _rejected(domain, s, "place_on", "milk", "red_cube1")
     _rejected(domain, s, "place_on", "milk", "red_mug1")
@@ -270,3 +274,49 @@ def test_semantics_apply_agrees_with_checker(configs, domain) -> None:
     via_check = _run(domain, s, ("pick", "red_cube1", "table"))
     assert via_apply.atoms == via_check.atoms
     assert Atom("hand_empty", ()) not in via_apply
+
+
+def _gsr_graph(nodes: list[str], edges: list[str]) -> SceneGraph:
+    from gsr.gsr_bench_format import graph_from_gsr_bench
+
+    return graph_from_gsr_bench({"nodes": nodes, "edges": edges})
+
+
+def test_a_covered_target_receives_nothing(domain) -> None:
+    g = _gsr_graph(
+        ["table", "red_box", "blue_box", "blue_mug1", "plate", "milk", "red_lid_box(closed)"],
+        ["red_box(on)table", "blue_box(on)red_box", "blue_mug1(on)table", "plate(on)table", "milk(on)plate",
+         "red_lid_box(on)table"],
+    )  # fmt: skip
+    s = _run(domain, state_from_graph(g, domain), ("pick", "blue_mug1", "table"))
+    _rejected(domain, s, "place_in", "blue_mug1", "red_box")  # blue_box lies on it
+    _rejected(domain, s, "place_on", "blue_mug1", "red_box")
+    _rejected(domain, s, "place_on", "blue_mug1", "plate")  # GSR-Bench: any covered target
+    _rejected(domain, s, "place_on", "blue_mug1", "red_lid_box")  # GSR-Bench: not even onto a closed lid
+    s = _run(domain, s, ("place_in", "blue_mug1", "blue_box"))
+    s = _run(
+        domain, s, ("pick", "milk", "plate"), ("place_on", "milk", "table"), ("pick", "blue_mug1", "blue_box")
+    )
+    _run(domain, s, ("place_on", "blue_mug1", "plate"))
+
+
+def test_a_cube_off_the_table_only_comes_out_of_an_uncovered_container(domain) -> None:
+    g = _gsr_graph(
+        ["table", "red_box", "blue_box", "red_cube1", "red_cube2", "red_mug1"],
+        ["red_box(on)table", "blue_box(on)table", "red_cube1(on)red_box", "red_cube2(in)blue_box",
+         "red_mug1(on)blue_box"],
+    )  # fmt: skip
+    s = state_from_graph(g, domain)
+    _rejected(
+        domain, s, "pick", "red_cube1", "red_box"
+    )  # GSR-Bench counts the cube among its support's covers
+    _rejected(domain, s, "pick", "red_cube2", "blue_box")  # red_mug1 covers blue_box
+    s = _run(domain, s, ("pick", "red_mug1", "blue_box"), ("place_on", "red_mug1", "table"))
+    _run(domain, s, ("pick", "red_cube2", "blue_box"), ("place_on", "red_cube2", "table"))
+
+
+def test_a_full_table_receives_nothing(domain) -> None:
+    g = _gsr_graph(["table", "red_box", "red_cube1"], ["red_box(on)table", "red_cube1(in)red_box", "0=F"])
+    s = _run(domain, state_from_graph(g, domain), ("pick", "red_cube1", "red_box"))
+    _rejected(domain, s, "place_on", "red_cube1", "table")
+    _run(domain, s, ("place_in", "red_cube1", "red_box"))
