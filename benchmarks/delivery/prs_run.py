@@ -54,7 +54,9 @@ def _init(data: str, tasks_file: str, captions: str, calibration: str = "auto") 
     if captions != "none":
         src = Path(data) / "delivery_tasks_dev.json" if captions == "dev" else Path(captions)
         caps = build_captions(station, load_tasks(src, station), labels)
+    _STATE.clear()
     _STATE.update(
+        key=(data, tasks_file, captions, calibration),
         station=station,
         tasks={t.request.task_id: t for t in tasks},
         objects=objects,
@@ -62,6 +64,23 @@ def _init(data: str, tasks_file: str, captions: str, calibration: str = "auto") 
         captions=caps,
         agent=PrsAgent(station, labels),
     )
+
+
+def ensure_state(data: str, tasks_file: str, captions: str = "dev", calibration: str = "auto") -> dict:
+    """The per-process station, tasks, inventory, captions and agent for a run (loaded once)."""
+    if _STATE.get("key") != (data, tasks_file, captions, calibration):
+        _init(data, tasks_file, captions, calibration)
+    return _STATE
+
+
+def task_ids() -> list[str]:
+    """The loaded run's task ids, in file order."""
+    return list(_STATE["tasks"])
+
+
+def run_one(task_id: str) -> dict:
+    """Run one task of the loaded run: its submission entry, record and trace."""
+    return _run_one(task_id)
 
 
 def _run_one(task_id: str) -> dict:

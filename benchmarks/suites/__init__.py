@@ -131,6 +131,11 @@ SUITES: dict[str, Suite] = {
             "in-building delivery (PRS-style): train 2000 / val 200 / test 1000 tasks, shipped building",
             episodes="benchmarks.delivery.suite:SUITE",
         ),
+        Suite(
+            "prs",
+            "the PRS delivery benchmark's own station, people and tasks (--source PRS data folder), PRS's rules",
+            episodes="benchmarks.delivery.prs_suite:SUITE",
+        ),
     )
 }
 

@@ -158,3 +158,18 @@ def test_prs_dev_subset_matches_prs_eval(shared_data: Path, tmp_path: Path) -> N
     check = compare(data / "eval.py", subset, run["submission"])
     assert check["equal"], check
     assert check["ours"]["Task SR"] >= 0.6
+
+
+def test_bench_run_prs_suite(folder: Path, tmp_path: Path) -> None:
+    from benchmarks.cli import run, summary_text
+
+    doc = run("prs", source=str(folder), limit=10, out=str(tmp_path / "bench"))
+    assert doc["suite"] == "prs" and len(doc["tasks"]) == 10
+    assert set(doc["submission"]) == {f"t{k}" for k in range(10)}
+    assert doc["metrics"]["Task SR"] == sum(t["success"] for t in doc["tasks"]) / 10
+    assert "Task SR" in summary_text(doc)
+    assert (tmp_path / "bench" / "results.json").is_file()
+    from gsr.errors import GSRError
+
+    with pytest.raises(GSRError, match="not a folder"):
+        run("prs", source=str(tmp_path / "missing"))
