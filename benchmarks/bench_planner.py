@@ -39,11 +39,17 @@ from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E40
 from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
 from gsr.plan import plan  # noqa: E402
 from gsr.plan.fast_downward import run_fast_downward  # noqa: E402
-from gsr.resources import shared_data_dir  # noqa: E402
+from gsr.resources import data_dir, shared_data_dir  # noqa: E402
 from gsr.scene_graph import SceneGraph  # noqa: E402
 from gsr.validate import validate_plan  # noqa: E402
 
-DATA = shared_data_dir()
+# the IPC sets: the reference folder's pddl/ when present, else the same three sets shipped as test fixtures
+PDDL = (
+    shared_data_dir() / "pddl"
+    if (shared_data_dir() / "pddl").is_dir()
+    else Path(__file__).resolve().parents[1] / "tests" / "fixtures" / "pddl"
+)
+LIBERO = data_dir() / "libero"  # the 40 shipped LIBERO task files
 IPC_SETS = ("blocks", "gripper", "miconic-simpleadl")
 TABLETOP_SETS = ("libero", "tabletop-long")
 SETS = IPC_SETS + TABLETOP_SETS
@@ -54,7 +60,7 @@ FD_MEMORY = "4G"  # the machine is shared; lama-first on the ADL tabletop tasks 
 
 def problems(domain_set: str) -> list[Path]:
     """Problem files of one IPC set, in a natural order (by size, then name)."""
-    folder = DATA / "pddl" / domain_set
+    folder = PDDL / domain_set
     files = [p for p in folder.glob("*.pddl") if p.name != "domain.pddl"]
     return sorted(files, key=lambda p: (len(p.stem), p.stem))
 
@@ -223,7 +229,7 @@ def tabletop_tasks(domain_set: str, count: int, seed: int) -> Iterator[tuple[str
 
     domain = load_builtin_domain("tabletop")
     if domain_set == "libero":
-        for bddl in sorted((DATA / "libero").rglob("*.bddl")):
+        for bddl in sorted(LIBERO.rglob("*.bddl")):
             yield f"{bddl.parent.name}/{bddl.name}", domain, libero_task(load_bddl(bddl), domain)[1]
     else:
         for name, graph, goal in long_tabletop_tasks(count, seed):
@@ -238,7 +244,7 @@ def bench_set(
 
     rows = []
     if domain_set in IPC_SETS:
-        domain_file = DATA / "pddl" / domain_set / "domain.pddl"
+        domain_file = PDDL / domain_set / "domain.pddl"
         tasks: Iterator = ((p.name, domain_file, p) for p in problems(domain_set))
     else:
         tasks = tabletop_tasks(domain_set, count, seed)

@@ -1,4 +1,4 @@
-"""RGB-D to grounded scene graph (see ARCHITECTURE.md and docs/perception.md). Depends on `gsr` only.
+"""RGB-D to grounded scene graph (see docs/architecture.md and docs/perception.md). Depends on `gsr` only.
 
 open3d is imported inside the functions that need it, so importing this package stays light.
 """

@@ -1,4 +1,4 @@
-"""PyBullet world and meta-skill library (see ARCHITECTURE.md and docs/skills.md).
+"""PyBullet world and meta-skill library (see docs/architecture.md and docs/skills.md).
 
 Heavy dependencies (pybullet, gymnasium) load lazily: ``import skills`` stays cheap, and attribute
 access (``skills.build_world``) imports the module that defines it.
