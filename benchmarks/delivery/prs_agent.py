@@ -27,6 +27,7 @@ from benchmarks.delivery.prs_parse import (
     words,
 )
 from gsr.building.prs import Cell, Person, Room, Station
+from gsr.building.prs_graph import station_graph
 
 #: An object whose caption shares at least this fraction of the request's attribute words is taken at once.
 GOOD_CAPTION = 0.5
@@ -52,6 +53,14 @@ class PrsAgent:
         self.station = station
         self.labels = sorted(labels)
         self.rooms = RoomMatcher(station)
+        # the station's scene graph (no objects, no people: what the robot knows a priori); its
+        # ``adjacent`` edges between rooms are the doorways the person search widens through
+        graph = station_graph(station)
+        self.neighbours: dict[str, list[str]] = {}
+        room_ids = {r.id.lower(): r.id for r in station.rooms}  # graph ids are lower case
+        for e in graph.edges:
+            if e.relation == "adjacent" and e.source in room_ids and e.target in room_ids:
+                self.neighbours.setdefault(room_ids[e.source], []).append(room_ids[e.target])
         self._components = {
             lvl: ndimage.label(f.walkable, structure=np.ones((3, 3), dtype=int))[0]
             for lvl, f in station.floors.items()
@@ -244,6 +253,7 @@ class PrsAgent:
         add([i for i in hints if i in now])
         add(now)
         add(hints)
+        add([n for r in now for n in self.neighbours.get(r, [])])  # through a doorway
         add(sched(hour + 1) + sched(hour - 1))
         add(own)
         here = env.cell

@@ -80,3 +80,20 @@ def test_prs_dev_person_positions_fall_in_scheduled_rooms(shared_data: Path) -> 
     calibrate_station(half, obs[::2])
     h, n = schedule_agreement(half, obs[1::2])
     assert h / n >= 0.9
+
+
+def test_station_scene_graph(folder: Path) -> None:
+    from gsr.building.prs_graph import room_adjacency, station_graph
+
+    st = load_station(folder)
+    g = station_graph(
+        st, objects=[{"id": "RedApple_1", "category": "RedApple", "receptacle": "F0.rec0", "room": "F0.room0"}],
+        people_rooms={1: "F0.room1"},
+    )  # fmt: skip
+    ids = {n.id for n in g.nodes}  # scene-graph ids are lower case
+    assert {"station", "floor_0", "f0.room0", "f0.corridor1", "person_1", "redapple_1"} <= ids
+    rels = {(e.source, e.relation, e.target) for e in g.edges}
+    assert ("f0.room0", "adjacent", "f0.corridor1") in rels and ("redapple_1", "on", "f0.rec0") in rels
+    assert ("F0.room0", "F0.room1") not in room_adjacency(st)  # a wall between them, no doorway
+    kitchen = next(n for n in g.nodes if n.id == "f0.room0")
+    assert kitchen.bbox is not None and kitchen.bbox.min.x == pytest.approx(-5 + 0.3 * 0.5, abs=1.0)
