@@ -155,24 +155,30 @@ def demo_cmd(
 
 @app.command("serve")
 def serve_cmd(
-    host: Annotated[str, typer.Option(help="Interface to bind.")] = "127.0.0.1",
+    host: Annotated[
+        str, typer.Option(help="Interface to bind (not loopback: needs API keys or --insecure).")
+    ] = "127.0.0.1",
     port: Annotated[int, typer.Option(help="TCP port.")] = 8000,
-    workers: Annotated[int, typer.Option(help="uvicorn worker processes.")] = 1,
-    max_plan_seconds: Annotated[float | None, typer.Option(help="Planner budget per request (s).")] = None,
-    max_concurrent: Annotated[int | None, typer.Option(help="Heavy requests running at once.")] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(help="uvicorn worker processes (default: GSR_SERVICE_WORKERS or one per core, max 4)."),
+    ] = None,
+    api_key_file: Annotated[
+        Path | None, typer.Option(help="File of API keys, one per line (also GSR_SERVICE_API_KEYS).")
+    ] = None,
+    insecure: Annotated[bool, typer.Option(help="Allow a non-loopback bind without API keys.")] = False,
+    log_json: Annotated[bool, typer.Option(help="Log one JSON object per line.")] = False,
+    max_plan_seconds: Annotated[
+        float | None, typer.Option(help="Time budget per plan/solve request (s).")
+    ] = None,
+    max_concurrent: Annotated[int | None, typer.Option(help="In-process requests computing at once.")] = None,
 ) -> None:
-    """Serve the HTTP reasoning API (OpenAPI at /openapi.json); limits also from GSR_SERVICE_* variables."""
-    import os
-
+    """Serve the HTTP reasoning API (docs/service.md); keys and limits also from GSR_SERVICE_* variables."""
     try:
-        import uvicorn
+        from gsr.service.serve import serve
     except ImportError:
         raise _fail("the service needs the 'serve' extra: pip install 'gsr[serve]'") from None
-    if max_plan_seconds is not None:
-        os.environ["GSR_SERVICE_MAX_PLAN_SECONDS"] = str(max_plan_seconds)
-    if max_concurrent is not None:
-        os.environ["GSR_SERVICE_MAX_CONCURRENT"] = str(max_concurrent)
-    uvicorn.run("gsr.service.asgi:app", host=host, port=port, workers=workers, log_level="warning")
+    serve(host, port, workers, api_key_file, insecure, log_json, max_plan_seconds, max_concurrent)
 
 
 @app.command("perceive")

@@ -1,336 +1,316 @@
 """The reasoning API over HTTP (FastAPI): a thin layer over gsr's check, validate, plan and ground.
 
-Every error a client can cause is a structured 4xx ``{"error": {"type", "message", ...}}``: malformed
-JSON (400), a body over the size limit (413), invalid graphs/PDDL/steps/instructions (422), no free
-worker slot in time (503). CPU-heavy handlers run in worker threads behind a semaphore.
+Every error a client can cause is a structured 4xx ``{"error": {"type", "message", ...}}`` with the
+request id; a refusal by a limit names the limit's variable. Where a request runs:
+
+- check / validate over a built-in domain, scene storage: in this process (bounded by the size
+  limits); small ones inline, larger ones in a thread, at most ``max_concurrent`` at once;
+- plan, solve, ground, and anything over user PDDL: in an isolated worker process that is killed
+  when the request's time budget runs out (``gsr.service.pool``).
 """
 
 from __future__ import annotations
 
 import asyncio
-import hashlib
+import logging
 import time
-from collections.abc import Awaitable, Callable
-from functools import lru_cache
+from contextlib import asynccontextmanager
 from typing import Any
 
 from fastapi import FastAPI, Request
-from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, PlainTextResponse
+from pydantic import BaseModel, TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from gsr.errors import GSRError
+from gsr.service.handlers import (
+    ApiError,
+    Scene,
+    api_error_from,
+    check_scene_size,
+    error_body,
+    list_domains,
+    run_handler,
+    scene_summary,
+)
+from gsr.service.metrics import Metrics
+from gsr.service.middleware import ServiceMiddleware, rejection_reason
+from gsr.service.pool import IsolatedPool
+from gsr.service.scenes import SceneStore
 from gsr.service.schemas import (
     CheckRequest,
-    DomainRef,
     GroundRequest,
     PlanRequest,
     SolveRequest,
-    StepIn,
-    TaskIn,
     ValidateRequest,
 )
 from gsr.service.settings import ServiceSettings
 
-
-class ApiError(Exception):
-    """An error answered with ``status`` and a structured body."""
-
-    def __init__(self, status: int, kind: str, message: str, **details: Any) -> None:
-        super().__init__(message)
-        self.status, self.kind, self.message, self.details = status, kind, message, details
-
-
-def _error_body(kind: str, message: str, **details: Any) -> dict[str, Any]:
-    return {"error": {"type": kind, "message": message, **details}}
-
-
-# ------------------------------------------------------------------ inputs
-
-
-@lru_cache(maxsize=32)
-def _parse_domain_text(digest: str, text: str):  # digest keys the cache without hashing long text twice
-    from gsr.pddl.parser import parse_domain
-
-    return parse_domain(text, source="domain_pddl")
+log = logging.getLogger("gsr.service")
+_OBJECT = TypeAdapter(dict[str, Any])
+INLINE_NODES = 64  # a request over a scene this small (and a short plan) is computed on the event loop
+INLINE_STEPS = 32
+ROUTES = (
+    "/health",
+    "/metrics",
+    "/v1/domains",
+    "/v1/check",
+    "/v1/validate",
+    "/v1/plan",
+    "/v1/ground",
+    "/v1/solve",
+    "/v1/scene-graph/validate",
+    "/v1/scenes",
+    "/openapi.json",
+    "/docs",
+)
 
 
-def _domain(ref: DomainRef):
-    from gsr.resources import load_builtin_domain
-
-    if ref.domain_pddl is not None:
-        return _parse_domain_text(hashlib.sha1(ref.domain_pddl.encode()).hexdigest(), ref.domain_pddl)
-    return load_builtin_domain(ref.domain)
-
-
-def _graph(data: dict[str, Any], field: str = "scene_graph"):
-    from gsr.io import scene_from_data
-
-    return scene_from_data(data, source=field)
+def _route_of(path: str) -> str:
+    if path in ROUTES:
+        return path
+    if path.startswith("/v1/scenes/"):
+        return "/v1/scenes/{scene_id}"
+    return "other"
 
 
-def _step(value: str | StepIn, where: str = "step"):
-    from gsr.pddl.parser import parse_atom
-    from gsr.plan_format import parse_plan
-    from gsr.step import Step
-
-    if isinstance(value, StepIn):
-
-        def atoms(texts: list[str] | None) -> tuple | None:
-            return None if texts is None else tuple(parse_atom(t, source=where) for t in texts)
-
-        return Step(
-            value.action.lower(), tuple(a.lower() for a in value.args), atoms(value.add), atoms(value.delete)
-        )
-    steps = parse_plan(value, source=where).steps
-    if len(steps) != 1:
-        raise ApiError(422, "invalid_step", f"{where}: expected exactly one step, got {len(steps)}")
-    return steps[0]
-
-
-def _task(req: TaskIn):
-    """(domain, problem) from a PDDL problem or from scene graph + goal."""
-    from gsr.facts import problem_from_graph
-    from gsr.pddl.parser import parse_formula, parse_problem
-
-    domain = _domain(req)
-    if req.problem_pddl is not None:
-        return domain, parse_problem(req.problem_pddl, source="problem_pddl", domain=domain)
-    if req.scene_graph is None or req.goal is None:
-        raise ApiError(422, "invalid_request", "give either problem_pddl, or scene_graph and goal")
-    goal = parse_formula(req.goal, source="goal")
-    return domain, problem_from_graph(_graph(req.scene_graph), goal, domain=domain)
-
-
-def _plan_result_dict(result) -> dict[str, Any]:
-    return {
-        "status": result.status,
-        "plan": None if result.plan is None else [str(s) for s in result.plan],
-        "cost": result.cost,
-        "expanded": result.expanded,
-        "generated": result.generated,
-        "time": result.time,
-        "planner": result.planner,
-        "message": result.message,
-    }
-
-
-# ------------------------------------------------------------------ handlers (sync, run in threads)
-
-
-def handle_check(req: CheckRequest) -> dict[str, Any]:
-    """Check one step against a scene graph."""
-    from gsr.check import check_step
-    from gsr.facts import state_from_graph
-
-    domain = _domain(req)
-    graph = _graph(req.scene_graph)
-    return check_step(domain, state_from_graph(graph, domain), _step(req.step)).to_dict()
-
-
-def handle_validate(req: ValidateRequest, settings: ServiceSettings) -> dict[str, Any]:
-    """Validate a plan against a task."""
-    from gsr.plan_format import parse_plan
-    from gsr.step import Plan
-    from gsr.validate import validate_plan
-
-    domain, problem = _task(req)
-    if isinstance(req.plan, str):
-        plan = parse_plan(req.plan, source="plan")
-    else:
-        plan = Plan(tuple(_step(s, where=f"plan[{i}]") for i, s in enumerate(req.plan)))
-    if len(plan) > settings.max_steps:
+def _parse(body: bytes, model: type[BaseModel] | TypeAdapter) -> Any:
+    """The body validated against ``model``: 400 for bad or too deeply nested JSON, 422 for bad fields."""
+    try:
+        if isinstance(model, TypeAdapter):
+            return model.validate_json(body)
+        return model.model_validate_json(body)
+    except ValidationError as exc:
+        errors = exc.errors(include_url=False, include_context=False, include_input=False)
+        if any(e["type"] == "json_invalid" for e in errors):
+            msg = errors[0]["msg"]
+            if "recursion limit" in msg:
+                raise ApiError(
+                    400, "json_too_deep", "request body is nested too deeply", limit="json_depth"
+                ) from None
+            raise ApiError(400, "invalid_json", f"request body is not valid JSON: {msg}") from None
+        fields = [
+            {"field": ".".join(str(p) for p in e.get("loc", ())) or "body", "message": e.get("msg", "")}
+            for e in errors
+        ]
+        first = fields[0]
         raise ApiError(
-            422, "too_many_steps", f"plan has {len(plan)} steps; the limit is {settings.max_steps}"
-        )
-    return validate_plan(domain, problem, plan).to_dict()
+            422, "invalid_request", f"{first['field']}: {first['message']}", errors=fields
+        ) from None
 
 
-def handle_plan(req: PlanRequest, settings: ServiceSettings) -> dict[str, Any]:
-    """Plan a task within the server's time budget."""
-    from gsr.plan import PLANNERS, plan
-
-    if req.planner not in PLANNERS or req.planner == "fd":
-        offered = ", ".join(p for p in PLANNERS if p != "fd")
-        raise ApiError(422, "unknown_planner", f"unknown planner {req.planner!r}; choose one of {offered}")
-    timeout = min(req.timeout or settings.max_plan_seconds, settings.max_plan_seconds)
-    domain, problem = _task(req)
-    return _plan_result_dict(plan(domain, problem, planner=req.planner, timeout=timeout))
-
-
-def handle_ground(req: GroundRequest) -> dict[str, Any]:
-    """Ground an instruction into a goal formula over the graph."""
-    from gsr.language import ground
-    from gsr.pddl.writer import write_formula
-
-    goal = ground(req.instruction, _graph(req.scene_graph))
-    return {"goal": write_formula(goal.formula), "instruction": req.instruction}
-
-
-def handle_solve(req: SolveRequest, settings: ServiceSettings) -> dict[str, Any]:
-    """Instruction -> goal -> checked steps, through the reasoner loop with a server-approved backend."""
-    from gsr.reason import MODES, solve
-
-    if req.backend not in settings.backends:
-        offered = ", ".join(settings.backends)
-        raise ApiError(
-            422, "unknown_backend", f"backend {req.backend!r} is not offered here (offered: {offered})"
-        )
-    if req.mode not in MODES:
-        raise ApiError(422, "unknown_mode", f"unknown mode {req.mode!r}; choose one of {', '.join(MODES)}")
-    timeout = min(req.timeout or settings.max_plan_seconds, settings.max_plan_seconds)
-    result = solve(
-        _graph(req.scene_graph), req.instruction, backend=req.backend, mode=req.mode, planner_timeout=timeout
-    )
-    return result.to_dict()
-
-
-def handle_scene_graph(data: dict[str, Any]) -> dict[str, Any]:
-    """Validate a scene graph and list the atoms it entails."""
-    from gsr.facts import facts
-
-    graph = _graph(data, field="body")
-    return {
-        "valid": True,
-        "nodes": len(graph.nodes),
-        "edges": len(graph.edges),
-        "facts": sorted(map(str, facts(graph))),
-    }
-
-
-def list_domains() -> list[dict[str, Any]]:
-    """The built-in domains with their action signatures."""
-    from gsr.diagnosis import typed_text
-    from gsr.resources import data_dir, load_builtin_domain
-
-    out = []
-    for path in sorted((data_dir() / "domains").glob("*.pddl")):
-        domain = load_builtin_domain(path.stem)
-        actions = [f"({a.name} {typed_text(a.params)})".replace(" )", ")") for a in domain.actions.values()]
-        out.append(
-            {
-                "name": path.stem,
-                "pddl_name": domain.name,
-                "actions": actions,
-                "predicates": len(domain.predicates),
-            }
-        )
-    return out
-
-
-# ------------------------------------------------------------------ app
+def _small(data: Any, steps: int = 0) -> bool:
+    nodes = data.get("nodes") if isinstance(data, dict) else None
+    return isinstance(nodes, list) and len(nodes) <= INLINE_NODES and steps <= INLINE_STEPS
 
 
 def create_app(settings: ServiceSettings | None = None) -> FastAPI:
-    """The FastAPI application with limits from ``settings`` (defaults: ServiceSettings())."""
+    """The FastAPI application with keys and limits from ``settings`` (defaults: ServiceSettings())."""
     from gsr import __version__
 
     settings = settings or ServiceSettings()
+    state_dir = settings.state_path
+    metrics = Metrics(state_dir / "metrics")
+    scenes = SceneStore(
+        settings,
+        state_dir / "scenes",
+        on_lookup=lambda result: metrics.inc("gsr_scene_cache_total", result=result),
+    )
+    pool = IsolatedPool(settings, on_event=lambda why: metrics.inc("gsr_worker_restarts_total", reason=why))
+    slots = asyncio.Semaphore(max(settings.max_concurrent, 0))
+
+    @asynccontextmanager
+    async def lifespan(_: FastAPI):
+        warming = asyncio.create_task(pool.warm()) if settings.warm_workers else None
+        yield
+        if warming is not None and not warming.done():
+            warming.cancel()
+        pool.close()
+        metrics.write_snapshot()
+
     app = FastAPI(
         title="GSR reasoning API",
         version=__version__,
         description="Check steps, validate plans, plan and ground instructions over grounded scene graphs.",
+        lifespan=lifespan,
     )
-    slots = asyncio.Semaphore(settings.max_concurrent)
-    app.state.settings = settings
+    app.state.settings, app.state.metrics, app.state.pool, app.state.scenes = settings, metrics, pool, scenes
 
-    async def heavy(fn: Callable[..., dict[str, Any]], *args: Any) -> dict[str, Any]:
+    def scene_source(req: Any, parse_here: bool) -> Scene | dict[str, Any] | None:
+        """The stored scene, or the inline graph checked for size: parsed (and cached by content)
+        when it is computed here, else as data for the worker process to parse."""
+        if getattr(req, "scene_id", None) is not None:
+            if req.scene_graph is not None:
+                raise ApiError(422, "invalid_request", "give scene_graph or scene_id, not both")
+            return scenes.get(req.scene_id)
+        if req.scene_graph is None:
+            return None
+        check_scene_size(req.scene_graph, settings)
+        if parse_here and _small(req.scene_graph):
+            return scenes.inline(req.scene_graph)
+        return req.scene_graph
+
+    async def in_process(name: str, req: Any, source: Any, steps: int = 0) -> dict[str, Any]:
+        def job() -> dict[str, Any]:
+            return run_handler(name, req, settings, source)
+
+        if isinstance(source, Scene):
+            small = len(source.graph.nodes) <= INLINE_NODES and steps <= INLINE_STEPS
+        else:
+            small = source is None or _small(source, steps)
+        if small:
+            return job()
         try:
             await asyncio.wait_for(slots.acquire(), timeout=settings.queue_timeout)
         except TimeoutError:
-            raise ApiError(503, "busy", "all workers are busy; retry later", retry_after=1) from None
+            err = ApiError(
+                429,
+                "busy",
+                "all in-process slots are busy; retry later",
+                limit="GSR_SERVICE_MAX_CONCURRENT",
+                max=settings.max_concurrent,
+                retry_after=1,
+            )
+            raise err from None
         try:
-            return await run_in_threadpool(fn, *args)
+            return await run_in_threadpool(job)
         finally:
             slots.release()
 
-    @app.middleware("http")
-    async def limit_body(request: Request, call_next: Callable[[Request], Awaitable[Any]]) -> Any:
-        declared = request.headers.get("content-length")
-        if declared is not None and (not declared.isdigit() or int(declared) > settings.max_body_bytes):
-            return JSONResponse(
-                _error_body("body_too_large", f"request body over {settings.max_body_bytes} bytes"),
-                status_code=413,
-            )
-        if request.method == "POST" and declared is None:  # chunked upload: count what arrives
-            body = b""
-            async for chunk in request.stream():
-                body += chunk
-                if len(body) > settings.max_body_bytes:
-                    return JSONResponse(
-                        _error_body("body_too_large", f"request body over {settings.max_body_bytes} bytes"),
-                        status_code=413,
-                    )
-            request._body = body  # starlette re-reads the cached body downstream
-        return await call_next(request)
+    async def isolated(name: str, req: Any, source: Any) -> dict[str, Any]:
+        timeout = getattr(req, "timeout", None)
+        budget = min(timeout or settings.max_plan_seconds, settings.max_plan_seconds)
+        return await pool.run(name, req, source, budget * 1.25 + 1.0)  # the planner stops itself first
 
-    @app.exception_handler(ApiError)
-    async def api_error(_: Request, exc: ApiError) -> JSONResponse:
-        headers = {"Retry-After": str(exc.details["retry_after"])} if "retry_after" in exc.details else None
-        return JSONResponse(_error_body(exc.kind, exc.message, **exc.details), exc.status, headers=headers)
+    # ------------------------------------------------------------------ errors
 
-    @app.exception_handler(GSRError)
-    async def gsr_error(_: Request, exc: GSRError) -> JSONResponse:
-        extra: dict[str, Any] = {}
-        for attr in ("unknown_words", "candidates"):  # grounding errors carry these
-            value = getattr(exc, attr, None)
-            if value:
-                extra[attr] = value if isinstance(value, list | dict | str) else list(value)
-        return JSONResponse(_error_body(type(exc).__name__, str(exc), **extra), status_code=422)
-
-    @app.exception_handler(RequestValidationError)
-    async def bad_request(_: Request, exc: RequestValidationError) -> JSONResponse:
-        errors = [
-            {
-                "field": ".".join(str(p) for p in e.get("loc", ()) if p != "body") or "body",
-                "message": e.get("msg", ""),
-            }
-            for e in exc.errors()
-        ]
-        if any(e.get("type") == "json_invalid" for e in exc.errors()):
-            return JSONResponse(
-                _error_body("invalid_json", "request body is not valid JSON", errors=errors), 400
-            )
-        return JSONResponse(
-            _error_body("invalid_request", errors[0]["message"] if errors else "", errors=errors), 422
+    def _answer(request: Request, err: ApiError) -> JSONResponse:
+        if err.status in (401, 413, 429) or "limit" in err.details:
+            metrics.inc("gsr_rejections_total", reason=rejection_reason(err.kind, err.details))
+        headers = {"Retry-After": str(err.details["retry_after"])} if "retry_after" in err.details else None
+        body = error_body(
+            err.kind, err.message, **err.details, request_id=request.scope["state"].get("request_id")
         )
+        return JSONResponse(body, err.status, headers=headers)
+
+    @app.exception_handler(Exception)
+    async def any_error(request: Request, exc: Exception) -> JSONResponse:
+        err = api_error_from(exc)
+        if err is not None:
+            return _answer(request, err)
+        rid = request.scope.get("state", {}).get("request_id")
+        log.error("internal error on %s", request.url.path, exc_info=exc, extra={"request_id": rid})
+        return JSONResponse(
+            error_body("internal_error", "the server failed on this request; see its log", request_id=rid),
+            500,
+        )
+
+    for kind in (ApiError, GSRError, RecursionError, MemoryError):  # answered here, not re-raised
+        app.add_exception_handler(kind, any_error)
+
+    @app.exception_handler(StarletteHTTPException)
+    async def http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        kind = {404: "not_found", 405: "method_not_allowed"}.get(exc.status_code, "http_error")
+        return _answer(request, ApiError(exc.status_code, kind, str(exc.detail)))
+
+    # ------------------------------------------------------------------ endpoints
+
+    def body_of(model: type[BaseModel]) -> dict[str, Any]:
+        ref = {"$ref": f"#/components/schemas/{model.__name__}"}
+        return {"requestBody": {"required": True, "content": {"application/json": {"schema": ref}}}}
 
     @app.get("/health")
     async def health() -> dict[str, Any]:
+        """Liveness (no API key needed)."""
         return {"status": "ok", "version": __version__, "time": time.time()}
+
+    @app.get("/metrics", response_class=PlainTextResponse)
+    async def metrics_endpoint() -> PlainTextResponse:
+        """Prometheus text format: requests, latency histograms, rejections by reason, worker restarts."""
+        text = await run_in_threadpool(metrics.render)
+        return PlainTextResponse(text, media_type="text/plain; version=0.0.4; charset=utf-8")
 
     @app.get("/v1/domains")
     async def domains() -> list[dict[str, Any]]:
+        """The built-in domains with their action signatures."""
         return await run_in_threadpool(list_domains)
 
-    @app.post("/v1/check")
-    async def check(req: CheckRequest) -> dict[str, Any]:
-        """Check one step against a scene graph: 200 with ``ok`` and the diagnosis."""
-        return await heavy(handle_check, req)
+    @app.post("/v1/check", openapi_extra=body_of(CheckRequest))
+    async def check(request: Request) -> dict[str, Any]:
+        """Check one step against a scene graph (inline or ``scene_id``): 200 with ``ok`` and the diagnosis."""
+        req = _parse(await request.body(), CheckRequest)
+        here = req.domain_pddl is None
+        source = scene_source(req, here)
+        if source is None:
+            raise ApiError(422, "invalid_request", "give scene_graph or scene_id")
+        if not here:
+            return await isolated("check", req, source)
+        return await in_process("check", req, source)
 
-    @app.post("/v1/validate")
-    async def validate(req: ValidateRequest) -> dict[str, Any]:
+    @app.post("/v1/validate", openapi_extra=body_of(ValidateRequest))
+    async def validate(request: Request) -> dict[str, Any]:
         """Validate a plan: 200 with ``valid``, per-step diagnoses and unmet goal literals."""
-        return await heavy(handle_validate, req, settings)
+        req = _parse(await request.body(), ValidateRequest)
+        here = req.domain_pddl is None and req.problem_pddl is None
+        source = scene_source(req, here)
+        if not here:
+            return await isolated("validate", req, source)
+        steps = len(req.plan) if isinstance(req.plan, list) else req.plan.count("(")
+        return await in_process("validate", req, source, steps)
 
-    @app.post("/v1/plan")
-    async def plan_endpoint(req: PlanRequest) -> dict[str, Any]:
+    @app.post("/v1/plan", openapi_extra=body_of(PlanRequest))
+    async def plan_endpoint(request: Request) -> dict[str, Any]:
         """Plan a PDDL problem or a scene graph + goal within the server's time budget."""
-        return await heavy(handle_plan, req, settings)
+        req = _parse(await request.body(), PlanRequest)
+        return await isolated("plan", req, scene_source(req, parse_here=False))
 
-    @app.post("/v1/ground")
-    async def ground_endpoint(req: GroundRequest) -> dict[str, Any]:
+    @app.post("/v1/ground", openapi_extra=body_of(GroundRequest))
+    async def ground_endpoint(request: Request) -> dict[str, Any]:
         """Ground an instruction to a goal formula (422 names unknown words or ambiguous objects)."""
-        return await heavy(handle_ground, req)
+        req = _parse(await request.body(), GroundRequest)
+        return await isolated("ground", req, scene_source(req, parse_here=False))
 
-    @app.post("/v1/solve")
-    async def solve(req: SolveRequest) -> dict[str, Any]:
+    @app.post("/v1/solve", openapi_extra=body_of(SolveRequest))
+    async def solve(request: Request) -> dict[str, Any]:
         """Instruction -> goal -> plan, every step checked."""
-        return await heavy(handle_solve, req, settings)
+        req = _parse(await request.body(), SolveRequest)
+        return await isolated("solve", req, scene_source(req, parse_here=False))
 
     @app.post("/v1/scene-graph/validate")
-    async def scene_graph_validate(body: dict[str, Any]) -> dict[str, Any]:
+    async def scene_graph_validate(request: Request) -> dict[str, Any]:
         """Validate a scene graph (JSON or GSR-Bench message); 422 names the offending field."""
-        return await heavy(handle_scene_graph, body)
+        data = _parse(await request.body(), _OBJECT)
+        check_scene_size(data, settings, "body")
+        return scene_summary(
+            scenes.inline(data, "body") if _small(data) else Scene.from_data(data, settings, "body")
+        )
 
+    @app.post("/v1/scenes", status_code=201)
+    async def store_scene(request: Request) -> dict[str, Any]:
+        """Store a scene graph; answer its ``scene_id`` for /v1/check and /v1/validate."""
+        data = _parse(await request.body(), _OBJECT)
+        check_scene_size(data, settings, "body")
+        scene_id, scene = scenes.put(data)
+        return {"scene_id": scene_id, "nodes": len(scene.graph.nodes), "edges": len(scene.graph.edges)}
+
+    @app.get("/v1/scenes/{scene_id}")
+    async def get_scene(scene_id: str) -> dict[str, Any]:
+        """A stored scene's node/edge counts and the atoms it entails (404 ``unknown_scene``)."""
+        return {"scene_id": scene_id, **scene_summary(scenes.get(scene_id))}
+
+    default_openapi = app.openapi
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            spec = default_openapi()  # caches itself in app.openapi_schema
+            components = spec.setdefault("components", {}).setdefault("schemas", {})
+            for model in (CheckRequest, ValidateRequest, PlanRequest, GroundRequest, SolveRequest):
+                schema = model.model_json_schema(ref_template="#/components/schemas/{model}")
+                components.update(schema.pop("$defs", {}))
+                components[model.__name__] = schema
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
+    app.add_middleware(ServiceMiddleware, settings=settings, metrics=metrics, route_of=_route_of)
     return app

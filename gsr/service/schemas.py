@@ -28,9 +28,12 @@ class DomainRef(BaseModel):
 
 
 class CheckRequest(DomainRef):
-    """POST /v1/check: one step against a scene graph."""
+    """POST /v1/check: one step against a scene graph (inline, or stored with POST /v1/scenes)."""
 
-    scene_graph: dict[str, Any] = Field(description="scene-graph JSON or a GSR-Bench message {nodes, edges}")
+    scene_graph: dict[str, Any] | None = Field(
+        default=None, description="scene-graph JSON or a GSR-Bench message {nodes, edges}"
+    )
+    scene_id: str | None = Field(default=None, description="a scene stored with POST /v1/scenes")
     step: str | StepIn = Field(description="'(pick red_cube1 table)' or a StepIn object")
 
 
@@ -39,6 +42,7 @@ class TaskIn(DomainRef):
 
     problem_pddl: str | None = Field(default=None, description="a PDDL problem as text")
     scene_graph: dict[str, Any] | None = None
+    scene_id: str | None = Field(default=None, description="a scene stored with POST /v1/scenes")
     goal: str | None = Field(default=None, description="PDDL goal formula over the graph's node ids")
 
 
