@@ -379,11 +379,15 @@ def delivery_prs(
             help="Object captions for the sensor: dev (the data folder's dev tasks), none, or a task file."
         ),
     ] = "dev",
+    crossfit: Annotated[
+        int,
+        typer.Option(help="K >= 2: K-fold estimate (calibration, captions from the other folds); 0: off."),
+    ] = 0,
 ) -> None:
     """Run the PRS delivery benchmark in the offline PRS environment, scored by PRS's rules."""
     from benchmarks.delivery.prs_cli import prs_command
 
-    raise typer.Exit(prs_command(data, tasks, out, workers, captions))
+    raise typer.Exit(prs_command(data, tasks, out, workers, captions, crossfit))
 
 
 @delivery_app.command("schedule")
@@ -440,7 +444,7 @@ def bench_list_cmd() -> None:
 @bench_app.command("run")
 def bench_run_cmd(
     suite: Annotated[
-        str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench, tasks or delivery.")
+        str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench, tasks, delivery or prs.")
     ],
     source: Annotated[
         str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder, delivery building JSON).")

@@ -14,7 +14,16 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from benchmarks.delivery.prs_env import REACH_M, ActionError, Observation, PrsEnv, SeenObject, SeenPerson
+from benchmarks.delivery.prs_env import (
+    REACH_M,
+    SENSOR_RANGE_M,
+    ActionError,
+    Observation,
+    PrsEnv,
+    SeenObject,
+    SeenPerson,
+    line_of_sight,
+)
 from benchmarks.delivery.prs_parse import (
     STOP,
     ParsedRequest,
@@ -31,6 +40,8 @@ from gsr.building.prs_graph import station_graph
 
 #: An object whose caption shares at least this fraction of the request's attribute words is taken at once.
 GOOD_CAPTION = 0.5
+#: A room whose free cells the first viewpoint sees at least this fraction of gets no second look.
+COVERAGE = 0.9
 
 
 @dataclass
@@ -305,8 +316,8 @@ class PrsAgent:
             env.give_up(out.reason)
 
     def _viewpoints(self, env: PrsEnv, room: Room) -> list[Cell]:
-        """Up to two standing cells covering a room: the free cell nearest its centre, then the free cell
-        farthest from that one."""
+        """Standing cells covering a room: the free cell nearest its centre, then -- only when the map says
+        that cell does not see ``COVERAGE`` of the room's free cells -- the free cell farthest from it."""
         i0, i1, j0, j1 = room.box
         centre = ((i0 + i1) // 2, (j0 + j1) // 2)
         first = self.stand_near(env, (centre[0], centre[0], centre[1], centre[1]), room.id)
@@ -316,6 +327,14 @@ class PrsAgent:
         k = next(n for n, r in enumerate(self.station.rooms) if r.id == room.id)
         comp = self._components[env.floor]
         cells = np.argwhere(floor.walkable & (floor.room_of == k) & (comp == comp[env.cell]))
+        blocked = floor.grid == 0
+        reach = SENSOR_RANGE_M / env.cell_size
+        seen = sum(
+            math.dist(first, c) <= reach and line_of_sight(blocked, first, (int(c[0]), int(c[1])))
+            for c in cells
+        )
+        if seen >= COVERAGE * len(cells):
+            return [first]
         far = cells[int(np.argmax(((cells - np.array(first)) ** 2).sum(1)))]
         second = (int(far[0]), int(far[1]))
         return [first] if second == first else [first, second]

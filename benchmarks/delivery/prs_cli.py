@@ -19,15 +19,23 @@ from gsr.io import write_text_atomic
 MAP_TASKS = 6  # tasks drawn on floor maps in the report (failures first)
 
 
-def prs_command(data: Path, tasks: Path, out: Path, workers: int = 1, captions: str = "dev") -> int:
-    """Run, write the three files, print the PRS metrics; 1 with a one-line message on bad input."""
-    from benchmarks.delivery.prs_run import run_prs
+def prs_command(
+    data: Path, tasks: Path, out: Path, workers: int = 1, captions: str = "dev", crossfit: int = 0
+) -> int:
+    """Run, write the three files, print the PRS metrics; 1 with a one-line message on bad input.
 
-    if workers < 1:
-        print("error: --workers must be >= 1", file=sys.stderr)
+    ``crossfit`` K >= 2: the honest estimate on a task file that is also the calibration/caption source
+    (each of K folds runs on a station calibrated, with captions built, from the other folds)."""
+    from benchmarks.delivery.prs_run import run_prs, run_prs_crossfit
+
+    if workers < 1 or crossfit < 0 or crossfit == 1:
+        print("error: --workers must be >= 1 and --crossfit 0 (off) or >= 2", file=sys.stderr)
         return 1
     try:
-        run = run_prs(data, tasks, workers=workers, captions=captions)
+        if crossfit:
+            run = run_prs_crossfit(data, tasks, crossfit)
+        else:
+            run = run_prs(data, tasks, workers=workers, captions=captions)
     except GSRError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

@@ -3,8 +3,9 @@
 The agent gets only what PRS gives a robot (``PrsRequest``: instruction, recipient description, time; the
 station's maps and people's published schedules) and acts through this class:
 
-- ``observe()``: objects and people a simulated sensor sees from the robot's pose: same room, a clear line
-  of sight on the grid (walls, value-0 cells, block it; furniture does not), within ``SENSOR_RANGE_M``.
+- ``observe()``: objects and people a simulated sensor sees from the robot's pose: in the same room (or
+  in a corridor or doorway, in no room), a clear line of sight on the grid (walls, value-0 cells, block
+  it; furniture does not), within ``SENSOR_RANGE_M``.
   Objects come as (simulator name, detector type, position, caption words); people as (handle,
   appearance, position, action) -- never by name;
 - ``navigate(cell)``: A* on the floor's free cells (8-connected); simulated time = path length /
@@ -199,10 +200,13 @@ class PrsEnv:
         here = self.world(self.cell)
 
         def visible(level: int, cell: Cell) -> bool:
-            if level != self.floor or not floor.inside(cell):
+            if level != self.floor:
                 return False
+            rows, cols = floor.shape
+            cell = (min(max(cell[0], 0), rows - 1), min(max(cell[1], 0), cols - 1))  # just off the map's edge
             there = self.station.room_at(level, cell)
-            if (there.id if there else None) != (room.id if room else None):
+            # the same room; or a corridor / doorway cell (no room) seen through an open doorway
+            if there is not None and (there.id if there else None) != (room.id if room else None):
                 return False
             if math.dist(cell, self.cell) > rng:
                 return False

@@ -25,6 +25,8 @@ from benchmarks.delivery.prs_metrics import aggregate, score_entry
 from benchmarks.delivery.prs_parse import STOP, RequestParseError, RoomMatcher, label_words, parse_request
 from benchmarks.delivery.prs_tasks import PlacedObject, PrsTask, inventory, load_tasks
 from gsr.building.prs import Station, load_station
+from gsr.building.prs_calibrate import Observation, calibrate_station
+from gsr.errors import GSRError
 
 
 def build_captions(station: Station, tasks: list[PrsTask], labels: list[str]) -> dict[str, frozenset[str]]:
@@ -54,9 +56,20 @@ def _init(data: str, tasks_file: str, captions: str, calibration: str = "auto") 
     if captions != "none":
         src = Path(data) / "delivery_tasks_dev.json" if captions == "dev" else Path(captions)
         caps = build_captions(station, load_tasks(src, station), labels)
+    _set_state((data, tasks_file, captions, calibration), station, tasks, objects, labels, caps)
+
+
+def _set_state(
+    key: tuple,
+    station: Station,
+    tasks: list[PrsTask],
+    objects: list[PlacedObject],
+    labels: list[str],
+    caps: dict,
+) -> None:
     _STATE.clear()
     _STATE.update(
-        key=(data, tasks_file, captions, calibration),
+        key=key,
         station=station,
         tasks={t.request.task_id: t for t in tasks},
         objects=objects,
@@ -148,21 +161,63 @@ def run_prs(
             rows = list(pool.map(_run_one, ids, chunksize=8))
     else:
         rows = [_run_one(i) for i in ids]
-    scores = [score_entry(r["submission"], _STATE["tasks"][r["task_id"]].truth) for r in rows]
-    summary = aggregate(scores, len(ids))
+    truths = {i: t.truth for i, t in _STATE["tasks"].items()}
+    meta = {"workers": workers, "captions": captions, "calibration_tasks": calibration}
+    return _document(rows, truths, t0, c0, meta, _STATE["station"])
+
+
+def observations_of(station: Station, tasks: list[PrsTask]) -> list[Observation]:
+    """Calibration observations of tasks: each person's position with their schedule codes at that hour."""
+    out = []
+    for t in tasks:
+        slots = station.people[t.truth.npc_id].slots_at(t.request.time.hour)
+        out.append(Observation(tuple(s.location for s in slots), *t.truth.npc_position))
+    return out
+
+
+def run_prs_crossfit(data: str | Path, tasks_file: str | Path, folds: int = 2) -> dict:
+    """The honest dev estimate: the tasks split in ``folds`` (by position); each fold runs on a station
+    calibrated, and with object captions built, from the *other* folds only (the inventory stays every
+    object of the file). Returns the same document as ``run_prs``."""
+    if folds < 2:
+        raise GSRError("--crossfit needs at least 2 folds")
+    data, tasks_file = str(data), str(tasks_file)
+    t0, c0 = time.perf_counter(), time.process_time()
+    tasks = load_tasks(tasks_file, load_station(data, None))
+    rows = []
+    for f in range(folds):
+        test = [t for k, t in enumerate(tasks) if k % folds == f]
+        train = [t for k, t in enumerate(tasks) if k % folds != f]
+        station = load_station(data, None)
+        calibrate_station(station, observations_of(station, train))
+        objects = inventory(station, tasks)
+        labels = sorted({o.type for o in objects})
+        caps = build_captions(station, train, labels)
+        _set_state(("crossfit", data, tasks_file, f), station, test, objects, labels, caps)
+        rows += [_run_one(t.request.task_id) for t in test]
+    order = {t.request.task_id: k for k, t in enumerate(tasks)}
+    rows.sort(key=lambda r: order[r["task_id"]])
+    truths = {t.request.task_id: t.truth for t in tasks}
+    folds_text = f"crossfit, {folds} folds"
+    meta = {"workers": 1, "captions": folds_text, "calibration_tasks": folds_text}
+    return _document(rows, truths, t0, c0, meta, _STATE["station"])
+
+
+def _document(rows: list[dict], truths: dict, t0: float, c0: float, meta: dict, station: Station) -> dict:
+    scores = [score_entry(r["submission"], truths[r["task_id"]]) for r in rows]
+    summary = aggregate(scores, len(rows))
     records = [r["record"] for r in rows]
+    n = max(1, len(records))
     summary.update(
         {
-            "human_found_exact": sum(r["human_found"] == 1 for r in records) / max(1, len(records)),
-            "grasp_exact": sum(r["grasp"] == 1 for r in records) / max(1, len(records)),
-            "object_found": sum(r["object_found"] for r in records) / max(1, len(records)),
+            "human_found_exact": sum(r["human_found"] == 1 for r in records) / n,
+            "grasp_exact": sum(r["grasp"] == 1 for r in records) / n,
+            "object_found": sum(r["object_found"] for r in records) / n,
             "failure_reasons": dict(Counter(r["failure_reason"] for r in records if r["failure_reason"])),
             "wall_s": round(time.perf_counter() - t0, 2),
             "cpu_s_main": round(time.process_time() - c0, 2),
-            "workers": workers,
-            "captions": captions,
-            "calibration_tasks": calibration,
-            "calibration": _STATE["station"].calibration,
+            **meta,
+            "calibration": station.calibration,
             "cpu_count": os.cpu_count(),
         }
     )

@@ -173,3 +173,13 @@ def test_bench_run_prs_suite(folder: Path, tmp_path: Path) -> None:
 
     with pytest.raises(GSRError, match="not a folder"):
         run("prs", source=str(tmp_path / "missing"))
+
+
+def test_crossfit_calibrates_each_fold_on_the_others(folder: Path, tmp_path: Path) -> None:
+    from benchmarks.delivery.prs_run import run_prs_crossfit
+
+    run = run_prs_crossfit(folder, folder / "delivery_tasks_dev.json", folds=2)
+    assert run["summary"]["tasks"] == 40 and run["summary"]["captions"].startswith("crossfit")
+    assert list(run["submission"]) == [f"t{k}" for k in range(40)]  # file order kept
+    assert run["summary"]["Task SR"] >= 0.8
+    assert prs_command(folder, folder / "delivery_tasks_dev.json", tmp_path / "o", crossfit=1) == 1
