@@ -39,6 +39,9 @@ from gsr.step import Step
 MAX_HINTS = 4
 _MEMO_LIMIT = 20_000  # memo entries per state before it is cleared
 _SEARCH_BUDGET = 100  # precondition evaluations per achiever when grounding a hint
+# Partial bindings visited per achiever: dead ends never reach a precondition evaluation, so they
+# need their own bound (tetris' 7-parameter moves over 40 cells took minutes without it).
+_NODE_BUDGET = 50 * _SEARCH_BUDGET
 _NO_NUMERIC: dict = {}
 
 
@@ -151,10 +154,14 @@ class _Grounder:
         self.view = self.cd.view(self.state)
         objects = self.view[1]
         names = [p.name for p in ca.action.params]
-        budget = [_SEARCH_BUDGET]
+        budget = [_SEARCH_BUDGET, _NODE_BUDGET]
         producing: list[tuple[str, ...]] = []
 
         def search(i: int, current: dict[str, str], narrow: bool) -> tuple[str, ...] | None:
+            budget[1] -= 1
+            if budget[1] <= 0:
+                budget[0] = 0
+                return None
             if i == len(names):
                 args = tuple(current[n] for n in names)
                 budget[0] -= 1

@@ -8,6 +8,7 @@ from typing import Any
 
 from gsr.check import check_step, repair_hints
 from gsr.diagnosis import Diagnosis, Explainer, Reason, ReasonKind
+from gsr.pddl.axioms import derive
 from gsr.pddl.model import TRUE, Atom, Domain, Formula, Problem
 from gsr.semantics import compile_domain
 from gsr.state import State, initial_state
@@ -100,7 +101,12 @@ def validate_plan(
     goal: Formula | Goal | None = None,
     numeric: Mapping[Atom, float] | None = None,
 ) -> Report:
-    """Run ``plan`` from the problem's initial state (or a State), then check the goal (the problem's by default)."""
+    """Run ``plan`` from the problem's initial state (or a State), then check the goal (the problem's by default).
+
+    Only the states the plan visits are evaluated (nothing is grounded); with derived predicates
+    each visited state gets their stratified fixpoint (gsr.pddl.axioms.derive) before its step
+    and the goal are checked.
+    """
     if isinstance(problem_or_state, Problem):
         state = initial_state(domain, problem_or_state)
         if goal is None:
@@ -111,6 +117,9 @@ def validate_plan(
         state = problem_or_state
     if goal is None:
         goal = TRUE
+    closed = bool(domain.axioms)
+    if closed:
+        state = state.with_atoms(derive(domain, state.objects, state.atoms))
     steps = tuple(plan.steps if isinstance(plan, Plan) else plan)
     diagnoses: list[Diagnosis] = []
     cost = 0.0
@@ -123,6 +132,8 @@ def validate_plan(
             break
         cost += diagnosis.cost
         state = diagnosis.next_state
+        if closed:
+            state = state.with_atoms(derive(domain, state.objects, state.atoms))
     goal_reasons, goal_hints = explain_goal(domain, goal, state)
     return Report(
         valid=failed is None and not goal_reasons,

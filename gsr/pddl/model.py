@@ -193,12 +193,34 @@ class Action:
     effect: Effect = NO_EFFECT
 
 
+@dataclass(frozen=True, slots=True)
+class Axiom:
+    """A derived-predicate rule ``(:derived (name ?x - t ...) body)``.
+
+    The head atom holds in a state when some binding of ``params`` (plus the body's own
+    quantified variables) satisfies ``body``; several rules may derive the same predicate.
+    Derived atoms are never changed by actions and never listed in ``:init``: they are the
+    stratified least fixpoint of the rules over each state (see gsr.pddl.axioms).
+    """
+
+    name: str
+    params: tuple[TypedVar, ...]
+    body: Formula
+
+    @property
+    def head(self) -> Atom:
+        """The derived atom over the rule's parameters."""
+        return Atom(self.name, tuple(p.name for p in self.params))
+
+
 @dataclass(slots=True)
 class Domain:
     """A parsed PDDL domain.
 
-    ``types`` maps each declared type to its parent types (``()`` only for ``object``);
-    ``constants`` maps constant names to their type.
+    ``types`` maps each declared type to its parent types (``()`` only for ``object``; a type
+    listed under several parents has all of them); ``constants`` maps constant names to their
+    type; ``axioms`` are the derived-predicate rules (their predicates are in ``predicates``
+    too).
     """
 
     name: str
@@ -208,6 +230,12 @@ class Domain:
     predicates: dict[str, Predicate] = field(default_factory=dict)
     functions: dict[str, Predicate] = field(default_factory=dict)
     actions: dict[str, Action] = field(default_factory=dict)
+    axioms: list[Axiom] = field(default_factory=list)
+
+    @property
+    def derived(self) -> frozenset[str]:
+        """Names of the derived predicates (heads of axioms)."""
+        return frozenset(a.name for a in self.axioms)
 
     def supertypes(self, type_name: str) -> set[str]:
         """The type itself and all its ancestors (always including ``object``)."""

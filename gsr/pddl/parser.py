@@ -24,6 +24,7 @@ from gsr.pddl.model import (
     And,
     AndEffect,
     Atom,
+    Axiom,
     Domain,
     Effect,
     Equals,
@@ -57,6 +58,8 @@ REQUIREMENTS = frozenset(
         ":conditional-effects",
         ":adl",
         ":action-costs",
+        ":derived-predicates",
+        ":negation",
     }
 )
 _STARTS = ["pddl_file", "domain", "problem", "formula_only", "atom_only", "bddl_problem"]
@@ -200,12 +203,14 @@ class Builder:
         result.extend((token, (OBJECT,)) for token in pending)
         return result
 
-    def typed_vars(self, tree: Tree) -> tuple[TypedVar, ...]:
-        """Parameters of an action or quantifier; a repeated variable is an error."""
+    def typed_vars(self, tree: Tree, *, repeats: bool = False) -> tuple[TypedVar, ...]:
+        """Parameters of an action or quantifier; a repeated variable is an error unless ``repeats``
+        (a predicate declaration only fixes the arity: logistics00 declares ``(in ?obj ?obj)``, which
+        Fast Downward accepts)."""
         seen: set[str] = set()
         params = []
         for token, types in self.typed_list(tree):
-            if str(token) in seen:
+            if str(token) in seen and not repeats:
                 raise self.error(f"duplicate parameter {token}", token)
             seen.add(str(token))
             params.append(TypedVar(str(token), types))
@@ -361,30 +366,57 @@ def requirements(tree: Tree | None, builder: Builder) -> tuple[str, ...]:
 
 
 def _declare_types(tree: Tree, builder: Builder, types: dict[str, tuple[str, ...]]) -> None:
-    """Fill ``types`` from (:types ...); a parent never declared itself becomes a child of object."""
+    """Fill ``types`` from (:types ...); a parent never declared itself becomes a child of object.
+
+    A type listed more than once gets every parent it is listed under (IPC storage lists ``area``
+    under ``object`` and under ``surface``; Fast Downward accepts that); a type that is its own
+    ancestor is an error.
+    """
     explicit: set[str] = set()
     implicit: set[str] = set()
+    tokens: dict[str, Token] = {}
     builder.types = None  # parents may be declared later in the same list
     for token, parents in builder.typed_list(tree):
         name = str(token)
-        if name in explicit:
-            raise builder.error(f"duplicate type {name!r}", token)
+        tokens.setdefault(name, token)
+        if name in parents:
+            raise builder.error(f"type {name!r} cannot be its own parent", token)
         explicit.add(name)
         if name == OBJECT:
             continue
+        if name in types:
+            merged = tuple(dict.fromkeys((*types[name], *parents)))
+            if len(merged) > 1:
+                merged = tuple(p for p in merged if p != OBJECT) or (OBJECT,)
+            parents = merged
         types[name] = parents
         for parent in parents:
             if parent != OBJECT and parent not in explicit:
                 implicit.add(parent)
     for parent in implicit - explicit:
         types[parent] = (OBJECT,)
+    for name in types:
+        if name != OBJECT and name in _ancestors(types, name):
+            raise builder.error(f"type {name!r} is its own ancestor (cyclic :types)", tokens.get(name, tree))
+
+
+def _ancestors(types: dict[str, tuple[str, ...]], name: str) -> set[str]:
+    """The strict ancestors of a type."""
+    seen: set[str] = set()
+    stack = list(types.get(name, ()))
+    while stack:
+        t = stack.pop()
+        if t not in seen:
+            seen.add(t)
+            stack.extend(types.get(t, ()))
+    return seen
 
 
 def build_domain(tree: Tree, source: str) -> Domain:
     """A Domain from a ``domain`` syntax tree."""
     builder = Builder(source)
     name = str(tree.children[0])
-    parts = _sections(tree, builder, frozenset({"action"}))
+    parts = _sections(tree, builder, frozenset({"action", "derived"}))
     domain = Domain(name=name, requirements=requirements(_first(parts, "requirements"), builder))
     if "types" in parts:
         _declare_types(parts["types"][0].children[0], builder, domain.types)
@@ -406,7 +438,39 @@ def build_domain(tree: Tree, source: str) -> Domain:
         if action.name in domain.actions:
             raise builder.error(f"duplicate action {action.name!r}", action_tree.children[0])
         domain.actions[action.name] = action
+    for derived_tree in parts.get("derived", ()):
+        domain.axioms.append(_build_axiom(derived_tree, builder, domain))
     return domain
+
+
+def _build_axiom(tree: Tree, builder: Builder, domain: Domain) -> Axiom:
+    """One ``(:derived (p ?x - t ...) body)`` rule; ``p`` must be a declared predicate of that arity
+    that no action changes."""
+    head_tree, body_tree = tree.children
+    head = head_tree.children[0]
+    name = str(head)
+    params = builder.typed_vars(head_tree.children[1])
+    declared = domain.predicates.get(name)
+    if declared is None:
+        raise builder.error(f"derived predicate {name!r} is not declared in (:predicates ...)", head)
+    if declared.arity != len(params):
+        raise builder.error(f"predicate {name!r} takes {declared.arity} argument(s), got {len(params)}", head)
+    for action in domain.actions.values():
+        if name in _effect_predicates(action.effect):
+            raise builder.error(f"derived predicate {name!r} is changed by action {action.name!r}", head)
+    body = builder.formula(body_tree, frozenset(p.name for p in params))
+    return Axiom(name, params, body)
+
+
+def _effect_predicates(effect: Effect) -> set[str]:
+    """Predicates an effect adds or deletes."""
+    if isinstance(effect, Literal):
+        return {effect.atom.predicate}
+    if isinstance(effect, AndEffect):
+        return set().union(*(_effect_predicates(p) for p in effect.parts))
+    if isinstance(effect, (When, ForallEffect)):
+        return _effect_predicates(effect.effect)
+    return set()
 
 
 def _first(parts: dict[str, list[Tree]], kind: str) -> Tree | None:
@@ -418,7 +482,7 @@ def _declare(tree: Tree, builder: Builder, into: dict[str, Predicate], what: str
     head = tree.children[0]
     if str(head) in into:
         raise builder.error(f"duplicate {what} {str(head)!r}", head)
-    into[str(head)] = Predicate(str(head), builder.typed_vars(tree.children[1]))
+    into[str(head)] = Predicate(str(head), builder.typed_vars(tree.children[1], repeats=True))
 
 
 def _build_action(tree: Tree, builder: Builder) -> Action:

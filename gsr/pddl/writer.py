@@ -166,7 +166,7 @@ def _section(keyword: str, lines: list[str], indent: str = _STEP) -> list[str]:
 def _types(domain: Domain) -> list[str]:
     groups: dict[tuple[str, ...], list[str]] = {}
     for name, parents in domain.types.items():
-        if name != OBJECT:
+        if name != OBJECT:  # several parents are written as (either ...), which parses back the same
             groups.setdefault(parents, []).append(name)
     ordered = sorted(groups.items(), key=lambda item: item[0] == (OBJECT,))  # untyped last, as above
     return [
@@ -198,6 +198,9 @@ def write_domain(domain: Domain) -> str:
     lines += _section(":predicates", [_declaration(p) for p in domain.predicates.values()])
     if domain.functions:
         lines += _section(":functions", [_declaration(f) + " - number" for f in domain.functions.values()])
+    for axiom in domain.axioms:
+        head = _declaration(Predicate(axiom.name, axiom.params))
+        lines += ["", f"{_STEP}(:derived {head}", f"{_STEP * 2}{write_formula(axiom.body, len(_STEP) * 2)})"]
     for action in domain.actions.values():
         lines += ["", *_action(action)]
     return "\n".join(lines) + "\n)\n"

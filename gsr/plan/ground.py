@@ -34,7 +34,7 @@ from gsr.plan.effects import (
     _ground_group,
     _new_adds,
 )
-from gsr.plan.intern import _intern, ground_goal
+from gsr.plan.intern import _intern, axiom_action, ground_goal
 from gsr.plan.normalize import (
     Schema,
     normalize_action,
@@ -331,7 +331,9 @@ def _compile(domain: Domain) -> _Compiled:
     for known, compiled in _COMPILED:
         if known is domain:
             return compiled
-    schemas = [normalize_action(a) for a in domain.actions.values()]
+    # Derived-predicate rules ground like actions that add their head (no deletes, no cost); the
+    # interning step turns them into the Task's axioms (see axiom_action).
+    schemas = [normalize_action(a) for a in (*domain.actions.values(), *map(axiom_action, domain.axioms))]
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     # Effect groups need only the fluent predicates (literal splitting, static guards).
     no_objects = Simplifier(_TypedObjects(domain, {}), fluent, ())

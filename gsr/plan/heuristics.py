@@ -33,11 +33,18 @@ class Relaxation:
         # in a state without a, achieved by deleting a), so that the relaxation sees that a drawer
         # must be closed or a blocker moved; the compiled task is equivalent, so h_max and LM-cut
         # stay admissible.
+        # Derived atoms get no complement: nothing deletes them, so a negated derived atom is
+        # simply assumed true in the relaxation (dropping a condition: h_max and LM-cut stay
+        # admissible). Axioms are zero-cost unary operators (their body, their head).
         conds = {id(o.cond): o.cond for o in task.ops}.values()  # grounding shares cond tuples
+        derived = {a for ax in task.axioms for a in ax.add}
         negated = sorted(
-            {a for o in task.ops for a in o.neg}
-            | {a for cond in conds for _cp, cn, _ca, _cd in cond for a in cn}
-            | {a for _p, ng in task.goals for a in ng}
+            (
+                {a for o in (*task.ops, *task.axioms) for a in o.neg}
+                | {a for cond in conds for _cp, cn, _ca, _cd in cond for a in cn}
+                | {a for _p, ng in task.goals for a in ng}
+            )
+            - derived
         )
         self.comp = {a: n + 2 + k for k, a in enumerate(negated)}
         self.comp_pairs = [(1 << a, c) for a, c in self.comp.items()]
@@ -67,7 +74,7 @@ class Relaxation:
                     else:
                         cp, cn, ca, cd = ce
                         ga = (*ca, *(comp[d] for d in cd if d in comp))
-                        ukey = keys[ce] = ((*cp, *(comp[a] for a in cn)), ga) if ga else None
+                        ukey = keys[ce] = ((*cp, *(comp[a] for a in cn if a in comp)), ga) if ga else None
                     if ukey is not None:
                         targets.append(users.setdefault(ukey, []))
             for ops_of in targets:
@@ -88,16 +95,21 @@ class Relaxation:
             cost.append(0)
             owner.append(-1)  # the relaxed plan reaches the operator through the aux fact's supporter
         for i, o in enumerate(task.ops):
-            base_pre = (*o.pre, *(comp[a] for a in o.neg)) or (self.true_fact,)
+            base_pre = (*o.pre, *(comp[a] for a in o.neg if a in comp)) or (self.true_fact,)
             base_add = (*o.add, *(comp[d] for d in o.delete if d in comp), *aux_adds.get(i, ()))
             if base_add:
                 pre.append(base_pre)
                 add.append(base_add)
                 cost.append(o.cost)
                 owner.append(i)
+        for ax in task.axioms:
+            pre.append((*ax.pre, *(comp[a] for a in ax.neg if a in comp)) or (self.true_fact,))
+            add.append(ax.add)
+            cost.append(0)
+            owner.append(-1)  # the relaxed plan goes on through the axiom's body
         self.n_facts = n_facts
         for p, ng in task.goals:
-            gp = (*p, *(comp[a] for a in ng))
+            gp = (*p, *(comp[a] for a in ng if a in comp))
             pre.append(gp or (self.true_fact,))
             add.append((self.goal_fact,))
             cost.append(0)

@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from gsr.errors import GSRError
-from gsr.pddl.model import Atom, Domain, Formula, Increase, Problem
+from gsr.pddl.axioms import strata
+from gsr.pddl.model import Action, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
 from gsr.plan.effects import EffectPart
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
 from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
@@ -14,6 +15,16 @@ from gsr.plan.task import GroundOp, Task
 
 if TYPE_CHECKING:
     from gsr.plan.ground import _Variant
+
+
+AXIOM_PREFIX = "axiom:"  # no PDDL action name has a colon
+
+
+def axiom_action(axiom: Axiom) -> Action:
+    """A derived-predicate rule as an action that adds its head: grounded by the same relaxed
+    reachability fixpoint (negated derived atoms in its body are relaxed away like every negative
+    literal), then split off into Task.axioms by the interning step."""
+    return Action(f"{AXIOM_PREFIX}{axiom.name}", axiom.params, axiom.body, Literal(axiom.head))
 
 
 def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem) -> float:
@@ -202,7 +213,19 @@ def _intern(
         if a in ids:
             init |= 1 << ids[a]
     goals = ground_goal(domain, problem, problem.goal, ids, fluent)
-    return Task(atoms, ordered, init, goals)
+    if not domain.axioms:
+        return Task(atoms, ordered, init, goals)
+    level = {pred: k for k, preds in enumerate(strata(domain)) for pred in preds}
+    axioms = [o for o in ordered if o.name.startswith(AXIOM_PREFIX) and o.add]
+    actions = [o for o in ordered if not o.name.startswith(AXIOM_PREFIX)]
+    return Task(
+        atoms,
+        actions,
+        init,
+        goals,
+        axioms=axioms,
+        axiom_strata=[level[o.name[len(AXIOM_PREFIX) :]] for o in axioms],
+    )
 
 
 def ground_goal(

@@ -53,7 +53,13 @@ def bits(state: int) -> list[int]:
 
 @dataclass(slots=True)
 class Task:
-    """A grounded task with precomputed masks and a successor index."""
+    """A grounded task with precomputed masks and a successor index.
+
+    ``axioms`` are the ground derived-predicate rules (a GroundOp whose ``add`` is its head atom;
+    ``pre``/``neg`` its body) with ``axiom_strata`` their head's stratum. Derived atoms are bits of
+    the state like the others, but always recomputed from the basic ones (``close``): the initial
+    state and every successor are closed.
+    """
 
     atoms: list[Atom]
     ops: list[GroundOp]
@@ -70,8 +76,17 @@ class Task:
     goal_masks: list[tuple[int, int]] = field(default_factory=list)
     by_fact: list[list[int]] = field(default_factory=list)  # ops indexed by one precondition fact
     always: list[int] = field(default_factory=list)  # ops without positive precondition
+    axioms: list[GroundOp] = field(default_factory=list)
+    axiom_strata: list[int] = field(default_factory=list)
+    derived_mask: int = 0
+    # Per stratum: (axioms as (other-precondition mask, negative mask, head bit, head id, number of
+    # same-stratum precondition atoms), same-stratum atom id -> axioms waiting for it).
+    _layers: list[tuple[list[tuple[int, int, int, int, int]], dict[int, list[int]]]] = field(
+        default_factory=list
+    )
 
     def __post_init__(self) -> None:
+        self._build_axioms()
         self.pre_mask = [mask(o.pre) for o in self.ops]
         self.neg_mask = [mask(o.neg) for o in self.ops]
         self.add_mask = [mask(o.add) for o in self.ops]
@@ -109,6 +124,57 @@ class Task:
             else:
                 self.always.append(i)
 
+    def _build_axioms(self) -> None:
+        """Evaluation tables of the axioms, stratum by stratum (see ``close``)."""
+        self.derived_mask = mask(tuple({a for ax in self.axioms for a in ax.add}))
+        self._layers = []
+        if not self.axioms:
+            return
+        by_stratum: dict[int, list[GroundOp]] = {}
+        for ax, k in zip(self.axioms, self.axiom_strata, strict=True):
+            by_stratum.setdefault(k, []).append(ax)
+        for k in sorted(by_stratum):
+            group = by_stratum[k]
+            heads = {a for ax in group for a in ax.add}
+            rows: list[tuple[int, int, int, int, int]] = []
+            waiting: dict[int, list[int]] = {}
+            for j, ax in enumerate(group):
+                same = [a for a in ax.pre if a in heads]
+                other = mask(tuple(a for a in ax.pre if a not in heads))
+                head = ax.add[0]
+                rows.append((other, mask(ax.neg), 1 << head, head, len(same)))
+                for a in same:
+                    waiting.setdefault(a, []).append(j)
+            self._layers.append((rows, waiting))
+        self.init = self.close(self.init)
+
+    def close(self, state: int) -> int:
+        """``state`` with its derived atoms recomputed: the stratified least fixpoint of the axioms
+        over its basic atoms (per stratum, FF-style precondition counters)."""
+        state &= ~self.derived_mask
+        for rows, waiting in self._layers:
+            counts: dict[int, int] = {}
+            queue: list[int] = []
+            for j, (other, neg, bit, head, nsame) in enumerate(rows):
+                if state & other == other and not state & neg:
+                    if nsame:
+                        counts[j] = nsame
+                    elif not state & bit:
+                        state |= bit
+                        queue.append(head)
+            while queue:
+                for j in waiting.get(queue.pop(), ()):
+                    c = counts.get(j)
+                    if c is None:
+                        continue
+                    counts[j] = c = c - 1
+                    if not c:
+                        bit = rows[j][2]
+                        if not state & bit:
+                            state |= bit
+                            queue.append(rows[j][3])
+        return state
+
     def applicable(self, state: int) -> list[int]:
         """Ids of the operators applicable in ``state``, ascending."""
         pre_mask, neg_mask, by_fact = self.pre_mask, self.neg_mask, self.by_fact
@@ -130,6 +196,8 @@ class Task:
             if state & cp == cp and not state & cn:
                 add |= ca
                 dele |= cd
+        if self._layers:
+            return self.close((state & ~dele) | add)
         return (state & ~dele) | add
 
     def is_goal(self, state: int) -> bool:

@@ -211,7 +211,8 @@ HEAD = "(define (domain d) (:requirements :typing)\n(:types block)\n(:predicates
         (HEAD + "(:action a :parameters (?x ?x)))", "duplicate parameter ?x", "?x)"),
         (HEAD + "(:action a :parameters (?x) :effect (clear table)))", "unknown object 'table'", "table"),
         ("(define (domain d) (:predicates (p) (q) (p ?x)))", "duplicate predicate 'p'", "p ?x"),
-        ("(define (domain d) (:types a b a))", "duplicate type 'a'", "a)"),
+        ("(define (domain d) (:types a - b b - a))", "type 'a' is its own ancestor", "a - b"),
+        ("(define (domain d) (:types a - a))", "type 'a' cannot be its own parent", "a - a"),
         (
             "(define (domain d)\n  (:requirements :strips :fluents))",
             "unsupported requirement :fluents",

@@ -1,0 +1,123 @@
+"""The IPC language beyond ADL that Fast Downward accepts: derived predicates (axioms), a type under
+several parents, repeated variables in predicate declarations; and validation that never grounds."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from gsr.errors import GSRError
+from gsr.pddl.axioms import derive, strata
+from gsr.pddl.model import Atom
+from gsr.pddl.parser import load_domain, load_problem, parse_domain, parse_problem
+from gsr.pddl.writer import write_domain
+from gsr.plan import PLANNERS, plan
+from gsr.step import Plan, Step
+from gsr.validate import validate_plan
+from tests.data_paths import PDDL
+
+# A graph whose reachability is derived: `link` needs two nodes that are not connected yet,
+# `finish` needs a path a -> d, no path b -> a and no direct edge a -> d.
+GRAPH = """(define (domain graph) (:requirements :typing :derived-predicates :negative-preconditions)
+ (:types node)
+ (:constants a b c d - node)
+ (:predicates (edge ?x ?y - node) (path ?x ?y - node) (apart ?x ?y - node) (done))
+ (:derived (path ?x ?y - node) (edge ?x ?y))
+ (:derived (path ?x ?y - node) (exists (?z - node) (and (edge ?x ?z) (path ?z ?y))))
+ (:derived (apart ?x ?y - node) (not (path ?x ?y)))
+ (:action link :parameters (?x ?y - node) :precondition (and (apart ?x ?y) (not (= ?x ?y)))
+  :effect (edge ?x ?y))
+ (:action unlink :parameters (?x ?y - node) :precondition (edge ?x ?y) :effect (not (edge ?x ?y)))
+ (:action finish :precondition (and (path a d) (not (path b a)) (not (edge a d))) :effect (done)))"""
+PROBLEM = """(define (problem p) (:domain graph) (:objects)
+ (:init (edge a b) (edge b c) (edge b a)) (:goal (done)))"""
+
+
+@pytest.fixture(scope="module")
+def graph():
+    domain = parse_domain(GRAPH)
+    return domain, parse_problem(PROBLEM, domain=domain)
+
+
+def test_derived_predicates_parse_write_and_stratify(graph) -> None:
+    domain, _ = graph
+    assert [a.name for a in domain.axioms] == ["path", "path", "apart"]
+    assert domain.derived == {"path", "apart"}
+    assert strata(domain) == [["path"], ["apart"]]  # apart negates path: a higher stratum
+    again = parse_domain(write_domain(domain))
+    assert again.axioms == domain.axioms
+
+
+def test_derive_is_the_stratified_fixpoint(graph) -> None:
+    domain, problem = graph
+    atoms = derive(domain, problem.all_objects(domain), problem.init | {Atom("path", ("d", "a"))})
+    paths = {a.args for a in atoms if a.predicate == "path"}
+    assert paths == {("a", "b"), ("a", "c"), ("a", "a"), ("b", "c"), ("b", "a"), ("b", "b")}
+    apart = {a.args for a in atoms if a.predicate == "apart"}
+    assert ("d", "a") in apart and ("a", "b") not in apart and len(apart) == 16 - len(paths)
+
+
+def test_rules_errors() -> None:
+    with pytest.raises(GSRError, match="not stratifiable"):
+        strata(
+            parse_domain(
+                "(define (domain d) (:predicates (p) (q)) (:derived (p) (not (q))) (:derived (q) (p)))"
+            )
+        )
+    with pytest.raises(GSRError, match="changed by action"):
+        parse_domain("(define (domain d) (:predicates (p)) (:derived (p) (and)) (:action a :effect (p)))")
+    with pytest.raises(GSRError, match="not declared"):
+        parse_domain("(define (domain d) (:predicates (p)) (:derived (q) (p)))")
+
+
+@pytest.mark.parametrize("planner", [p for p in PLANNERS if p != "fd"])
+def test_every_planner_plans_with_axioms_and_the_plan_validates(graph, planner: str) -> None:
+    domain, problem = graph
+    result = plan(domain, problem, planner=planner, timeout=30)
+    assert result.status == "solved", result.message
+    assert validate_plan(domain, problem, result.plan).valid
+    assert result.cost == 3  # link b d (path a d), unlink b a, finish: optimal for every planner here
+
+
+def test_validation_evaluates_derived_atoms_in_each_state(graph) -> None:
+    domain, problem = graph
+    assert not validate_plan(domain, problem, Plan((Step("finish", ()),))).valid  # no path a -> d
+    report = validate_plan(domain, problem, Plan((Step("link", ("b", "d")), Step("finish", ()))))
+    assert report.failed_step == 1 and "path b a" in report.message.replace("(", "")
+    # link a b is impossible: a path a -> b already exists (apart a b is false)
+    assert validate_plan(domain, problem, Plan((Step("link", ("a", "b")),))).failed_step == 0
+
+
+def test_unreachable_derived_goal_is_proven_unsolvable() -> None:
+    domain = parse_domain(
+        "(define (domain d) (:predicates (p ?x) (q ?x) (r ?x)) (:derived (q ?x) (and (p ?x) (r ?x)))"
+        " (:action mk :parameters (?x) :effect (p ?x)))"
+    )
+    problem = parse_problem(
+        "(define (problem p) (:domain d) (:objects o) (:init) (:goal (q o)))", domain=domain
+    )
+    assert plan(domain, problem).status == "unsolvable"
+
+
+def test_type_under_two_parents_and_repeated_declaration_variables() -> None:
+    domain = parse_domain(
+        "(define (domain storage) (:requirements :typing)"
+        " (:types hoist surface place area - object depot - place storearea transitarea - area"
+        "  area crate - surface)"
+        " (:predicates (in ?x ?x) (on ?c - crate ?s - storearea)))"
+    )
+    assert domain.types["area"] == ("surface",)
+    assert domain.is_subtype("storearea", "surface") and domain.is_subtype("storearea", "area")
+    assert domain.predicates["in"].arity == 2
+    assert parse_domain(write_domain(domain)).types == domain.types
+
+
+def test_validating_a_plan_never_grounds_the_task() -> None:
+    """Tetris' 7-parameter moves over 40 cells: the empty plan is judged (goal false) in seconds."""
+    domain = load_domain(PDDL / "tetris" / "domain.pddl")
+    problem = load_problem(PDDL / "tetris" / "p04-10.pddl", domain)
+    start = time.process_time()
+    report = validate_plan(domain, problem, Plan(()))
+    assert not report.valid and not report.goal_reached
+    assert time.process_time() - start < 15
