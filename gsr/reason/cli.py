@@ -81,6 +81,8 @@ def solve_command(
         raise GSRError(f"unknown --format {fmt!r}: choose one of {', '.join(FORMATS)}")
     domain = _domain(domain_file)
     graph = load_scene(scene)
+    if fmt == "gsr-bench":  # the plan is for GSR-Bench: plan under its rules (see gsr.gsr_bench_rules)
+        graph = graph.model_copy(update={"metadata": {**graph.metadata, "rules": "gsr-bench"}})
     options = {"base_url": base_url} if base_url and backend.startswith("openai:") else {}
     model = make_backend(backend, **options)
     result = solve(
@@ -103,9 +105,7 @@ def solve_command(
 
         print(write_plan(result.plan), end="")
     else:
-        from gsr.gsr_bench_format import gsr_bench_commands
-
-        print("\n".join(gsr_bench_commands(result.plan)))
+        print("\n".join(gsr_bench_plan(graph, result.plan)))
     if result.success:
         return 0
     print(f"error: no valid plan ({result.status}): {result.message}", file=sys.stderr)
@@ -114,6 +114,22 @@ def solve_command(
             why = attempt.error or (attempt.diagnosis.message if attempt.diagnosis else "")
             print(f"  rejected {attempt.reply.strip()[:120]!r}: {why}", file=sys.stderr)
     return 1
+
+
+def gsr_bench_plan(graph, plan) -> list[str]:
+    """The plan as GSR-Bench commands, replayed under the benchmark's validator rules (GSRError if rejected)."""
+    from gsr.gsr_bench_format import gsr_bench_commands
+    from gsr.gsr_bench_rules import replay
+
+    commands = gsr_bench_commands(plan)
+    checked = replay(graph, commands)
+    bad = checked.rejected
+    if bad is not None:
+        rule = bad.rule.value if bad.rule else "?"
+        raise GSRError(
+            f"GSR-Bench's rules reject command {len(checked.verdicts)} '{bad.command}' ({rule}): {bad.message}"
+        )
+    return commands
 
 
 def prompt_command(scene: Path, instruction: str, mode: str, domain_file: Path | None = None) -> int:

@@ -12,7 +12,7 @@ from gsr.step import Step
 
 _EXAMPLE_SCENE = {
     "nodes": ["table", "green_box", "yellow_cube1", "small_cabinet", "small_cabinet/drawer_top(closed)"],
-    "edges": ["green_box(on)table", "yellow_cube1(on)green_box", "small_cabinet(on)table"],
+    "edges": ["green_box(on)table", "yellow_cube1(in)green_box", "small_cabinet(on)table"],
 }
 _EXAMPLE_INSTRUCTION = "put the yellow cube in the top drawer and close it"
 _EXAMPLE_PLAN = (

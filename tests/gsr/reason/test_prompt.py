@@ -63,7 +63,7 @@ def test_builtin_example_is_a_valid_checked_solution(domain):
                 "small_cabinet",
                 "small_cabinet/drawer_top(closed)",
             ],
-            "edges": ["green_box(on)table", "yellow_cube1(on)green_box", "small_cabinet(on)table"],
+            "edges": ["green_box(on)table", "yellow_cube1(in)green_box", "small_cabinet(on)table"],
         }
     )
     from gsr.pddl.parser import parse_formula
