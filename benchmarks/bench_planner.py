@@ -1,6 +1,6 @@
 """Planner benchmark: GSR's planner vs pyperplan (GBFS + h_FF) vs Fast Downward lama-first.
 
-Sets: the IPC sets in ../shared/data/pddl (blocks 35, gripper 20, miconic-simpleadl 30), the 40
+Sets: the IPC sets in ../shared/data/pddl or tests/fixtures/pddl (blocks 35, gripper 20, miconic-simpleadl 30), the 40
 LIBERO tasks (``libero``) and seeded long GSR-Bench-style tabletop tasks (``tabletop-long``).
 
 Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems gsr,pyperplan,fd]

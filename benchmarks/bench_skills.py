@@ -12,7 +12,7 @@ physical success per category (``--level Simple`` keeps one level, ``--limit N``
 
 Usage: python benchmarks/bench_skills.py [--trials 50] [--skills pick,place_on,...] [--episodes 5]
        [--seed 0] [--workers 1] [--save FILE] [--markdown]
-       python benchmarks/bench_skills.py --suite libero:../shared/data/libero/libero_goal [--markdown]
+       python benchmarks/bench_skills.py --suite libero:data/libero/libero_goal [--markdown]
        python benchmarks/bench_skills.py --suite gsr-bench-gen --level Simple [--markdown]
 """
 

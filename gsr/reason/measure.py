@@ -1,6 +1,6 @@
 """Measure the reasoner on LIBERO task files: success, steps, rejections, repairs and time per mode/backend.
 
-    python -m gsr.reason.measure ../shared/data/libero --backend grounder --mode steps [--constrained]
+    python -m gsr.reason.measure data/libero --backend grounder --mode steps [--constrained]
 
 For each BDDL file the scene graph and benchmark goal come from gsr.libero; the reasoner gets the
 file's instruction (``--given-goal`` hands it the benchmark goal instead). ``bench_goal`` says whether

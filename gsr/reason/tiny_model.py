@@ -1,6 +1,6 @@
 """A tiny step model trained from scratch on planner traces, to measure constrained decoding on CPU.
 
-    python -m gsr.reason.tiny_model OUT ../shared/data/libero --split even --seconds 300
+    python -m gsr.reason.tiny_model OUT data/libero --split even --seconds 300
 
 Each LIBERO task is solved by the planner from its benchmark goal; every step of the trace becomes one
 (prompt, step line with its true effects) pair, with the compact prompt the measurement uses
