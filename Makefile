@@ -25,8 +25,9 @@ $(VENV)/.installed-demo: pyproject.toml | $(PY)
 	$(PIP) install -e '.[sim,vision]'
 	@touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(PY)
-	$(PIP) install -e '.[dev,sim,vision,serve,llm]'
+# the test environment includes Ray (`dist`) so the Ray backends of the runner and the generator are tested
+$(VENV)/.installed-test: pyproject.toml Makefile | $(PY)
+	$(PIP) install -e '.[dev,sim,vision,serve,llm,dist]'
 	@touch $@ $(VENV)/.installed-demo
 
 demo: sysdeps $(VENV)/.installed-demo
