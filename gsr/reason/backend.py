@@ -3,8 +3,8 @@
 A backend answers one prompt at a time. Any object with
 ``complete(prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str`` is a
 backend; a plain function ``str -> str`` is wrapped by :func:`as_backend` (it gets ``prompt.text()``).
-``query`` carries the structured request (scene graph, domain, goal, and for constrained decoding the
-step lines allowed now) for backends that use it; text-only models ignore it.
+``query`` carries the structured request (scene graph, domain, goal, the answers already rejected for
+this step, and for constrained decoding the step lines allowed now) for backends that use it; text-only models ignore it.
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ class Query:
     goal: Goal | None = None
     history: tuple[Step, ...] = ()
     allowed: tuple[str, ...] | None = None
+    rejected: tuple[str, ...] = ()  # answers the checker already rejected for this step
 
 
 @runtime_checkable

@@ -16,6 +16,27 @@ from gsr.reason.backend import BackendError, Query
 from gsr.reason.prompt import Prompt
 
 
+def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any:
+    """The compact-format answerer when the folder holds a compact model's marker, else None."""
+    import json
+    from pathlib import Path
+
+    from gsr.reason.compact import FORMAT, MARKER
+    from gsr.reason.compact_decode import CompactAnswerer
+
+    marker = Path(path) / MARKER
+    if not marker.is_file():
+        return None
+    try:
+        info = json.loads(marker.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise BackendError(f"{marker}: unreadable compact-format marker: {exc}") from None
+    if not isinstance(info, dict) or info.get("format") != FORMAT:
+        found = info.get("format") if isinstance(info, dict) else info
+        raise BackendError(f"{marker}: format {found!r} is not {FORMAT!r} (retrain the model)")
+    return CompactAnswerer(model, tokenizer, device)
+
+
 class TransformersBackend:
     """A local Hugging Face causal LM, loaded from a path (no downloads: ``local_files_only``)."""
 
@@ -55,6 +76,7 @@ class TransformersBackend:
         newline = self.tokenizer("\n", add_special_tokens=False)["input_ids"]
         self.terminator = [self.eos] if self.eos is not None else newline[-1:]
         self.last_seconds = 0.0
+        self.compact = _compact_answerer(path, self.model, self.tokenizer, self.device)
 
     def encode(self, prompt: Prompt) -> list[int]:
         """Prompt token ids (chat template when used); left-truncated to fit the model's context."""
@@ -76,6 +98,8 @@ class TransformersBackend:
 
         from gsr.reason.constrained import TokenTrie, completion_ids, step_logits_processor
 
+        if self.compact is not None:
+            return self._compact_complete(query)
         ids = self.encode(prompt)
         input_ids = torch.tensor([ids], device=self.device)
         start = len(ids)
@@ -112,3 +136,20 @@ class TransformersBackend:
         for s in stop:
             text = text.split(s, 1)[0]
         return text
+
+    def _compact_complete(self, query: Query | None) -> str:
+        """Answer with a compact-format model: it reads the structured query, not the prompt text."""
+        from gsr.reason.compact import CompactError
+
+        if query is None or query.kind != "step":
+            raise BackendError(
+                f"{self.name} is a compact-format step model: it answers step queries only "
+                "(give the goal, or let the grounder find it)"
+            )
+        t0 = time.perf_counter()
+        try:
+            return self.compact.answer(query)
+        except CompactError as exc:
+            raise BackendError(f"{self.name}: {exc}") from None
+        finally:
+            self.last_seconds = time.perf_counter() - t0

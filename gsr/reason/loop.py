@@ -12,6 +12,7 @@ hybrid: as steps, but when the model is stuck (no valid step after the repairs, 
 from __future__ import annotations
 
 import time
+from collections import Counter
 from collections.abc import Callable, Sequence
 
 from gsr.errors import GSRError, ParseError
@@ -40,20 +41,49 @@ class _Run:
         self.result = ReasonResult(
             instruction, options["mode"], getattr(backend, "name", type(backend).__name__)
         )
+        self.seen: Counter[frozenset] = Counter()  # visits of each state (atoms) in this episode
 
     # ---------------------------------------------------------------- model calls
 
-    def ask(self, kind: str, prompt: Prompt, goal: Goal | None, history: Sequence[Step]) -> str:
-        """One backend call, recorded in the transcript; a backend crash becomes BackendError."""
-        allowed = None
-        if kind == "step" and self.o["constrained"]:
-            from gsr.reason.applicable import applicable_steps
-            from gsr.reason.step_format import format_step
+    def allowed_steps(self, goal: Goal | None) -> tuple[str, ...]:
+        """Constrained decoding's admissible lines: the applicable steps whose next state this episode
+        has visited least often (never visited, when there are such), so a model cannot loop between
+        states while another way is open; ``(done)`` too when no goal can verify completion."""
+        from gsr.check import check_step
+        from gsr.facts import state_from_graph
+        from gsr.reason.applicable import applicable_steps
+        from gsr.reason.step_format import format_step
 
-            allowed = tuple(format_step(s) for s in applicable_steps(self.domain, self.graph))
-            if goal is None:  # with no goal to verify, the model must be able to say it is done
-                allowed += (DONE,)
-        query = Query(kind, prompt, self.graph, self.domain, self.instruction, goal, tuple(history), allowed)
+        state = state_from_graph(self.graph, self.domain)
+        steps = applicable_steps(self.domain, self.graph)
+        visits = [self.seen[check_step(self.domain, state, s).next_state.atoms] for s in steps]
+        least = min(visits, default=0)
+        allowed = tuple(format_step(s) for s, v in zip(steps, visits, strict=True) if v == least)
+        if goal is None:  # with no goal to verify, the model must be able to say it is done
+            allowed += (DONE,)
+        return allowed
+
+    def ask(
+        self,
+        kind: str,
+        prompt: Prompt,
+        goal: Goal | None,
+        history: Sequence[Step],
+        rejected: Sequence[str] = (),
+    ) -> str:
+        """One backend call, recorded in the transcript; a backend crash becomes BackendError."""
+        allowed = self.allowed_steps(goal) if kind == "step" and self.o["constrained"] else None
+        query = Query(
+            kind,
+            prompt,
+            self.graph,
+            self.domain,
+            self.instruction,
+            goal,
+            tuple(history),
+            allowed,
+            tuple(rejected),
+        )
         start = time.perf_counter()
         try:
             reply = self.backend.complete(prompt, (), query)
@@ -185,7 +215,8 @@ class _Run:
         """The propose-check-repair loop."""
         from gsr.facts import state_from_graph
 
-        seen = {state_from_graph(self.graph, self.domain).atoms}
+        seen = self.seen
+        seen[state_from_graph(self.graph, self.domain).atoms] += 1
         while len(self.result.steps) < self.o["max_steps"]:
             if self.goal_holds(goal):
                 self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
@@ -206,7 +237,8 @@ class _Run:
                     shown_goal,
                     self.o["prompt_actions"],
                 )
-                attempt, done = self.judge(self.ask("step", prompt, goal, history), goal)
+                reply = self.ask("step", prompt, goal, history, [a.reply for a in rejected])
+                attempt, done = self.judge(reply, goal)
                 if done:
                     self.finish(
                         "done_unverified", "the model says the instruction is done (no goal to verify)"
@@ -230,7 +262,7 @@ class _Run:
             if atoms in seen and self.o["mode"] == "hybrid":
                 self.planner_takeover(goal, "the model returned to an earlier state")
                 break
-            seen.add(atoms)
+            seen[atoms] += 1
         if self.result.status in ("stuck", "unsolvable"):
             return
         if self.goal_holds(goal):

@@ -53,10 +53,15 @@ class OpenLoopAgent:
         except GSRError:
             pass
         from gsr.facts import state_from_graph
+        from gsr.reason.backend import Query
         from gsr.reason.goal_text import parse_goal_answer
         from gsr.reason.prompt import build_goal_prompt
 
-        reply = self.backend.complete(build_goal_prompt(graph, self.domain, instruction))
+        prompt = build_goal_prompt(graph, self.domain, instruction)
+        try:
+            reply = self.backend.complete(prompt, (), Query("goal", prompt, graph, self.domain, instruction))
+        except GSRError:  # a step-only model (compact format) has no goal answer: no goal is shown
+            return None
         try:
             return parse_goal_answer(
                 reply, self.domain, state_from_graph(graph, self.domain), instruction
@@ -75,12 +80,15 @@ class OpenLoopAgent:
 
         assert self.domain is not None, "reset() first"
         prompt = build_prompt(graph, self.domain, instruction, history=self.history, goal=self.goal)
-        query = None
+        allowed = None
         if self.constrained:
             from gsr.reason.applicable import applicable_steps
 
             allowed = (*(format_step(s) for s in applicable_steps(self.domain, graph)), DONE)
-            query = Query("step", prompt, graph, self.domain, instruction, None, tuple(self.history), allowed)
+        # the structured query goes with every call: compact-format models read it instead of the text
+        query = Query(
+            "step", prompt, graph, self.domain, instruction, self.goal, tuple(self.history), allowed
+        )
         reply = self.backend.complete(prompt, (), query)
         try:
             step = parse_first_step(reply, source="reply")

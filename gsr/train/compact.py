@@ -1,0 +1,340 @@
+"""Train a compact-format step model from scratch (:mod:`gsr.reason.compact`): data, training, DAgger.
+
+Data (all labels come from the planner, all states from the project's generator):
+
+- **trajectory rows**: every ``next_action`` row of a ``gsr datagen`` dataset (state, goal, history ->
+  the planner's next step, or ``done``);
+- **recovery rows**: a trajectory state knocked off the plan by one or two random applicable steps,
+  labelled with the first step of a fresh plan from there (the model learns to recover, not only to
+  follow an optimal path);
+- **on-policy rows (DAgger)**: states the trained model itself visits on training tasks, labelled by
+  the planner, added before training on.
+
+Each row is written with a fresh random object naming every time it is used (augmentation). The model
+is a small ``LlamaForCausalLM`` with the word-level domain tokenizer; the loss is on the answer tokens.
+The output folder (written atomically) loads with ``--backend transformers:DIR``.
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import math
+import os
+import random
+import shutil
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from gsr.errors import GSRError
+from gsr.pddl.model import Domain, Formula
+from gsr.scene_graph import SceneGraph
+from gsr.step import Step
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One supervised next-step decision: the scene now, the goal, the steps so far, the planner's answer."""
+
+    graph: SceneGraph
+    goal: Formula
+    history: tuple[Step, ...]
+    answer: Step | None  # None: the goal holds (answer ``done``)
+    source: str = "trajectory"
+
+
+@dataclass(frozen=True)
+class CompactSpec:
+    """Size of the compact model (defaults: ~0.5M parameters, trains on one CPU core in minutes)."""
+
+    hidden: int = 128
+    layers: int = 3
+    heads: int = 4
+    intermediate: int = 256
+    context: int = 512
+
+
+def dataset_samples(data: Path, split: str = "train", limit: int | None = None) -> list[Sample]:
+    """Trajectory samples from a ``gsr datagen`` folder's ``next_action`` rows."""
+    from gsr.datagen.schema import decode
+    from gsr.pddl.parser import parse_formula
+
+    files = sorted(glob.glob(str(data / "data" / split / "*.jsonl")))
+    if not files:
+        raise GSRError(f"{data}: no data/{split}/*.jsonl files (generate them with gsr datagen)")
+    out: list[Sample] = []
+    for path in files:
+        with open(path, encoding="utf-8") as fh:
+            for line in fh:
+                row = json.loads(line)
+                if row.get("type") != "next_action":
+                    continue
+                _, inp, res = decode(row)
+                history = tuple(Step(s.action, tuple(s.args)) for s in inp.history)
+                answer = None if res.done else Step(res.step.action, tuple(res.step.args))
+                out.append(Sample(inp.graph, parse_formula(inp.goal), history, answer))
+                if limit is not None and len(out) >= limit:
+                    return out
+    return out
+
+
+def _apply(domain: Domain, graph: SceneGraph, step: Step) -> SceneGraph | None:
+    from gsr.check import check_step
+    from gsr.facts import graph_with_state, state_from_graph
+
+    diagnosis = check_step(domain, state_from_graph(graph, domain), step)
+    return graph_with_state(graph, diagnosis.next_state) if diagnosis.ok else None
+
+
+def label(
+    domain: Domain, graph: SceneGraph, goal: Formula, timeout: float = 10.0
+) -> tuple[bool, Step | None]:
+    """The planner's next step from ``graph``: (solvable, step; None when the goal already holds)."""
+    from gsr.facts import state_from_graph
+    from gsr.plan.api import plan_graph
+    from gsr.semantics import goal_holds
+
+    if goal_holds(domain, goal, state_from_graph(graph, domain)):
+        return True, None
+    found = plan_graph(domain, graph, goal, timeout=timeout)
+    if not found.solved or found.plan is None or not found.plan.steps:
+        return False, None
+    first = found.plan.steps[0]
+    return True, Step(first.action, first.args)
+
+
+def recovery_samples(
+    samples: Sequence[Sample], count: int, seed: int, domain: Domain, budget: float | None = None
+) -> list[Sample]:
+    """Off-plan states (1-2 random applicable steps away from a trajectory) with the planner's recovery step."""
+    from gsr.reason.applicable import applicable_steps
+
+    rng = random.Random(seed)
+    pool = [s for s in samples if s.answer is not None]
+    out: list[Sample] = []
+    start = time.perf_counter()
+    while pool and len(out) < count and (budget is None or time.perf_counter() - start < budget):
+        base = rng.choice(pool)
+        graph, history = base.graph, list(base.history)
+        for _ in range(rng.choice((1, 1, 2))):
+            options = [s for s in applicable_steps(domain, graph) if (s.action, s.args) != _key(base.answer)]
+            if not options:
+                break
+            step = rng.choice(options)
+            graph = _apply(domain, graph, Step(step.action, step.args)) or graph
+            history.append(Step(step.action, step.args))
+        ok, step = label(domain, graph, base.goal)
+        if ok:
+            out.append(Sample(graph, base.goal, tuple(history), step, "recovery"))
+    return out
+
+
+def _key(step: Step | None) -> tuple | None:
+    return None if step is None else (step.action, step.args)
+
+
+def encode(
+    sample: Sample, domain: Domain, vocab: dict[str, int], rng: random.Random
+) -> tuple[list[int], int]:
+    """(token ids of context + answer + eos, context length) under a fresh random naming."""
+    from gsr.facts import state_from_graph
+    from gsr.reason.compact import EOS, Naming, action_tokens, context_tokens, scene_objects
+
+    state = state_from_graph(sample.graph, domain)
+    naming = Naming.make(scene_objects(state, domain), rng)
+    context = context_tokens(state, domain, sample.goal, sample.history, naming)
+    answer = [*action_tokens(sample.answer, naming), EOS]
+    return [vocab[t] for t in context + answer], len(context)
+
+
+def new_model(tokenizer: Any, spec: CompactSpec, seed: int) -> Any:
+    """A freshly initialised LlamaForCausalLM for the word-level vocabulary."""
+    import torch
+    from transformers import LlamaConfig, LlamaForCausalLM
+
+    config = LlamaConfig(
+        vocab_size=len(tokenizer),
+        hidden_size=spec.hidden,
+        intermediate_size=spec.intermediate,
+        num_hidden_layers=spec.layers,
+        num_attention_heads=spec.heads,
+        num_key_value_heads=spec.heads,
+        max_position_embeddings=spec.context,
+        rms_norm_eps=1e-5,
+        tie_word_embeddings=True,
+        bos_token_id=tokenizer.eos_token_id,
+        eos_token_id=tokenizer.eos_token_id,
+        pad_token_id=tokenizer.pad_token_id,
+    )
+    torch.manual_seed(seed)
+    return LlamaForCausalLM(config)
+
+
+@dataclass
+class FitReport:
+    """What one call of :func:`fit` did."""
+
+    steps: int
+    examples: int
+    seconds: float
+    cpu_seconds: float
+    last_loss: float
+
+
+def fit(
+    model: Any,
+    samples: Sequence[Sample],
+    domain: Domain,
+    vocab: dict[str, int],
+    seconds: float,
+    seed: int,
+    batch_size: int = 32,
+    lr: float = 2e-3,
+    optimizer: Any = None,
+    schedule: Callable[[float], float] | None = None,
+    log: Callable[[str], None] = print,
+) -> tuple[FitReport, Any]:
+    """Train ``model`` on ``samples`` for ``seconds`` of this process's CPU time (the same amount of
+    training on a busy or an idle machine); loss on the answer tokens. Returns the optimizer too."""
+    import torch
+
+    if not samples:
+        raise GSRError("no training samples")
+    rng = random.Random(seed)
+    pad = vocab["<pad>"]
+    opt = optimizer or torch.optim.AdamW(model.parameters(), lr=lr, weight_decay=0.01, betas=(0.9, 0.98))
+    model.train()
+    t0, c0 = time.perf_counter(), time.process_time()
+    steps = examples = 0
+    loss_value = float("nan")
+    order: list[int] = []
+    while time.process_time() - c0 < seconds:
+        if len(order) < batch_size:
+            order += rng.sample(range(len(samples)), len(samples))
+        batch = [encode(samples[order.pop()], domain, vocab, rng) for _ in range(batch_size)]
+        width = max(len(ids) for ids, _ in batch)
+        ids = torch.full((len(batch), width), pad, dtype=torch.long)
+        labels = torch.full((len(batch), width), -100, dtype=torch.long)
+        attn = torch.zeros((len(batch), width), dtype=torch.long)
+        for k, (seq, cut) in enumerate(batch):
+            ids[k, : len(seq)] = torch.tensor(seq)
+            labels[k, cut : len(seq)] = torch.tensor(seq[cut:])
+            attn[k, : len(seq)] = 1
+        if schedule is not None:
+            for group in opt.param_groups:
+                group["lr"] = lr * schedule(min(1.0, (time.process_time() - c0) / seconds))
+        loss = model(input_ids=ids, attention_mask=attn, labels=labels).loss
+        opt.zero_grad()
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
+        opt.step()
+        steps += 1
+        examples += len(batch)
+        loss_value = float(loss.detach())
+        if steps % 50 == 0:
+            log(f"step {steps}: loss {loss_value:.4f}, {time.process_time() - c0:.0f} CPU s")
+    model.eval()
+    report = FitReport(
+        steps, examples, round(time.perf_counter() - t0, 1), round(time.process_time() - c0, 1), loss_value
+    )
+    return report, opt
+
+
+def accuracy(model: Any, samples: Sequence[Sample], domain: Domain, tokenizer: Any) -> float:
+    """Share of samples whose free (beam) answer equals the planner's label (exact action and arguments)."""
+    from gsr.reason.backend import Query
+    from gsr.reason.compact_decode import CompactAnswerer, answer_key
+    from gsr.reason.prompt import Prompt
+
+    if not samples:
+        return float("nan")
+    answerer = CompactAnswerer(model, tokenizer)
+    hits = 0
+    for s in samples:
+        query = Query("step", Prompt("", ""), s.graph, domain, "", s.goal, s.history)
+        reply = answerer.answer(query)
+        hits += answer_key(reply) == (_key(s.answer) or ("done", ()))
+    return hits / len(samples)
+
+
+def rollout_samples(
+    model: Any,
+    tokenizer: Any,
+    tasks: Iterable[tuple[SceneGraph, Formula]],
+    domain: Domain,
+    max_steps: int = 12,
+    budget: float | None = None,
+) -> tuple[list[Sample], int]:
+    """DAgger: run the model (free decoding, no checker) on ``tasks``; label every visited state with the
+    planner. Returns (samples, episodes the model solved on its own)."""
+    from gsr.errors import ParseError
+    from gsr.reason.backend import Query
+    from gsr.reason.compact_decode import CompactAnswerer
+    from gsr.reason.prompt import Prompt
+    from gsr.reason.step_format import parse_first_step
+
+    answerer = CompactAnswerer(model, tokenizer)
+    out: list[Sample] = []
+    solved = 0
+    start = time.perf_counter()
+    for graph, goal in tasks:
+        if budget is not None and time.perf_counter() - start > budget:
+            break
+        history: list[Step] = []
+        for _ in range(max_steps):
+            ok, want = label(domain, graph, goal)
+            if not ok:
+                break
+            out.append(Sample(graph, goal, tuple(history), want, "dagger"))
+            if want is None:
+                solved += 1
+                break
+            reply = answerer.answer(Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history)))
+            try:
+                step = parse_first_step(reply, source="reply")
+            except ParseError:
+                break
+            nxt = _apply(domain, graph, Step(step.action, step.args))
+            if nxt is None:
+                break
+            graph = nxt
+            history.append(Step(step.action, step.args))
+    return out, solved
+
+
+def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any]) -> None:
+    """Write the folder to a temporary name and rename it to ``out`` (never half-written)."""
+    from gsr.reason.compact import FORMAT, HISTORY, MARKER, MAX_OBJECTS
+
+    if out.exists() and any(out.iterdir()):
+        raise GSRError(f"{out} exists and is not empty; choose a new output folder")
+    tmp = out.with_name(f".{out.name}.tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir(parents=True)
+    model.save_pretrained(tmp)
+    tokenizer.save_pretrained(tmp)
+    marker = {"format": FORMAT, "max_objects": MAX_OBJECTS, "history": HISTORY}
+    (tmp / MARKER).write_text(json.dumps(marker, indent=1))
+    (tmp / "gsr_training.json").write_text(json.dumps(info, indent=1, default=str))
+    if out.exists():
+        out.rmdir()
+    os.replace(tmp, out)
+
+
+def cosine(warmup: float = 0.03, floor: float = 0.05) -> Callable[[float], float]:
+    """A learning-rate multiplier over training progress in [0, 1]: linear warmup, cosine decay."""
+
+    def f(p: float) -> float:
+        if p < warmup:
+            return max(0.05, p / warmup)
+        return floor + (1 - floor) * 0.5 * (1 + math.cos(math.pi * (p - warmup) / (1 - warmup)))
+
+    return f
+
+
+def spec_dict(spec: CompactSpec) -> dict[str, Any]:
+    """The spec as JSON-ready fields."""
+    return asdict(spec)
