@@ -77,7 +77,27 @@ def _plan_fd(domain: Domain, problem: Problem, timeout: float) -> PlanResult:
         prob.write_text(write_problem(problem))
         status, found, message = run_fast_downward(dom, prob, timeout)
     elapsed = time.perf_counter() - start
-    cost = float(len(found)) if found is not None and problem.metric is None else None
+    cost = None
+    if found is not None:
+        # FD's plan is checked like ours; its cost (action costs included) comes from the check.
+        from gsr.validate import validate_plan
+
+        report = validate_plan(domain, problem, found)
+        if not report.valid:
+            return PlanResult(
+                "error",
+                None,
+                None,
+                0,
+                0,
+                0,
+                elapsed,
+                0.0,
+                elapsed,
+                "fd",
+                f"Fast Downward's plan is invalid: {report.message}",
+            )
+        cost = report.cost
     return PlanResult(status, found, cost, 0, 0, 0, elapsed, 0.0, elapsed, "fd", message)
 
 

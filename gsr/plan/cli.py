@@ -35,7 +35,14 @@ def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
     if problem.suffix.lower() == ".bddl":
         return load_libero(problem, domain)
     if domain is None:
-        raise GSRError(f"{problem}: a PDDL problem needs its DOMAIN file as well")
+        from gsr.pddl.files import find_domain_file
+
+        domain = find_domain_file(problem)
+        if domain is None:
+            raise GSRError(
+                f"{problem}: no domain file beside it (domain.pddl, {problem.stem}-domain.pddl, "
+                f"domain_{problem.name}, ...): give DOMAIN PROBLEM"
+            )
     if not domain.is_file():
         raise GSRError(f"{domain}: no such file")
     dom = load_domain(domain)
@@ -56,6 +63,9 @@ def plan_command(domain: Path | None, problem: Path, planner: str, timeout: floa
     except OSError as err:
         print(f"error: {err}", file=sys.stderr)
         return EXIT_ERROR
+    except (RecursionError, MemoryError) as err:
+        print(f"error: the task is too large for the planner ({type(err).__name__})", file=sys.stderr)
+        return EXIT_ERROR
     stats = (
         f"{result.planner}: {result.status} in {result.time:.3f} s (ground {result.ground_time:.3f} s, "
         f"search {result.search_time:.3f} s); expanded {result.expanded}, generated {result.generated}, "
@@ -71,7 +81,8 @@ def plan_command(domain: Path | None, problem: Path, planner: str, timeout: floa
         except OSError as err:
             print(f"error: cannot write {out}: {err}", file=sys.stderr)
             return EXIT_ERROR
-        print(f"{stats}; plan length {len(result.plan)}, cost {result.cost:g}", file=sys.stderr)
+        cost = "unknown" if result.cost is None else f"{result.cost:g}"
+        print(f"{stats}; plan length {len(result.plan)}, cost {cost}", file=sys.stderr)
         return EXIT_SOLVED
     print(f"{stats}; {result.message}", file=sys.stderr)
     if result.status == "unsolvable":

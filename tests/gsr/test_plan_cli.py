@@ -140,3 +140,33 @@ def test_gsr_plan_typer_exit_codes(blocks: tuple[Path, Path], tmp_path: Path) ->
     ]
     assert runner.invoke(app, args).exit_code == 3
     assert runner.invoke(app, ["plan", str(tmp_path / "missing.pddl")]).exit_code == 1
+
+
+def test_planner_fd_with_action_costs_reports_the_plan_cost(capsys) -> None:
+    """FD prints no unit-cost count under a metric: the cost comes from validating its plan."""
+    from gsr.plan.fast_downward import find_fast_downward
+
+    if find_fast_downward() is None:
+        pytest.skip("Fast Downward (up-fast-downward) is not installed")
+    problem = DATA / "tetris" / "p04-10.pddl"
+    code = plan_command(None, problem, "fd", 300.0, None)  # DOMAIN found beside the problem
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert "Traceback" not in captured.err
+    cost = float(captured.err.rsplit("cost ", 1)[1].split()[0])
+    assert cost >= len(parse_plan(captured.out)) > 0  # tetris moves cost 1-3 each
+
+
+def test_problem_alone_finds_its_domain_file(tmp_path: Path, capsys) -> None:
+    from gsr.pddl.files import find_domain_file
+
+    (tmp_path / "p01.pddl").write_text(TOY_UNSOLVABLE.replace("(and (at-a) (at-b))", "(at-b)"))
+    assert find_domain_file(tmp_path / "p01.pddl") is None
+    assert plan_command(None, tmp_path / "p01.pddl", "lazy-ff", 5.0, None) == 1
+    assert "no domain file" in capsys.readouterr().err
+    (tmp_path / "domain_p01.pddl").write_text(TOY_DOMAIN)  # FD collection style (psr-small etc.)
+    assert find_domain_file(tmp_path / "p01.pddl") == tmp_path / "domain_p01.pddl"
+    (tmp_path / "p01-domain.pddl").write_text(TOY_DOMAIN)  # tried before domain_NAME
+    assert find_domain_file(tmp_path / "p01.pddl") == tmp_path / "p01-domain.pddl"
+    assert plan_command(None, tmp_path / "p01.pddl", "lazy-ff", 5.0, None) == 0
+    assert "(go)" in capsys.readouterr().out
