@@ -173,10 +173,10 @@ def _adversarial(n: int, seed: int, key: str | None) -> list[Req]:
         ),
         ("huge_scene_store", "POST", "/v1/scenes", "4", body(huge_scene), json_ct),
         (
-            "at_limit_validate",
+            "at_limit_validate",  # 1000 steps over 1000 objects: within the budget or stopped (422)
             "POST",
             "/v1/validate",
-            "2",
+            "24",
             body(
                 {
                     "scene_graph": at_limit,
@@ -209,14 +209,14 @@ def _adversarial(n: int, seed: int, key: str | None) -> list[Req]:
             "POST",
             "/v1/plan",
             "2",
-            body({"domain_pddl": BLOCKS_DOMAIN, "problem_pddl": _blocks_problem(6, cycle)}),
+            body({"domain_pddl": BLOCKS_DOMAIN, "problem_pddl": _blocks_problem(4, cycle)}),
             json_ct,
         ),
         (
-            "huge_search",
+            "huge_search",  # the planner stops itself at the budget (200 timeout), or is stopped (422)
             "POST",
             "/v1/plan",
-            "2",
+            "24",
             body(
                 {
                     "domain_pddl": BLOCKS_DOMAIN,
@@ -485,7 +485,10 @@ def main() -> int:
     load_after = os.getloadavg()
 
     server_errors = sum(1 for _, _, s, _ in results if s >= 500)
-    unexpected = sum(1 for _, _, s, e in results if str(s // 100) != e)
+    # a 429 (no worker free in time) is a correct answer under abuse; elsewhere it counts as unexpected
+    unexpected = sum(
+        1 for _, _, s, e in results if str(s // 100) not in e and not (args.adversarial and s == 429)
+    )
     lat = [t for _, t, _, _ in results]
     per: dict[str, dict[str, float]] = {}
     for name in sorted({r[0] for r in results}):

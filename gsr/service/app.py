@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import logging
 import time
+from collections.abc import Callable
 from contextlib import asynccontextmanager
 from typing import Any
 
@@ -151,16 +152,13 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
             return scenes.inline(req.scene_graph)
         return req.scene_graph
 
-    async def in_process(name: str, req: Any, source: Any, steps: int = 0) -> dict[str, Any]:
-        def job() -> dict[str, Any]:
-            return run_handler(name, req, settings, source)
-
+    def is_small(source: Any, steps: int = 0) -> bool:
         if isinstance(source, Scene):
-            small = len(source.graph.nodes) <= INLINE_NODES and steps <= INLINE_STEPS
-        else:
-            small = source is None or _small(source, steps)
-        if small:
-            return job()
+            return len(source.graph.nodes) <= INLINE_NODES and steps <= INLINE_STEPS
+        return source is None or _small(source, steps)
+
+    async def in_thread(fn: Callable[..., Any], *args: Any) -> Any:
+        """Bounded but not tiny work (a large scene): a worker thread, at most max_concurrent at once."""
         try:
             await asyncio.wait_for(slots.acquire(), timeout=settings.queue_timeout)
         except TimeoutError:
@@ -174,7 +172,7 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
             )
             raise err from None
         try:
-            return await run_in_threadpool(job)
+            return await run_in_threadpool(fn, *args)
         finally:
             slots.release()
 
@@ -221,9 +219,9 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
         return {"requestBody": {"required": True, "content": {"application/json": {"schema": ref}}}}
 
     @app.get("/health")
-    async def health() -> dict[str, Any]:
+    async def health() -> JSONResponse:
         """Liveness (no API key needed)."""
-        return {"status": "ok", "version": __version__, "time": time.time()}
+        return JSONResponse({"status": "ok", "version": __version__, "time": time.time()})
 
     @app.get("/metrics", response_class=PlainTextResponse)
     async def metrics_endpoint() -> PlainTextResponse:
@@ -237,61 +235,64 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
         return await run_in_threadpool(list_domains)
 
     @app.post("/v1/check", openapi_extra=body_of(CheckRequest))
-    async def check(request: Request) -> dict[str, Any]:
+    async def check(request: Request) -> JSONResponse:
         """Check one step against a scene graph (inline or ``scene_id``): 200 with ``ok`` and the diagnosis."""
         req = _parse(await request.body(), CheckRequest)
         here = req.domain_pddl is None
         source = scene_source(req, here)
         if source is None:
             raise ApiError(422, "invalid_request", "give scene_graph or scene_id")
-        if not here:
-            return await isolated("check", req, source)
-        return await in_process("check", req, source)
+        if not here:  # user PDDL: its quantifiers can make one check unbounded
+            return JSONResponse(await isolated("check", req, source))
+        if is_small(source):
+            return JSONResponse(run_handler("check", req, settings, source))
+        return JSONResponse(await in_thread(run_handler, "check", req, settings, source))
 
     @app.post("/v1/validate", openapi_extra=body_of(ValidateRequest))
-    async def validate(request: Request) -> dict[str, Any]:
+    async def validate(request: Request) -> JSONResponse:
         """Validate a plan: 200 with ``valid``, per-step diagnoses and unmet goal literals."""
         req = _parse(await request.body(), ValidateRequest)
         here = req.domain_pddl is None and req.problem_pddl is None
         source = scene_source(req, here)
-        if not here:
-            return await isolated("validate", req, source)
         steps = len(req.plan) if isinstance(req.plan, list) else req.plan.count("(")
-        return await in_process("validate", req, source, steps)
+        if here and is_small(source, steps):
+            return JSONResponse(run_handler("validate", req, settings, source))
+        # user PDDL, or a long plan over a large scene: in a worker, within the time budget
+        return JSONResponse(await isolated("validate", req, source))
 
     @app.post("/v1/plan", openapi_extra=body_of(PlanRequest))
-    async def plan_endpoint(request: Request) -> dict[str, Any]:
+    async def plan_endpoint(request: Request) -> JSONResponse:
         """Plan a PDDL problem or a scene graph + goal within the server's time budget."""
         req = _parse(await request.body(), PlanRequest)
-        return await isolated("plan", req, scene_source(req, parse_here=False))
+        return JSONResponse(await isolated("plan", req, scene_source(req, parse_here=False)))
 
     @app.post("/v1/ground", openapi_extra=body_of(GroundRequest))
-    async def ground_endpoint(request: Request) -> dict[str, Any]:
+    async def ground_endpoint(request: Request) -> JSONResponse:
         """Ground an instruction to a goal formula (422 names unknown words or ambiguous objects)."""
         req = _parse(await request.body(), GroundRequest)
-        return await isolated("ground", req, scene_source(req, parse_here=False))
+        return JSONResponse(await isolated("ground", req, scene_source(req, parse_here=False)))
 
     @app.post("/v1/solve", openapi_extra=body_of(SolveRequest))
-    async def solve(request: Request) -> dict[str, Any]:
+    async def solve(request: Request) -> JSONResponse:
         """Instruction -> goal -> plan, every step checked."""
         req = _parse(await request.body(), SolveRequest)
-        return await isolated("solve", req, scene_source(req, parse_here=False))
+        return JSONResponse(await isolated("solve", req, scene_source(req, parse_here=False)))
 
     @app.post("/v1/scene-graph/validate")
     async def scene_graph_validate(request: Request) -> dict[str, Any]:
         """Validate a scene graph (JSON or GSR-Bench message); 422 names the offending field."""
         data = _parse(await request.body(), _OBJECT)
         check_scene_size(data, settings, "body")
-        return scene_summary(
-            scenes.inline(data, "body") if _small(data) else Scene.from_data(data, settings, "body")
-        )
+        if _small(data):
+            return scene_summary(scenes.inline(data, "body"))
+        return await in_thread(lambda: scene_summary(Scene.from_data(data, settings, "body")))
 
     @app.post("/v1/scenes", status_code=201)
     async def store_scene(request: Request) -> dict[str, Any]:
         """Store a scene graph; answer its ``scene_id`` for /v1/check and /v1/validate."""
         data = _parse(await request.body(), _OBJECT)
         check_scene_size(data, settings, "body")
-        scene_id, scene = scenes.put(data)
+        scene_id, scene = scenes.put(data) if _small(data) else await in_thread(scenes.put, data)
         return {"scene_id": scene_id, "nodes": len(scene.graph.nodes), "edges": len(scene.graph.edges)}
 
     @app.get("/v1/scenes/{scene_id}")

@@ -121,7 +121,7 @@ class Scene:
 
     def __init__(self, graph) -> None:
         self.graph = graph
-        self._derived: dict[str, tuple[dict[str, str], frozenset]] = {}
+        self._derived: dict[str, Any] = {}  # per built-in domain: (objects, facts) and the State
         self._facts: frozenset | None = None
 
     @property
@@ -153,10 +153,18 @@ class Scene:
         return cached
 
     def state(self, domain, ref: DomainRef):
+        """The symbolic state; for built-in domains the same State object every time, so the checker's
+        per-state indexes are built once per scene."""
         from gsr.state import State
 
-        objects, atoms = self.objects_and_facts(domain, ref)
-        return State(atoms, {**domain.constants, **objects})
+        key = None if ref.domain_pddl is not None else "state:" + ref.domain
+        state = self._derived.get(key) if key is not None else None
+        if state is None:
+            objects, atoms = self.objects_and_facts(domain, ref)
+            state = State(atoms, {**domain.constants, **objects})
+            if key is not None:
+                self._derived[key] = state
+        return state
 
 
 def _step(value: str | StepIn, where: str = "step"):
@@ -245,11 +253,17 @@ def handle_validate(req: ValidateRequest, settings: ServiceSettings, scene: Scen
             settings.max_steps,
             f"plan has {n} steps; the limit is {settings.max_steps}",
         )
-    domain, problem = _task(req, scene)
     if isinstance(req.plan, str):
         plan = parse_plan(req.plan, source="plan")
     else:
         plan = Plan(tuple(_step(s, where=f"plan[{i}]") for i, s in enumerate(req.plan)))
+    if req.problem_pddl is None and scene is not None and req.goal is not None:
+        from gsr.pddl.parser import parse_formula
+
+        domain = domain_of(req)  # from the scene's cached state: no problem to build
+        goal = parse_formula(req.goal, source="goal")
+        return validate_plan(domain, scene.state(domain, req), plan, goal=goal).to_dict()
+    domain, problem = _task(req, scene)
     return validate_plan(domain, problem, plan).to_dict()
 
 

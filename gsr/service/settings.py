@@ -30,7 +30,7 @@ class ServiceSettings:
     max_concurrent: int = 8  # in-process requests (check, validate, scenes) computing at once
     isolated_workers: int = 1  # worker processes for plan/solve/ground/user PDDL, per server process
     warm_workers: bool = True  # start the worker processes when the server starts, not on first use
-    worker_memory_mb: int = 2048  # address-space limit of each worker process
+    worker_memory_mb: int = 1024  # address-space limit of each worker process
     worker_nice: int = 5  # worker processes yield the CPU to the server's cheap requests
     max_queue: int = 64  # requests waiting for a worker process; more are refused at once
     queue_timeout: float = 10.0  # how long a request waits for a slot before 429
