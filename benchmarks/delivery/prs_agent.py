@@ -177,7 +177,11 @@ class PrsAgent:
                 if o.type not in wanted:
                     continue
                 out.object_seen = True
-                cap = len(attrs & o.caption) / len(attrs) if attrs and o.caption else 0.0
+                # Dice overlap of the request's attribute words and the caption: "light green" is nearer
+                # a caption {green} than {pale, green}
+                cap = (
+                    2 * len(attrs & o.caption) / (len(attrs) + len(o.caption)) if attrs and o.caption else 0.0
+                )
                 on = self._receptacle_of(env, o)
                 key = (cap, rec_score(on) if on else 0.0)
                 if best is None or key > best[0]:

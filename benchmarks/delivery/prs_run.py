@@ -33,6 +33,7 @@ def build_captions(station: Station, tasks: list[PrsTask], labels: list[str]) ->
     """Object name -> the non-type words requests used for it (the sensor's captions)."""
     rooms = RoomMatcher(station)
     words: dict[str, Counter] = {}
+    seen: Counter = Counter()
     for t in tasks:
         try:
             parsed = parse_request(t.request.instruction, rooms, labels)
@@ -40,9 +41,18 @@ def build_captions(station: Station, tasks: list[PrsTask], labels: list[str]) ->
             continue
         type_words = set(label_words(t.truth.target_object_type))
         attrs = [w for w in parsed.object_tokens if w not in type_words and w not in STOP]
-        words.setdefault(t.truth.target_object_name, Counter()).update(attrs)
-    return {name: frozenset(c) for name, c in words.items()}
+        words.setdefault(t.truth.target_object_name, Counter()).update(set(attrs))
+        seen[t.truth.target_object_name] += 1
+    # a caption keeps the words at least CAPTION_SHARE of the object's requests use: what most people
+    # see in it, not every paraphrase
+    return {
+        name: frozenset(w for w, n in c.items() if n >= CAPTION_SHARE * seen[name])
+        for name, c in words.items()
+    }
 
+
+#: Share of an object's requests that must use a word for it to enter the object's caption.
+CAPTION_SHARE = 0.25
 
 _STATE: dict = {}
 
