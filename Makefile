@@ -35,7 +35,7 @@ demo: sysdeps $(VENV)/.installed-demo
 
 test: sysdeps $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
-	$(PY) -m pytest -n 2
+	$(PY) -m pytest -n 2 -rs
 
 test-slow: $(VENV)/.installed-test
 	$(PY) -m pytest -n 2 -m 'slow or physics'
