@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import errno
 import hashlib
+import http.client
 import json
 import os
 import shutil
@@ -294,7 +295,7 @@ def _open(url: str, what: str):
         return urllib.request.urlopen(url, timeout=60)
     except urllib.error.HTTPError as exc:
         raise GSRError(f"{what}: the package index answered {exc.code} {exc.reason} for {url}") from None
-    except (urllib.error.URLError, OSError, ValueError) as exc:
+    except (urllib.error.URLError, OSError, ValueError, http.client.HTTPException) as exc:
         reason = getattr(exc, "reason", None) or exc
         host = urllib.parse.urlsplit(url).netloc or url
         raise GSRError(
@@ -309,7 +310,7 @@ def release_file(ds: DataSet, index: str | None = None) -> tuple[str, int]:
     with _open(url, ds.name) as resp:
         try:
             meta = json.loads(resp.read().decode("utf-8"))
-        except (ValueError, UnicodeDecodeError, OSError):
+        except (ValueError, UnicodeDecodeError, OSError, http.client.HTTPException):
             raise GSRError(f"{ds.name}: the package index sent an unreadable answer for {url}") from None
     releases = meta.get("releases") if isinstance(meta, dict) else None
     files = releases.get(ds.version) if isinstance(releases, dict) else None
@@ -328,12 +329,12 @@ def _download(ds: DataSet, url: str, size: int, dest: Path, progress: Progress |
     digest = hashlib.sha256()
     done = 0
     with _open(url, ds.name) as resp, dest.open("wb") as out:
-        total = size or int(getattr(resp, "headers", {}).get("Content-Length") or 0)
+        total = size or int((getattr(resp, "headers", None) or {}).get("Content-Length") or 0)
         while True:
             try:
                 chunk = resp.read(CHUNK)
-            except OSError as exc:
-                raise GSRError(f"{ds.name}: download of {ds.filename} broke off: {exc}") from None
+            except (OSError, http.client.HTTPException) as exc:
+                raise GSRError(f"{ds.name}: download of {ds.filename} broke off: {exc!r}") from None
             if not chunk:
                 break
             out.write(chunk)

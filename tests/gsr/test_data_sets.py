@@ -160,6 +160,28 @@ def test_unreachable_index_is_one_line(tmp_path: Path, monkeypatch: pytest.Monke
     assert _leftovers(tmp_path / "cache") == []
 
 
+def test_download_broken_off_writes_nothing(index: FakeIndex, tmp_path: Path, monkeypatch) -> None:
+    import http.client
+    import urllib.request
+
+    index.publish("libero", "libero-0.1.1.tar.gz", _libero_archive(tmp_path), files=3)
+    real = urllib.request.urlopen
+
+    class Broken(io.BytesIO):
+        headers = None  # no Content-Length: the index gave the size
+
+        def read(self, n: int = -1) -> bytes:
+            raise http.client.IncompleteRead(b"partial", 100)
+
+    def urlopen(url: str, timeout: float = 0):
+        return Broken() if url.endswith(".tar.gz") else real(url, timeout=timeout)
+
+    monkeypatch.setattr(urllib.request, "urlopen", urlopen)
+    with pytest.raises(GSRError, match=r"libero: download of libero-0\.1\.1\.tar\.gz broke off"):
+        fetch("libero")
+    assert _leftovers(tmp_path / "cache") == []
+
+
 def test_full_disk_leaves_the_old_copy(index: FakeIndex, tmp_path: Path, monkeypatch) -> None:
     index.publish("libero", "libero-0.1.1.tar.gz", _libero_archive(tmp_path), files=3)
     fetch("libero")
