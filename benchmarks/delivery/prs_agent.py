@@ -154,14 +154,23 @@ class PrsAgent:
         type_words = {w for lab in wanted for w in label_words(lab)}
         attrs = {t for t in parsed.object_tokens if t not in type_words and t not in STOP}
         src = set(normalise(" ".join(parsed.source_tokens)).split()) - STOP
-        rooms = parsed.source_rooms or [r.id for r in self.station.rooms if r.floor == env.floor]
-        recs = [r for r in self.station.receptacles if r.room in rooms and r.floor == env.floor]
 
         def rec_score(name: str) -> float:
             w = set(words(name))
             return len(w & src) / len(w) if w else 0.0
 
         here = env.cell
+        rooms = list(parsed.source_rooms)
+        if not rooms:  # no room named: the rooms holding the best-matching receptacles, then every room
+            on_floor = [r for r in self.station.receptacles if r.floor == env.floor and r.room]
+            top = max((rec_score(r.name) for r in on_floor), default=0.0)
+            named = sorted(
+                (r for r in on_floor if top > 0 and rec_score(r.name) == top),
+                key=lambda r: math.dist(r.centre, here),
+            )
+            rooms = list(dict.fromkeys(r.room for r in named))
+            rooms += [r.id for r in self.station.rooms if r.floor == env.floor and r.id not in rooms]
+        recs = [r for r in self.station.receptacles if r.room in rooms and r.floor == env.floor]
         recs.sort(key=lambda r: (-rec_score(r.name), rooms.index(r.room), math.dist(r.centre, here)))
         best: tuple[tuple, SeenObject] | None = None
         looked: set[Cell] = set()
@@ -186,7 +195,14 @@ class PrsAgent:
                 key = (cap, rec_score(on) if on else 0.0)
                 if best is None or key > best[0]:
                     best = (key, o)
-            if best is not None and (not attrs or best[0][0] >= GOOD_CAPTION):
+            uncaptioned = (
+                best is not None
+                and best[0][0] == 0
+                and not any(o.caption for o in seen.objects if o.type in wanted)
+            )
+            if best is not None and (
+                not attrs or best[0][0] >= GOOD_CAPTION or (uncaptioned and best[0][1] > 0)
+            ):
                 break
         if best is None:
             out.reason = "object not found"

@@ -18,7 +18,8 @@ from gsr.building.prs import Station
 
 FETCH_VERBS = (
     "pick up|picking up|fetch|fetching|grab|grabbing|grasp|grasping|retrieve|retrieving|collect|collecting|"
-    "get|take|taking|bring|bringing|carry|carrying|transport|transporting|deliver|delivering|move|hand"
+    "get|take|taking|bring|bringing|carry|carrying|transport|transporting|deliver|delivering|move|hand|"
+    "need|want|like"
 )
 #: What ends an object phrase: a preposition, a comma, or "and" + a verb ("red and white cake" goes on).
 PHRASE_END = (
@@ -134,18 +135,31 @@ class RoomMatcher:
         self.heads = sorted(by_head.items(), key=lambda kv: -len(kv[0]))
 
     def mentions(self, text: str) -> list[tuple[int, tuple[str, ...], list[str]]]:
-        """``(position, head, room ids)`` for each room mention, in text order."""
-        toks = normalise(text).split()
-        taken: set[int] = set()
+        """``(position, head, room ids)`` for each room mention, in text order. A mention must end its
+        clause or be followed by ``room``/``area``/``space``, a possessive or a function word: *the kitchen
+        counter* and *a white lab coat* name furniture and clothes, not rooms."""
         found = []
-        for head, ids in self.heads:
-            n = len(head)
-            for k in range(len(toks) - n + 1):
-                if tuple(toks[k : k + n]) == head and not taken & set(range(k, k + n)):
+        for c, chunk in enumerate(re.split(r"[,;.!?:]", text)):
+            toks = normalise(chunk).split()
+            taken: set[int] = set()
+            for head, ids in self.heads:
+                n = len(head)
+                for k in range(len(toks) - n + 1):
+                    if tuple(toks[k : k + n]) != head or taken & set(range(k, k + n)):
+                        continue
+                    nxt = toks[k + n] if k + n < len(toks) else None
+                    if nxt is not None and nxt not in ROOM_FOLLOWERS:
+                        continue
                     taken.update(range(k, k + n))
-                    found.append((k, head, ids))
-        # "office" alone also names the office rooms when no longer head matched there
+                    found.append((1000 * c + k, head, ids))
         return sorted(found)
+
+
+#: Words that may follow a room mention.
+ROOM_FOLLOWERS = frozenset(
+    "room rooms area space s and then to for with on in at from of where who which that she he they it "
+    "please so while or but i me my him her them by near next before after there here".split()
+)
 
 
 def normalise(text: str) -> str:
@@ -160,7 +174,7 @@ def normalise(text: str) -> str:
         (" living area", " living room"),
         (" meeting room", " conference room"),
         (" shared office", " office space"),
-        ("'s ", " "),
+        ("'s ", " s "),
     ):
         t = t.replace(a, b)
     return " ".join(t.split())
@@ -192,7 +206,11 @@ def split_sentences(instruction: str) -> list[str]:
 _OBJ = re.compile(
     rf"\b(?:{FETCH_VERBS})\s+(?:me\s+)?(?:the|a|an|that|this|some)\s+(?P<obj>.+?)(?={PHRASE_END})", re.I
 )
-_SRC = re.compile(r"\b(?:from|on|off|in|at)\s+(?P<src>.+?)(?=\s+(?:and|then|to|for)\b|[,;.]|$)", re.I)
+_SRC = re.compile(
+    r"(?:(?:that|which)\s+(?:is|are|was|sits|lies|stands)\s+|(?:sitting|lying|placed|located|resting|kept)\s+)?"
+    r"\b(?:from|on|off|in|at)\s+(?P<src>.+?)(?=\s+(?:and|then|to|for|over|back|brought|delivered)\b|[,;.?!]|$)",
+    re.I,
+)
 
 
 def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> ParsedRequest:

@@ -183,3 +183,34 @@ def test_crossfit_calibrates_each_fold_on_the_others(folder: Path, tmp_path: Pat
     assert list(run["submission"]) == [f"t{k}" for k in range(40)]  # file order kept
     assert run["summary"]["Task SR"] >= 0.8
     assert prs_command(folder, folder / "delivery_tasks_dev.json", tmp_path / "o", crossfit=1) == 1
+
+
+@pytest.mark.parametrize(
+    ("request_text", "label", "source", "dest"),
+    [
+        (
+            "Could you bring me the red apple that is on the counter in the kitchen? I'm in my bedroom.",
+            "RedApple", ["kitchen room"], [],
+        ),
+        (
+            "I need the blue mug from the desk in the office space brought to the kitchen.",
+            "BlueMug", ["office space"], ["kitchen room"],
+        ),
+        (
+            "Take the blue mug sitting on the desk of the office space to Ann, who wears a kitchen apron.",
+            "BlueMug", ["office space"], [],
+        ),
+        (
+            "Head to the kitchen, grab the apple off the kitchen counter and bring it to Bob in the bedroom.",
+            "RedApple", ["kitchen room"], ["bed room 0"],
+        ),
+    ],
+)  # fmt: skip
+def test_parse_general_constructions(
+    folder: Path, request_text: str, label: str, source: list[str], dest: list[str]
+) -> None:
+    st = load_station(folder)
+    p = parse_request(request_text, RoomMatcher(st), ["RedApple", "BlueMug"])
+    assert max(["RedApple", "BlueMug"], key=lambda lab: label_score(lab, p.object_tokens)) == label
+    assert [st.room(r).name for r in p.source_rooms] == source
+    assert [st.room(r).name for r in p.dest_rooms] == dest
