@@ -214,3 +214,34 @@ def test_parse_general_constructions(
     assert max(["RedApple", "BlueMug"], key=lambda lab: label_score(lab, p.object_tokens)) == label
     assert [st.room(r).name for r in p.source_rooms] == source
     assert [st.room(r).name for r in p.dest_rooms] == dest
+
+
+class _Boundary:
+    """The environment seen through the simulator's boundary only: any other attribute raises."""
+
+    ALLOWED = frozenset(
+        ["request", "station", "observe", "navigate", "grasp", "hand_over", "give_up", "cell", "floor", "world", "cell_size", "done", "seconds"]
+    )
+
+    def __init__(self, env: PrsEnv) -> None:
+        object.__setattr__(self, "_env", env)
+
+    def __getattr__(self, name: str) -> object:
+        if name not in self.ALLOWED:
+            raise AttributeError(f"the agent read {name!r}, which PRS does not give a robot")
+        return getattr(object.__getattribute__(self, "_env"), name)
+
+
+def test_agent_uses_only_the_simulator_boundary(folder: Path) -> None:
+    from benchmarks.delivery.prs_agent import PrsAgent
+
+    st = load_station(folder)
+    tasks = load_tasks(folder / "delivery_tasks_dev.json", st)
+    objects = inventory(st, tasks)
+    agent = PrsAgent(st, sorted({o.type for o in objects}))
+    done = 0
+    for task in tasks[:6]:
+        env = PrsEnv(st, objects, task)
+        out = agent.run(_Boundary(env))  # type: ignore[arg-type]
+        done += out.delivered and score_entry(env.result(), task.truth)["success"]
+    assert done >= 5
