@@ -103,9 +103,16 @@ def _ruled_out(
 ArgIndex = dict[tuple[str, int, str], list[tuple[str, ...]]]
 
 
-def _index_atom(index: dict[str, set[tuple[str, ...]]], by_arg: ArgIndex, atom: Atom) -> None:
-    """Add a new atom to both indexes."""
+def _index_atom(
+    index: dict[str, set[tuple[str, ...]]],
+    by_arg: ArgIndex,
+    atom: Atom,
+    added: dict[str, list[tuple[str, ...]]] | None = None,
+) -> None:
+    """Add a new atom to the indexes (and, in order of arrival, to ``added``)."""
     index.setdefault(atom.predicate, set()).add(atom.args)
+    if added is not None:
+        added.setdefault(atom.predicate, []).append(atom.args)
     for k, v in enumerate(atom.args):
         key = (atom.predicate, k, v)
         found = by_arg.get(key)
@@ -121,8 +128,13 @@ def _bindings(
     objects: _TypedObjects,
     disjunction: tuple[Atom, ...] = (),
     by_arg: ArgIndex | None = None,
+    delta: dict[str, list[tuple[str, ...]]] | None = None,
 ) -> list[dict]:
     """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed.
+
+    With ``delta`` (the atoms reached since the last call, by predicate; no disjunction), only the
+    bindings that use at least one of them are listed (semi-naive evaluation): each join atom in
+    turn is matched against the new atoms only, the others against all reached atoms.
 
     With a ``disjunction`` of atoms (pick's ``(or (on ?o ?from) (in ?o ?from))``), only bindings
     under which one of its atoms holds are listed: each alternative is joined like a join atom
@@ -137,13 +149,14 @@ def _bindings(
     atoms = schema.join
     out: list[dict] = []
     seen: set[tuple[str, ...]] = set()
+    dedupe = bool(disjunction) or delta is not None
     # Per atom: its arguments with whether each is a variable (looked at for every tuple).
     specs = {id(a): tuple((x, is_variable(x)) for x in a.args) for a in (*atoms, *disjunction)}
 
     def finish(binding: dict[str, str]) -> None:
         free = [p for p in params if p.name not in binding]
         if not free:  # the usual case: the join bound every parameter (a fresh dict per match)
-            if disjunction:  # a binding may satisfy several alternatives
+            if dedupe:  # a binding may satisfy several alternatives / use several new atoms
                 key = tuple(binding[p.name] for p in params)
                 if key in seen:
                     return
@@ -153,22 +166,24 @@ def _bindings(
         for combo in itertools.product(*(objects(p.types) for p in free)):
             full = dict(binding)
             full.update(zip((p.name for p in free), combo, strict=True))
-            if disjunction:
+            if dedupe:
                 key = tuple(full[p.name] for p in params)
                 if key in seen:
                     continue
                 seen.add(key)
             out.append(full)
 
-    def matches(atom: Atom, binding: dict[str, str]) -> Iterator[dict[str, str]]:
+    def matches(
+        atom: Atom, binding: dict[str, str], tuples: Iterable[tuple[str, ...]] | None = None
+    ) -> Iterator[dict[str, str]]:
         spec = specs[id(atom)]
-        tuples: Iterable[tuple[str, ...]] | None = None
-        if by_arg is not None:
+        if tuples is None and by_arg is not None:  # the smallest bucket of a bound argument
             for k, (a, var) in enumerate(spec):
                 v = binding.get(a) if var else a
                 if v is not None:
-                    tuples = by_arg.get((atom.predicate, k, v), ())
-                    break
+                    found = by_arg.get((atom.predicate, k, v), ())
+                    if tuples is None or len(found) < len(tuples):  # type: ignore[arg-type]
+                        tuples = found
         if tuples is None:
             tuples = index.get(atom.predicate, ())
         arity = len(spec)
@@ -193,8 +208,20 @@ def _bindings(
             else:
                 yield nb
 
-    def rec(k: int, binding: dict[str, str]) -> None:
-        if k == len(atoms):
+    def size(atom: Atom, binding: dict[str, str]) -> int:
+        """How many reached tuples a join atom would scan under ``binding`` (join ordering)."""
+        best = len(index.get(atom.predicate, ()))
+        if by_arg is not None:
+            for k, (a, var) in enumerate(specs[id(atom)]):
+                v = binding.get(a) if var else a
+                if v is not None:
+                    n = len(by_arg.get((atom.predicate, k, v), ()))
+                    if n < best:
+                        best = n
+        return best
+
+    def rec(todo: tuple[Atom, ...], binding: dict[str, str]) -> None:
+        if not todo:
             if not disjunction:
                 finish(binding)
                 return
@@ -202,10 +229,24 @@ def _bindings(
                 for nb in matches(alt, binding):
                     finish(nb)
             return
-        for nb in matches(atoms[k], binding):
-            rec(k + 1, nb)
+        # Join ordering: the atom with the fewest candidate tuples under the current binding goes
+        # next (tetris' L moves: the piece's position before the free cells next to it).
+        k = 0
+        if len(todo) > 1:
+            sizes = [size(a, binding) for a in todo]
+            k = sizes.index(min(sizes))
+        rest = todo[:k] + todo[k + 1 :]
+        for nb in matches(todo[k], binding):
+            rec(rest, nb)
 
-    rec(0, {})
+    if delta is None:
+        rec(tuple(atoms), {})
+        return out
+    for k, atom in enumerate(atoms):
+        new = delta.get(atom.predicate)
+        if new:
+            for nb in matches(atom, {}, new):
+                rec(atoms[:k] + atoms[k + 1 :], nb)
     return out
 
 
@@ -389,8 +430,9 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     reached: set[Atom] = set(init)
     index: dict[str, set[tuple[str, ...]]] = {}
     by_arg: ArgIndex = {}
+    added: dict[str, list[tuple[str, ...]]] = {}  # reached atoms by predicate, in order of arrival
     for a in init:
-        _index_atom(index, by_arg, a)
+        _index_atom(index, by_arg, a, added)
     groups, alternatives, narrow, parts = (
         compiled.groups,
         compiled.alternatives,
@@ -419,14 +461,25 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             # Bindings depend only on the join predicates' atoms: while those did not grow, only
             # the bindings that have not fired yet (and may now) are looked at again.
             sizes = tuple(len(index.get(p, ())) for p in triggers[si])
-            if sizes == join_sizes[si]:
+            old = join_sizes[si]
+            if sizes == old:
                 candidates = unfired[si]
-            else:
+            elif old is None or disjunctions[si] or not schema.join:
                 join_sizes[si] = sizes
                 candidates = _bindings(schema, index, objects, disjunctions[si], by_arg)
+            else:
+                # Semi-naive: only the bindings using an atom reached since the last listing are
+                # new; the others are fired already or waiting in unfired.
+                join_sizes[si] = sizes
+                delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
+                candidates = unfired[si] + _bindings(schema, index, objects, (), by_arg, delta)
             unfired[si] = still = []
+            listed: set[tuple] = set()
             for binding in candidates:
                 key = (si, *(binding[n] for n in names))
+                if key in listed:
+                    continue
+                listed.add(key)
                 if key not in cache:
                     if narrow[si] and _ruled_out(si, narrow[si], binding, simplify, narrow_memo):
                         cache[key] = None
@@ -466,7 +519,7 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 atom = Atom(*key)
                 reached.add(atom)
                 reached_keys.add(key)
-                _index_atom(index, by_arg, atom)
+                _index_atom(index, by_arg, atom, added)
                 changed = True
             else:
                 waiting.append((cond, key))
