@@ -29,6 +29,8 @@ from gsr.service.handlers import (
     ApiError,
     Scene,
     api_error_from,
+    check_instruction,
+    check_plan_length,
     check_scene_size,
     error_body,
     list_domains,
@@ -179,7 +181,7 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
     async def isolated(name: str, req: Any, source: Any) -> dict[str, Any]:
         timeout = getattr(req, "timeout", None)
         budget = min(timeout or settings.max_plan_seconds, settings.max_plan_seconds)
-        return await pool.run(name, req, source, budget * 1.25 + 1.0)  # the planner stops itself first
+        return await pool.run(name, req, source, budget * 1.5 + 2.0)  # the planner stops itself first
 
     # ------------------------------------------------------------------ errors
 
@@ -254,7 +256,7 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
         req = _parse(await request.body(), ValidateRequest)
         here = req.domain_pddl is None and req.problem_pddl is None
         source = scene_source(req, here)
-        steps = len(req.plan) if isinstance(req.plan, list) else req.plan.count("(")
+        steps = check_plan_length(req, settings)
         if here and is_small(source, steps):
             return JSONResponse(run_handler("validate", req, settings, source))
         # user PDDL, or a long plan over a large scene: in a worker, within the time budget
@@ -270,12 +272,14 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
     async def ground_endpoint(request: Request) -> JSONResponse:
         """Ground an instruction to a goal formula (422 names unknown words or ambiguous objects)."""
         req = _parse(await request.body(), GroundRequest)
+        check_instruction(req.instruction, settings)
         return JSONResponse(await isolated("ground", req, scene_source(req, parse_here=False)))
 
     @app.post("/v1/solve", openapi_extra=body_of(SolveRequest))
     async def solve(request: Request) -> JSONResponse:
         """Instruction -> goal -> plan, every step checked."""
         req = _parse(await request.body(), SolveRequest)
+        check_instruction(req.instruction, settings)
         return JSONResponse(await isolated("solve", req, scene_source(req, parse_here=False)))
 
     @app.post("/v1/scene-graph/validate")

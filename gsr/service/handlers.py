@@ -124,6 +124,12 @@ class Scene:
         self._derived: dict[str, Any] = {}  # per built-in domain: (objects, facts) and the State
         self._facts: frozenset | None = None
 
+    def __getstate__(self):  # to a worker process: the graph only (the caches hold unpicklable indexes)
+        return self.graph
+
+    def __setstate__(self, graph) -> None:
+        self.__init__(graph)
+
     @property
     def facts(self) -> frozenset:
         """The atoms the graph entails (domain-independent; computed once)."""
@@ -216,6 +222,20 @@ def _plan_result_dict(result) -> dict[str, Any]:
     }
 
 
+def check_plan_length(req: ValidateRequest, settings: ServiceSettings) -> int:
+    """The number of steps in the request's plan; 422 naming the limit when there are too many."""
+    n = len(req.plan) if isinstance(req.plan, list) else sum(1 for ln in req.plan.splitlines() if "(" in ln)
+    if n > settings.max_steps:
+        raise limit_error(
+            422,
+            "too_many_steps",
+            "max_steps",
+            settings.max_steps,
+            f"plan has {n} steps; the limit is {settings.max_steps}",
+        )
+    return n
+
+
 def check_instruction(text: str, settings: ServiceSettings) -> None:
     if len(text) > settings.max_instruction_chars:
         raise limit_error(
@@ -244,15 +264,7 @@ def handle_validate(req: ValidateRequest, settings: ServiceSettings, scene: Scen
     from gsr.step import Plan
     from gsr.validate import validate_plan
 
-    n = len(req.plan) if isinstance(req.plan, list) else sum(1 for ln in req.plan.splitlines() if "(" in ln)
-    if n > settings.max_steps:
-        raise limit_error(
-            422,
-            "too_many_steps",
-            "max_steps",
-            settings.max_steps,
-            f"plan has {n} steps; the limit is {settings.max_steps}",
-        )
+    check_plan_length(req, settings)
     if isinstance(req.plan, str):
         plan = parse_plan(req.plan, source="plan")
     else:

@@ -28,7 +28,7 @@ class ServiceSettings:
     max_instruction_chars: int = 2000  # characters of one instruction to ground or solve
     max_plan_seconds: float = 10.0  # time budget of one plan/solve/ground/user-PDDL request
     max_concurrent: int = 8  # in-process requests (check, validate, scenes) computing at once
-    isolated_workers: int = 1  # worker processes for plan/solve/ground/user PDDL, per server process
+    isolated_workers: int = 2  # worker processes for plan/solve/ground/user PDDL, per server process
     warm_workers: bool = True  # start the worker processes when the server starts, not on first use
     worker_memory_mb: int = 1024  # address-space limit of each worker process
     worker_nice: int = 5  # worker processes yield the CPU to the server's cheap requests

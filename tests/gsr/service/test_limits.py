@@ -90,7 +90,7 @@ def test_time_budget_kills_a_runaway_worker_and_serving_goes_on(make_client) -> 
     elapsed = time.perf_counter() - start
     err = _limit_error(r, 422, "time_limit", "GSR_SERVICE_MAX_PLAN_SECONDS")
     assert "stopped" in err["message"]
-    assert elapsed < 30  # budget 0.5 s * 1.25 + 1 s grace, plus a loaded machine's worker start
+    assert elapsed < 30  # budget 0.5 s * 1.5 + 2 s grace, plus a loaded machine's worker start
     assert client.get("/health").status_code == 200
     # the worker was replaced: the next request is served normally
     body = client.post("/v1/plan", json={"scene_graph": SCENE, "goal": "(holding red_cube1)"}).json()
@@ -105,7 +105,7 @@ def test_time_budget_kills_a_runaway_worker_and_serving_goes_on(make_client) -> 
 
 
 def test_planner_budget_is_capped_by_the_server(make_client, pddl_dir) -> None:
-    client = make_client(max_plan_seconds=0.3)
+    client = make_client(max_plan_seconds=1.0)
     dom = (pddl_dir / "blocks" / "domain.pddl").read_text()
     prob = (pddl_dir / "blocks" / "probBLOCKS-14-0.pddl").read_text()
     req = {"domain_pddl": dom, "problem_pddl": prob, "planner": "astar-blind", "timeout": 600}
@@ -113,7 +113,7 @@ def test_planner_budget_is_capped_by_the_server(make_client, pddl_dir) -> None:
     assert r.status_code == 200, r.text
     body = r.json()
     # the planner stops itself at the budget (a 200 with its statistics), before the hard stop
-    assert body["status"] == "timeout" and body["time"] < 3.0
+    assert body["status"] == "timeout" and body["time"] < 3.5
 
 
 def test_memory_limit_of_workers(make_client) -> None:
@@ -138,3 +138,15 @@ def test_concurrency_limits_answer_429(make_client) -> None:
     r = client.post("/v1/check", json={"scene_graph": big, "step": "(pick cube1 table)"})
     _limit_error(r, 429, "busy", "GSR_SERVICE_MAX_CONCURRENT")
     assert client.post("/v1/check", json=CHECK).status_code == 200  # small requests run inline
+
+
+def test_long_plan_over_a_checked_scene_runs_in_a_worker(make_client) -> None:
+    client = make_client()
+    scene_id = client.post("/v1/scenes", json=SCENE).json()["scene_id"]
+    assert client.post("/v1/check", json={"scene_id": scene_id, "step": "(pick red_cube1 table)"}).json()[
+        "ok"
+    ]
+    # past the inline size the plan goes to a worker process with the scene (not its in-memory caches)
+    plan = ["(pick red_cube1 table)", "(place_on red_cube1 table)"] * 20
+    r = client.post("/v1/validate", json={"scene_id": scene_id, "goal": "(on red_cube1 table)", "plan": plan})
+    assert r.status_code == 200 and r.json()["valid"] is True, r.text
