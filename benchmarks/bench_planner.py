@@ -1,14 +1,23 @@
 """Planner benchmark: GSR's planner vs pyperplan (GBFS + h_FF) vs Fast Downward lama-first.
 
-Sets: the IPC sets in ../shared/data/pddl or tests/fixtures/pddl (blocks 35, gripper 20, miconic-simpleadl 30), the 40
-LIBERO tasks (``libero``) and seeded long GSR-Bench-style tabletop tasks (``tabletop-long``).
+Sets: the IPC sets in ../shared/data/pddl or tests/fixtures/pddl (blocks 35, gripper 20, miconic-simpleadl 30,
+and in the reference folder the dev sets logistics00, satellite, rovers, zenotravel, driverlog,
+elevators-sat08-strips, transport-sat08-strips, visitall-sat11-strips, tidybot-sat11-strips,
+openstacks-sat08-adl), the 40 LIBERO tasks (``libero``) and seeded long GSR-Bench-style tabletop
+tasks (``tabletop-long``). ``--pick 0.25,0.5`` runs only the problems at those fractions of each
+IPC set's list (by size), for short side-by-side runs.
 
 Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems gsr,pyperplan,fd]
-       [--timeout 60] [--planner lazy-ff] [--long-tasks 30] [--seed 0] [--save FILE] [--markdown] [-v]
+       [--timeout 60] [--planner lazy-ff] [--long-tasks 30] [--seed 0] [--pick F,...] [--isolate]
+       [--save FILE] [--markdown] [-v]
        python benchmarks/bench_planner.py --merge A.json B.json ... [--markdown]
 
 GSR runs in-process; on IPC sets its time covers parsing, grounding and search, on tabletop sets it
 is ``PlanResult.time`` (grounding + search; the problem is built from the scene graph beforehand).
+With ``--isolate`` GSR runs each IPC problem in a fresh subprocess like FD (interpreter start-up
+included, a hard wall limit of 1.5 x the timeout + 10 s, since grounding is not interruptible) and
+both report their peak resident memory (the largest child process's ru_maxrss; FD's driver,
+translator and search are children of one wrapper).
 pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
 with PYTHONHASHSEED=0. Every GSR plan is checked with gsr.validate.validate_plan (not timed); an
 invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
@@ -35,6 +44,7 @@ if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
 from gsr.errors import GSRError  # noqa: E402
+from gsr.pddl.files import find_domain_file  # noqa: E402
 from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E402
 from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
 from gsr.plan import plan  # noqa: E402
@@ -50,7 +60,21 @@ PDDL = (
     else Path(__file__).resolve().parents[1] / "tests" / "fixtures" / "pddl"
 )
 LIBERO = data_dir() / "libero"  # the 40 shipped LIBERO task files
-IPC_SETS = ("blocks", "gripper", "miconic-simpleadl")
+IPC_SETS = (
+    "blocks",
+    "gripper",
+    "miconic-simpleadl",
+    "logistics00",
+    "satellite",
+    "rovers",
+    "zenotravel",
+    "driverlog",
+    "elevators-sat08-strips",
+    "transport-sat08-strips",
+    "visitall-sat11-strips",
+    "tidybot-sat11-strips",
+    "openstacks-sat08-adl",
+)
 TABLETOP_SETS = ("libero", "tabletop-long")
 SETS = IPC_SETS + TABLETOP_SETS
 STRIPS_SETS = frozenset({"blocks", "gripper"})  # pyperplan handles STRIPS (+ typing) only
@@ -58,11 +82,59 @@ LONG = 10  # "long" tabletop task: a plan of at least this many steps
 FD_MEMORY = "4G"  # the machine is shared; lama-first on the ADL tabletop tasks can grow past 7 GB
 
 
-def problems(domain_set: str) -> list[Path]:
-    """Problem files of one IPC set, in a natural order (by size, then name)."""
+def problems(domain_set: str, pick: list[float] | None = None) -> list[Path]:
+    """Problem files of one IPC set, in a natural order (by size, then name); with ``pick``, only
+    those at the given fractions of that list (0.25: a quarter of the way down)."""
     folder = PDDL / domain_set
-    files = [p for p in folder.glob("*.pddl") if p.name != "domain.pddl"]
-    return sorted(files, key=lambda p: (len(p.stem), p.stem))
+    files = [p for p in folder.glob("*.pddl") if "domain" not in p.name]
+    files.sort(key=lambda p: (len(p.stem), p.stem))
+    if pick and files:
+        files = [files[i] for i in sorted({min(int(f * len(files)), len(files) - 1) for f in pick})]
+    return files
+
+
+def _domain_of(problem: Path) -> Path:
+    """The problem's domain file (domain.pddl or a per-problem one, by FD's conventions)."""
+    found = find_domain_file(problem)
+    if found is None:
+        raise SystemExit(f"{problem}: no domain file beside it")
+    return found
+
+
+def _maxrss_mb(who: int) -> float:
+    """Peak resident memory in MB of this process (RUSAGE_SELF) or its largest child."""
+    return resource.getrusage(who).ru_maxrss / 1024.0
+
+
+def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
+    """One system on one problem in a fresh subprocess that reports its row and peak memory."""
+    cmd = [sys.executable, __file__, "--one", system, str(domain_file), str(problem_file)]
+    cmd += ["--timeout", str(timeout), "--planner", planner]
+    env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
+    hard = 1.5 * timeout + 10
+    start, cpu0 = time.perf_counter(), _children_cpu()
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=hard, env=env)
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout", "time": timeout, "cpu": timeout, "length": None, "killed": True}
+    elapsed, cpu = time.perf_counter() - start, _children_cpu() - cpu0
+    lines = done.stdout.strip().splitlines()
+    if done.returncode != 0 or not lines:
+        tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        return {"status": "error", "time": elapsed, "cpu": cpu, "length": None, "message": tail}
+    row = json.loads(lines[-1])
+    if row["status"] == "timeout":
+        elapsed = cpu = timeout
+    return {**row, "time": min(elapsed, timeout), "cpu": cpu}
+
+
+def _one(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
+    """The child side of run_isolated: the row plus peak memory."""
+    if system == "gsr":
+        row = run_gsr_files(domain_file, problem_file, timeout, planner)
+        return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_SELF)}
+    row = run_fd(domain_file, problem_file, timeout)
+    return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_CHILDREN)}
 
 
 def _children_cpu() -> float:
@@ -237,15 +309,22 @@ def tabletop_tasks(domain_set: str, count: int, seed: int) -> Iterator[tuple[str
 
 
 def bench_set(
-    domain_set: str, systems: list[str], timeout: float, planner: str, verbose: bool, count: int, seed: int
+    domain_set: str,
+    systems: list[str],
+    timeout: float,
+    planner: str,
+    verbose: bool,
+    count: int,
+    seed: int,
+    pick: list[float] | None = None,
+    isolate: bool = False,
 ) -> dict:
     """Run every system on every task of one set; per-task rows and per-system summaries."""
     from gsr.pddl.writer import write_domain, write_problem
 
     rows = []
     if domain_set in IPC_SETS:
-        domain_file = PDDL / domain_set / "domain.pddl"
-        tasks: Iterator = ((p.name, domain_file, p) for p in problems(domain_set))
+        tasks: Iterator = ((p.name, _domain_of(p), p) for p in problems(domain_set, pick))
     else:
         tasks = tabletop_tasks(domain_set, count, seed)
     for name, dom, prob in tasks:
@@ -258,7 +337,9 @@ def bench_set(
                 dom_file.write_text(write_domain(dom))
                 prob_file.write_text(write_problem(prob))
             for system in systems:
-                if system == "gsr":
+                if isolate and isinstance(dom, Path) and system in ("gsr", "fd"):
+                    row[system] = run_isolated(system, dom_file, prob_file, timeout, planner)
+                elif system == "gsr":
                     if isinstance(dom, Path):
                         row[system] = run_gsr_files(dom_file, prob_file, timeout, planner)
                     else:
@@ -300,6 +381,7 @@ def summarize(result: dict, system: str) -> dict:
         "long_tasks": len(long),
         "median_time_long": statistics.median(c["time"] for c in long) if long else None,
         "median_cpu_long": statistics.median(c.get("cpu", c["time"]) for c in long) if long else None,
+        "peak_mb": max((c["peak_mb"] for c in cells if c.get("peak_mb") is not None), default=None),
     }
 
 
@@ -320,6 +402,7 @@ HEAD = [
     "wall / FD",
     "CPU / FD",
     "median wall / CPU (ms)",
+    "peak MB",
 ]
 
 
@@ -351,6 +434,30 @@ def table_lines(results: list[dict]) -> list[list[str]]:
                     f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
                     f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
                     median,
+                    "" if s["peak_mb"] is None else f"{s['peak_mb']:.0f}",
+                ]
+            )
+    ipc = [r for r in results if r["set"] in IPC_SETS]
+    if len(ipc) > 1:  # all IPC sets together: the side-by-side totals
+        merged = {"set": "IPC total", "rows": [row for r in ipc for row in r["rows"]]}
+        fd = summarize(merged, "fd")
+        for system in _systems(merged):
+            s = summarize(merged, system)
+            if s["coverage"] is None:
+                continue
+            ok = fd["coverage"] is not None
+            lines.append(
+                [
+                    f"all IPC sets ({s['tasks']})",
+                    system,
+                    str(s["coverage"]),
+                    f"{s['total_time']:.2f}",
+                    f"{s['total_cpu']:.2f}",
+                    str(s["total_length"]),
+                    f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
+                    f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
+                    f"{s['median_time'] * 1000:.1f} / {s['median_cpu'] * 1000:.1f}",
+                    "" if s["peak_mb"] is None else f"{s['peak_mb']:.0f}",
                 ]
             )
     return lines
@@ -407,7 +514,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--merge", type=Path, nargs="+", help="print the table of saved runs instead")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per task on stderr")
+    parser.add_argument("--pick", default="", help="fractions of each IPC set's list, e.g. 0.25,0.5")
+    parser.add_argument(
+        "--isolate", action="store_true", help="GSR and FD in fresh subprocesses, peak memory reported"
+    )
+    parser.add_argument("--one", nargs=3, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.one:
+        system, dom, prob = args.one
+        print(json.dumps(_one(system, Path(dom), Path(prob), args.timeout, args.planner)))
+        return 0
     if args.merge:
         try:
             loaded = [json.loads(p.read_text()) for p in args.merge]
@@ -422,8 +538,19 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(
             f"unknown set(s)/system(s) {unknown}; sets: {', '.join(SETS)}; systems: gsr, pyperplan, fd"
         )
+    pick = [float(f) for f in args.pick.split(",") if f] if args.pick else None
     results = [
-        bench_set(s, systems, args.timeout, args.planner, args.verbose, args.long_tasks, args.seed)
+        bench_set(
+            s,
+            systems,
+            args.timeout,
+            args.planner,
+            args.verbose,
+            args.long_tasks,
+            args.seed,
+            pick,
+            args.isolate,
+        )
         for s in sets
     ]
     if args.save:
