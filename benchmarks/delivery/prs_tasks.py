@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 
-from gsr.building.prs import Station
+from gsr.building.prs import PlacedObject, Station, place_object
 from gsr.building.prs_files import PrsDataError, need, read_json
 
 Point = tuple[float, float, float]
@@ -51,19 +51,6 @@ class PrsTask:
 
     request: PrsRequest
     truth: PrsTruth
-
-
-@dataclass(frozen=True)
-class PlacedObject:
-    """An inventory object: simulator name, detector type, world position, and where it lies."""
-
-    name: str
-    type: str
-    position: Point
-    floor: int | None
-    cell: tuple[int, int] | None
-    room: str | None
-    receptacle: str | None
 
 
 def _point(value: object, path: Path, field: str) -> Point:
@@ -117,37 +104,13 @@ def load_tasks(path: str | Path, station: Station) -> list[PrsTask]:
     return tasks
 
 
-def place(station: Station, name: str, type_: str, position: Point) -> PlacedObject:
-    """An object at a world position with its floor, cell, room and the receptacle it rests on (the
-    receptacle whose footprint is nearest the object's cell, within two cells)."""
-    where = station.locate(*position)
-    if where is None:
-        return PlacedObject(name, type_, position, None, None, None, None)
-    level, cell = where
-    room = station.room_at(level, cell)
-    best: tuple[int, str] | None = None
-    for rec in station.receptacles:
-        if rec.floor != level:
-            continue
-        i0, i1, j0, j1 = rec.box
-        d = max(i0 - cell[0], cell[0] - i1, 0) + max(j0 - cell[1], cell[1] - j1, 0)
-        if d <= 2 and (best is None or d < best[0]):
-            best = (d, rec.id)
-    rec_id = best[1] if best else None
-    if room is None and rec_id is not None:
-        room_id = next(r.room for r in station.receptacles if r.id == rec_id) or None
-    else:
-        room_id = room.id if room else None
-    return PlacedObject(name, type_, position, level, cell, room_id, rec_id)
-
-
 def inventory(station: Station, tasks: list[PrsTask]) -> list[PlacedObject]:
     """Every object the tasks name, once, placed in the station."""
     seen: dict[str, PlacedObject] = {}
     for t in tasks:
         tr = t.truth
         if tr.target_object_name not in seen:
-            seen[tr.target_object_name] = place(
+            seen[tr.target_object_name] = place_object(
                 station, tr.target_object_name, tr.target_object_type, tr.target_object_pos
             )
     return list(seen.values())

@@ -7,7 +7,9 @@
 - rooms with their human names (``room_mapping.json``), receptacles with grid extents (``map_receptacle_data``);
 - people (description template, appearance, information) and their 24 hourly schedule slots;
 - per floor, the grid <-> world transform, which the data does not state: ``gsr.building.prs_calibrate``
-  fits it (with the schedules' location codes -> grid rooms) from observed person positions.
+  fits it (with the schedules' location codes -> grid rooms) from observed person positions;
+- ``place_object``: an object of the inventory (the objects a task file names) at its world position, with
+  the floor, cell, room and receptacle it lies on, derived from that geometry.
 
 Grid coordinates are ``(i, j)`` = (row, column) of the semantic map; PRS's world frame has ``x`` along ``i``
 and ``z`` along ``j`` (``x = x0 + i * scale``, ``z = z0 + j * scale``), ``y`` up.
@@ -182,6 +184,45 @@ class Station:
         t = self.floors[level].transform
         assert t is not None
         return level, t.to_cell(x, z)
+
+
+@dataclass(frozen=True)
+class PlacedObject:
+    """An inventory object: simulator name, detector type, world position, and where it lies."""
+
+    name: str
+    type: str
+    position: tuple[float, float, float]
+    floor: int | None
+    cell: tuple[int, int] | None
+    room: str | None
+    receptacle: str | None
+
+
+def place_object(
+    station: Station, name: str, type_: str, position: tuple[float, float, float]
+) -> PlacedObject:
+    """An object at a world position with its floor, cell, room and the receptacle it rests on (the
+    receptacle whose footprint is nearest the object's cell, within two cells)."""
+    where = station.locate(*position)
+    if where is None:
+        return PlacedObject(name, type_, position, None, None, None, None)
+    level, cell = where
+    room = station.room_at(level, cell)
+    best: tuple[int, str] | None = None
+    for rec in station.receptacles:
+        if rec.floor != level:
+            continue
+        i0, i1, j0, j1 = rec.box
+        d = max(i0 - cell[0], cell[0] - i1, 0) + max(j0 - cell[1], cell[1] - j1, 0)
+        if d <= 2 and (best is None or d < best[0]):
+            best = (d, rec.id)
+    rec_id = best[1] if best else None
+    if room is None and rec_id is not None:
+        room_id = next(r.room for r in station.receptacles if r.id == rec_id) or None
+    else:
+        room_id = room.id if room else None
+    return PlacedObject(name, type_, position, level, cell, room_id, rec_id)
 
 
 def location_key(text: str) -> str:

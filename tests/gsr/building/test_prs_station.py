@@ -97,3 +97,16 @@ def test_station_scene_graph(folder: Path) -> None:
     assert ("F0.room0", "F0.room1") not in room_adjacency(st)  # a wall between them, no doorway
     kitchen = next(n for n in g.nodes if n.id == "f0.room0")
     assert kitchen.bbox is not None and kitchen.bbox.min.x == pytest.approx(-5 + 0.3 * 0.5, abs=1.0)
+
+
+def test_objects_placed_by_geometry(folder: Path) -> None:
+    from gsr.building.prs import place_object
+    from tests.gsr.building.prs_synthetic import world
+
+    st = load_station(folder)
+    x, z = world(2, 6)
+    apple = place_object(st, "RedApple_1", "RedApple", (x, 0.9, z))
+    assert apple.floor == 0 and st.room(apple.room).name == "kitchen room"
+    assert next(r.name for r in st.receptacles if r.id == apple.receptacle) == "kitchen counter"
+    x, z = world(5, 14)  # middle of the kitchen floor, no furniture within two cells
+    assert place_object(st, "Cup_9", "Cup", (x, 0.0, z)).receptacle is None
