@@ -20,7 +20,13 @@ MAP_TASKS = 6  # tasks drawn on floor maps in the report (failures first)
 
 
 def prs_command(
-    data: Path, tasks: Path, out: Path, workers: int = 1, captions: str = "dev", crossfit: int = 0
+    data: Path,
+    tasks: Path,
+    out: Path,
+    workers: int = 1,
+    captions: str = "dev",
+    crossfit: int = 0,
+    calibration: str = "auto",
 ) -> int:
     """Run, write the three files, print the PRS metrics; 1 with a one-line message on bad input.
 
@@ -35,7 +41,7 @@ def prs_command(
         if crossfit:
             run = run_prs_crossfit(data, tasks, crossfit)
         else:
-            run = run_prs(data, tasks, workers=workers, captions=captions)
+            run = run_prs(data, tasks, workers=workers, captions=captions, calibration=calibration)
     except GSRError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

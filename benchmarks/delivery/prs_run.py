@@ -59,6 +59,11 @@ _STATE: dict = {}
 
 def _init(data: str, tasks_file: str, captions: str, calibration: str = "auto") -> None:
     station = load_station(data, calibration)
+    if not any(f.transform is not None for f in station.floors.values()):
+        raise GSRError(
+            f"{data}: no floor is calibrated (the grid <-> world transform is fitted from a task file with "
+            "person positions: put PRS's delivery_tasks_dev.json in the folder)"
+        )
     tasks = load_tasks(tasks_file, station)
     objects = inventory(station, tasks)
     labels = sorted({o.type for o in objects})

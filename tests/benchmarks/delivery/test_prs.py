@@ -220,7 +220,21 @@ class _Boundary:
     """The environment seen through the simulator's boundary only: any other attribute raises."""
 
     ALLOWED = frozenset(
-        ["request", "station", "observe", "navigate", "grasp", "hand_over", "give_up", "cell", "floor", "world", "cell_size", "done", "seconds"]
+        [
+            "request",
+            "station",
+            "observe",
+            "navigate",
+            "grasp",
+            "hand_over",
+            "give_up",
+            "cell",
+            "floor",
+            "world",
+            "cell_size",
+            "done",
+            "seconds",
+        ]
     )
 
     def __init__(self, env: PrsEnv) -> None:
@@ -245,3 +259,13 @@ def test_agent_uses_only_the_simulator_boundary(folder: Path) -> None:
         out = agent.run(_Boundary(env))  # type: ignore[arg-type]
         done += out.delivered and score_entry(env.result(), task.truth)["success"]
     assert done >= 5
+
+
+def test_uncalibrated_folder_is_one_clear_error(
+    folder: Path, tmp_path: Path, capsys: pytest.CaptureFixture
+) -> None:
+    tasks = tmp_path / "tasks.json"
+    (folder / "delivery_tasks_dev.json").rename(tasks)
+    assert prs_command(folder, tasks, tmp_path / "out") == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no floor is calibrated" in err[0]
