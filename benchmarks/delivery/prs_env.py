@@ -197,7 +197,6 @@ class PrsEnv:
         room = self.station.room_at(self.floor, self.cell)
         blocked = floor.grid == 0
         rng = SENSOR_RANGE_M / self.cell_size
-        here = self.world(self.cell)
 
         def visible(level: int, cell: Cell) -> bool:
             if level != self.floor:
@@ -206,7 +205,7 @@ class PrsEnv:
             cell = (min(max(cell[0], 0), rows - 1), min(max(cell[1], 0), cols - 1))  # just off the map's edge
             there = self.station.room_at(level, cell)
             # the same room; or a corridor / doorway cell (no room) seen through an open doorway
-            if there is not None and (there.id if there else None) != (room.id if room else None):
+            if there is not None and there.id != (room.id if room else None):
                 return False
             if math.dist(cell, self.cell) > rng:
                 return False
@@ -231,7 +230,6 @@ class PrsEnv:
             f"{self.seconds:.0f}s observe {room.name if room else 'corridor'}: "
             f"{len(objs)} objects, {len(people)} people"
         )
-        del here
         return Observation(room.id if room else None, tuple(objs), people)
 
     def navigate(self, goal: Cell, floor: int | None = None) -> float:
