@@ -13,6 +13,7 @@ from typing import Annotated
 
 import typer
 
+from gsr.cli_support import fail as _fail
 from gsr.errors import GSRError
 
 app = typer.Typer(
@@ -22,11 +23,6 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
-
-
-def _fail(message: str, code: int = 1) -> typer.Exit:
-    typer.echo(f"error: {message}", err=True)
-    return typer.Exit(code)
 
 
 @app.command("parse")
@@ -120,39 +116,6 @@ def check_cmd(
     raise typer.Exit(0 if diagnosis.ok else 1)
 
 
-@app.command("demo")
-def demo_cmd(
-    out: Annotated[Path, typer.Option(help="Output folder for the report.")] = Path("out/demo"),
-    task: Annotated[
-        Path | None, typer.Option(help="A LIBERO BDDL task file (default: the black-bowl drawer task).")
-    ] = None,
-    seed: Annotated[int, typer.Option(help="Simulator seed.")] = 0,
-    perceive: Annotated[
-        bool,
-        typer.Option(
-            "--perceive/--no-perceive",
-            help="Scene graphs from the cameras (perception), or the simulator's ground truth.",
-        ),
-    ] = True,
-    ground_truth: Annotated[bool, typer.Option("--ground-truth", help="Same as --no-perceive.")] = False,
-    symbolic: Annotated[
-        bool, typer.Option("--symbolic", help="Symbolic only: parse, plan, check (no simulator needed).")
-    ] = False,
-) -> None:
-    """The end-to-end demo: PyBullet scene, perception, grounding, checked steps, execution, verification."""
-    if symbolic:
-        from gsr.demo import run_demo
-
-        raise typer.Exit(run_demo(task))
-    try:
-        from benchmarks.demo import run_demo as run_physical
-    except ImportError as exc:
-        raise _fail(
-            f"the physical demo needs the 'sim' and 'vision' extras ({exc}); try --symbolic"
-        ) from None
-    raise typer.Exit(run_physical(out, task, seed=seed, use_perception=perceive and not ground_truth))
-
-
 @app.command("serve")
 def serve_cmd(
     host: Annotated[
@@ -179,56 +142,6 @@ def serve_cmd(
     except ImportError:
         raise _fail("the service needs the 'serve' extra: pip install 'gsr[serve]'") from None
     serve(host, port, workers, api_key_file, insecure, log_json, max_plan_seconds, max_concurrent)
-
-
-@app.command("perceive")
-def perceive_cmd(
-    rgb: Annotated[Path, typer.Option(help="RGB image (PNG/JPEG, or .npy HxWx3 uint8).")],
-    depth: Annotated[Path, typer.Option(help="Depth: .npy float metres, or 16-bit PNG millimetres.")],
-    masks: Annotated[Path, typer.Option(help="Instance ids: .npy int array or PNG; negative = none.")],
-    camera: Annotated[
-        Path, typer.Option(help="Camera JSON (intrinsics + cam_to_world), docs/perception.md.")
-    ],
-    labels: Annotated[
-        Path | None, typer.Option(help="Labels JSON: mask id -> {id, category, color, parent}.")
-    ] = None,
-    out: Annotated[
-        Path | None, typer.Option(help="Write the scene graph JSON here (default: stdout).")
-    ] = None,
-) -> None:
-    """Perceive one RGB-D frame with instance masks into a scene graph JSON."""
-    from perception.pipeline import perceive_files
-
-    graph = perceive_files(rgb, depth, masks, camera, labels, out)
-    if out is None:
-        typer.echo(graph.to_json())
-    else:
-        typer.echo(f"wrote {out}: {len(graph.nodes)} nodes, {len(graph.edges)} edges", err=True)
-
-
-@app.command("perceive-eval")
-def perceive_eval_cmd(
-    scenes: Annotated[int, typer.Option(help="Number of random scenes to render and perceive.")] = 20,
-    seed: Annotated[int, typer.Option(help="Seed of the scene generator.")] = 0,
-    depth_noise: Annotated[float, typer.Option(help="Gaussian depth noise sigma (m).")] = 0.0,
-    mask_erosion: Annotated[int, typer.Option(help="Erode every instance mask by this many pixels.")] = 0,
-    cameras: Annotated[int, typer.Option(help="Cameras per scene (fused).")] = 1,
-    world: Annotated[
-        str, typer.Option(help="skills (simulator tasks, scene_graph_from_sim truth) or procedural.")
-    ] = "skills",
-    as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
-) -> None:
-    """Render random PyBullet scenes, perceive them, score against ground truth (rendering not timed)."""
-    if scenes < 1 or cameras < 1:
-        raise _fail("--scenes and --cameras must be >= 1")
-    if depth_noise < 0 or mask_erosion < 0:
-        raise _fail("--depth-noise and --mask-erosion must be >= 0")
-    if world not in ("skills", "procedural"):
-        raise _fail(f"--world must be 'skills' or 'procedural', got {world!r}")
-    from benchmarks.perception_eval import evaluate, format_report
-
-    report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras, world=world)
-    typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
 
 
 @app.command("solve")
@@ -311,216 +224,6 @@ def reason_check_cmd(
     from gsr.reason.cli import check_command
 
     raise typer.Exit(check_command(scene, steps, as_json, domain))
-
-
-delivery_app = typer.Typer(
-    help="In-building delivery: buildings, people, delivery tasks, baseline runs.", no_args_is_help=True
-)
-app.add_typer(delivery_app, name="delivery")
-
-
-@delivery_app.command("generate-building")
-def delivery_generate_building(
-    out: Annotated[Path, typer.Option(help="Write the building JSON here.")],
-    seed: Annotated[int, typer.Option(help="Random seed: the same seed gives the same building.")] = 7,
-    floors: Annotated[int, typer.Option(help="Number of floors (1-6).")] = 3,
-    people: Annotated[int, typer.Option(help="Number of residents (at most 20).")] = 12,
-    name: Annotated[str | None, typer.Option(help="Building name (default building-SEED).")] = None,
-) -> None:
-    """Generate a building from a seed, check its invariants and write it."""
-    from benchmarks.delivery.cli import generate_building_command
-
-    raise typer.Exit(generate_building_command(seed, out, floors, people, name))
-
-
-@delivery_app.command("tasks")
-def delivery_tasks(
-    split: Annotated[str, typer.Option(help="train (2000), val (200) or test (1000).")] = "test",
-    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
-    out: Annotated[Path | None, typer.Option(help="Write JSON Lines here instead of printing.")] = None,
-) -> None:
-    """Generate the delivery tasks of a split (deterministic)."""
-    from benchmarks.delivery.cli import tasks_command
-
-    raise typer.Exit(tasks_command(split, building, limit, out))
-
-
-@delivery_app.command("run")
-def delivery_run(
-    split: Annotated[str, typer.Option(help="train, val or test.")] = "test",
-    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-    tasks: Annotated[
-        Path | None, typer.Option(help="Run these tasks (JSON Lines) instead of a split.")
-    ] = None,
-    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the summary as JSON.")] = False,
-    out: Annotated[Path | None, typer.Option(help="Also write summary + per-episode results (JSON).")] = None,
-    agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
-    by_kind: Annotated[
-        bool, typer.Option("--breakdown", help="Also break SR down by instruction kind.")
-    ] = False,
-) -> None:
-    """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
-    from benchmarks.delivery.cli import run_command
-
-    raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent, by_kind))
-
-
-@delivery_app.command("prs")
-def delivery_prs(
-    data: Annotated[Path, typer.Option(help="PRS data folder (env/data of prs-delivery).")],
-    tasks: Annotated[Path, typer.Option(help="PRS task file (JSON keyed by task id).")],
-    out: Annotated[Path, typer.Option(help="Output folder: results.json, prs_submission.json, report.html.")],
-    workers: Annotated[int, typer.Option(help="Worker processes.")] = 1,
-    captions: Annotated[
-        str,
-        typer.Option(
-            help="Object captions for the sensor: dev (the data folder's dev tasks), none, or a task file."
-        ),
-    ] = "dev",
-    crossfit: Annotated[
-        int,
-        typer.Option(help="K >= 2: K-fold estimate (calibration, captions from the other folds); 0: off."),
-    ] = 0,
-) -> None:
-    """Run the PRS delivery benchmark in the offline PRS environment, scored by PRS's rules."""
-    from benchmarks.delivery.prs_cli import prs_command
-
-    raise typer.Exit(prs_command(data, tasks, out, workers, captions, crossfit))
-
-
-@delivery_app.command("schedule")
-def delivery_schedule(
-    person: Annotated[str, typer.Argument(help="Person id or name, e.g. imani.")],
-    seed: Annotated[int, typer.Option(help="World seed of the day.")] = 0,
-    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-) -> None:
-    """Show a person's published routine and their actual day under a world seed."""
-    from benchmarks.delivery.cli import schedule_command
-
-    raise typer.Exit(schedule_command(person, seed, building))
-
-
-@delivery_app.command("map")
-def delivery_map(
-    floor: Annotated[int, typer.Option(help="Floor level (0 = ground).")] = 0,
-    at: Annotated[str, typer.Option("--time", help="Time of day, HH:MM.")] = "12:00",
-    seed: Annotated[int, typer.Option(help="World seed of the day.")] = 0,
-    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-) -> None:
-    """Print a floor's occupancy grid with the people on it at a time of day."""
-    from benchmarks.delivery.cli import map_command
-
-    raise typer.Exit(map_command(floor, at, seed, building))
-
-
-@delivery_app.command("episode")
-def delivery_episode(
-    task: Annotated[str, typer.Argument(help="Task id, e.g. test-0004.")],
-    building: Annotated[Path | None, typer.Option(help="Building JSON (default: the shipped one).")] = None,
-    agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
-) -> None:
-    """Run one delivery task and print the agent's timeline."""
-    from benchmarks.delivery.cli import episode_command
-
-    raise typer.Exit(episode_command(task, building, agent))
-
-
-bench_app = typer.Typer(
-    help="Benchmark suites: list them, run an agent on one (reports), export tasks.", no_args_is_help=True
-)
-app.add_typer(bench_app, name="bench")
-
-
-@bench_app.command("list")
-def bench_list_cmd() -> None:
-    """List the benchmark suites and built-in agents."""
-    from benchmarks.cli import list_text
-
-    typer.echo(list_text())
-
-
-@bench_app.command("run")
-def bench_run_cmd(
-    suite: Annotated[
-        str, typer.Argument(help="gsr-bench, gsr-bench-gen, libero, rlbench, tasks, delivery or prs.")
-    ],
-    source: Annotated[
-        str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder, delivery building JSON).")
-    ] = None,
-    tasks: Annotated[
-        str | None, typer.Option(help="Run TaskSpec JSON/YAML files (delivery: a JSON Lines task file).")
-    ] = None,
-    agent: Annotated[
-        str | None,
-        typer.Option(
-            help="planner (default), grounder, reasoner, random or module:factory; delivery: baseline, no-routines."
-        ),
-    ] = None,
-    split: Annotated[str | None, typer.Option(help="delivery: train, val or test (default test).")] = None,
-    agent_opt: Annotated[list[str] | None, typer.Option(help="Agent option key=value (repeatable).")] = None,
-    trials: Annotated[int, typer.Option(help="Episodes per task.")] = 1,
-    seed: Annotated[int, typer.Option(help="Seed for generated suites and agents.")] = 0,
-    workers: Annotated[int, typer.Option(help="Local worker processes.")] = 1,
-    backend: Annotated[str, typer.Option(help="local or ray.")] = "local",
-    address: Annotated[str | None, typer.Option(help="Ray cluster address (backend ray).")] = None,
-    limit: Annotated[int | None, typer.Option(help="Only the first N tasks.")] = None,
-    max_steps: Annotated[int, typer.Option(help="Step limit per episode.")] = 200,
-    retries: Annotated[int, typer.Option(help="Re-asks after a rejected step (diagnosis fed back).")] = 0,
-    reference: Annotated[
-        str | None, typer.Option(help="Also plan with this planner for plan length vs reference.")
-    ] = None,
-    out: Annotated[str | None, typer.Option(help="Write results.json, report.md, report.html here.")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print results.json to stdout.")] = False,
-    physical: Annotated[
-        bool, typer.Option("--physical", help="Execute steps in PyBullet (skills, headless), closed loop.")
-    ] = False,
-    perceive: Annotated[
-        bool,
-        typer.Option(
-            "--perceive", help="With --physical: the agent sees perceived graphs (cameras), not truth."
-        ),
-    ] = False,
-) -> None:
-    """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
-    from benchmarks.cli import run, summary_text
-
-    doc = run(
-        suite,
-        source=source,
-        tasks=tasks,
-        agent=agent,
-        agent_options=agent_opt,
-        trials=trials,
-        seed=seed,
-        workers=workers,
-        backend=backend,
-        address=address,
-        limit=limit,
-        max_steps=max_steps,
-        retries=retries,
-        reference=reference,
-        out=out,
-        split=split,
-        physical=physical,
-        perceive=perceive,
-    )
-    typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
-    raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)
-
-
-@bench_app.command("export")
-def bench_export_cmd(
-    suite: Annotated[str, typer.Argument(help="The suite to export.")],
-    out: Annotated[str, typer.Option(help="Folder for one TaskSpec JSON per task.")],
-    source: Annotated[str | None, typer.Option(help="Suite input (GSR-Bench YAML, LIBERO folder).")] = None,
-    seed: Annotated[int, typer.Option(help="Seed for generated suites.")] = 0,
-) -> None:
-    """Write a suite's tasks as TaskSpec JSON files (run them later with --tasks)."""
-    from benchmarks.cli import export
-
-    typer.echo(f"wrote {export(suite, out, source, seed)} task(s) to {out}")
 
 
 data_app = typer.Typer(
@@ -647,6 +350,22 @@ def datagen_tasks_cmd(
     from gsr.datagen.tasks import export_tasks
 
     typer.echo(f"wrote {export_tasks(data, out, split, heldout, limit)} task(s) to {out}")
+
+
+def _register_plugins(root: typer.Typer) -> None:
+    """Add the commands of the upper layers (perception, benchmarks, delivery) and of other installed
+    packages: each ``gsr.cli`` entry point names a ``register(app)`` function. The core never imports
+    them by name, so the layering holds (tests/test_layers.py)."""
+    from importlib.metadata import entry_points
+
+    for ep in sorted(entry_points(group="gsr.cli"), key=lambda e: e.name):
+        try:
+            ep.load()(root)
+        except Exception as exc:  # a broken plugin must not take the core commands down
+            typer.echo(f"warning: gsr commands from {ep.name!r} ({ep.value}) not loaded: {exc}", err=True)
+
+
+_register_plugins(app)
 
 
 def main() -> None:

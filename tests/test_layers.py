@@ -1,0 +1,78 @@
+"""The import contract: the one-way layering benchmarks -> skills -> perception -> gsr (core).
+
+Every import in the four packages is read from the source (module level, inside functions and under
+``TYPE_CHECKING`` alike, plus string module names given to ``importlib.import_module`` or kept in lazy
+export tables), and none may name a package of a higher layer. A layer may use any layer below it.
+Command-line sub-apps of the upper layers reach the ``gsr`` command through entry points
+(``[project.entry-points."gsr.cli"]``), so the core never names them.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: Lowest layer first; a package may import its own layer and those before it.
+LAYERS = ("gsr", "perception", "skills", "benchmarks")
+
+
+def _rank(module: str) -> int | None:
+    top = module.split(".", 1)[0]
+    return LAYERS.index(top) if top in LAYERS else None
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    """(line, module) for every import statement and string module reference in a file."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    out: list[tuple[int, str]] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            out.append((node.lineno, node.module))
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str):
+            # "skills.camera"-style strings: lazy export tables and import_module arguments
+            text = node.value
+            if text.count(".") >= 1 and " " not in text and _rank(text) is not None:
+                head, _, rest = text.partition(".")
+                if rest and rest.replace(".", "").replace("_", "").isalnum():
+                    out.append((node.lineno, text))
+    return out
+
+
+def _violations() -> list[str]:
+    found = []
+    for layer_rank, layer in enumerate(LAYERS):
+        for path in sorted((REPO / layer).rglob("*.py")):
+            for line, module in _imports(path):
+                rank = _rank(module)
+                if rank is not None and rank > layer_rank:
+                    found.append(
+                        f"{path.relative_to(REPO)}:{line}: {layer} imports {module} (layer {LAYERS[rank]})"
+                    )
+    return found
+
+
+def test_no_upward_imports() -> None:
+    problems = _violations()
+    assert not problems, "upward imports break the layering:\n" + "\n".join(problems)
+
+
+@pytest.mark.parametrize(
+    ("source", "bad"),
+    [
+        ("from benchmarks.demo import run_demo\n", True),
+        ("def f():\n    import skills.camera\n", True),
+        ("LAZY = {'CameraSpec': 'skills.camera'}\n", True),
+        ("from gsr.scene_graph import SceneGraph\n", False),
+        ("HELP = 'see skills. for more'\n", False),
+    ],
+)
+def test_the_checker_sees_every_kind_of_import(tmp_path: Path, source: str, bad: bool) -> None:
+    f = tmp_path / "m.py"
+    f.write_text(source)
+    assert any(_rank(m) and _rank(m) > 0 for _, m in _imports(f)) is bad
