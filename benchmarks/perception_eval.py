@@ -116,7 +116,7 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
         frames = [
             render_frame(world, dataclasses.replace(views[n], width=width, height=height)) for n in names
         ]
-        frames = [_with_graph_attributes(f, world.graph) for f in frames]
+        frames = [with_graph_attributes(f, world.graph) for f in frames]
         truth = scene_graph_from_sim(world)
         # add the true openings (joint travel from closed) so opening errors can be measured
         extra = {}
@@ -133,7 +133,7 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
         world.close()
 
 
-def _with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
+def with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
     """Labels carrying the task graph's node attributes (e.g. ``lid``: a box that can be opened)."""
     labels = {}
     for k, lab in frame.labels.items():

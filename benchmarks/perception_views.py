@@ -60,10 +60,10 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     import random
 
     from benchmarks.perception_eval import (
-        _with_graph_attributes,
         perceivable_prediction,
         perceivable_truth,
         visible_nodes,
+        with_graph_attributes,
     )
     from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
     from perception import perceive
@@ -87,7 +87,7 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
             if unknown:
                 raise SystemExit(f"unknown view(s) {unknown}; choose from {sorted(specs)}")
             frames = {
-                v: _with_graph_attributes(
+                v: with_graph_attributes(
                     render_frame(world, dataclasses.replace(specs[v], width=640, height=480)), world.graph
                 )
                 for v in needed

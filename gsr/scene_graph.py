@@ -37,7 +37,8 @@ RELATIONS: tuple[str, ...] = (
 )
 SUPPORT_RELATIONS: frozenset[str] = frozenset({"on", "in"})
 
-_NAME = re.compile(r"^[a-z][a-z0-9_\-./]*$")
+#: What a node id, category or parent may look like (lower case; ``/`` separates an object and its part).
+NODE_NAME = re.compile(r"^[a-z][a-z0-9_\-./]*$")
 
 
 class Vec3(BaseModel):
@@ -100,7 +101,7 @@ class Node(BaseModel):
     @classmethod
     def _name(cls, v: str) -> str:
         v = v.lower()
-        if not _NAME.match(v):
+        if not NODE_NAME.match(v):
             raise ValueError(f"{v!r} is not a valid name (letters, digits, _ - . /; starting with a letter)")
         return v
 
@@ -140,10 +141,6 @@ class Edge(BaseModel):
     def key(self) -> tuple[str, str, str]:
         """``(source, relation, target)``."""
         return (self.source, self.relation, self.target)
-
-
-#: The relations that hold an object up: what it rests on or lies inside.
-SUPPORT_RELATIONS: tuple[str, ...] = ("on", "in")
 
 
 class SceneGraph(BaseModel):

@@ -15,7 +15,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from gsr.errors import GSRError
-from gsr.scene_graph import _NAME
+from gsr.scene_graph import NODE_NAME
 from perception.camera import Camera
 
 _LABEL_FIELDS = frozenset(
@@ -50,7 +50,7 @@ def label_from_dict(data: Any, where: str) -> InstanceLabel:
             raise GSRError(f"{where}: field {key!r} must be a string, got {v!r}")
     for key in ("id", "category", "parent", "keypoint_of"):
         v = data.get(key)
-        if v is not None and not _NAME.match(v.lower()):
+        if v is not None and not NODE_NAME.match(v.lower()):
             raise GSRError(f"{where}: field {key!r}: {v!r} is not a valid node name")
     if "keypoint_of" in data and "name" not in data:
         raise GSRError(f"{where}: a keypoint label needs 'name' (e.g. 'handle')")

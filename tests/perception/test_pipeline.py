@@ -155,7 +155,7 @@ def test_lidded_box_state_from_its_top_surface_in_the_skills_world():
 
     import pybullet as pb
 
-    from benchmarks.perception_eval import _with_graph_attributes
+    from benchmarks.perception_eval import with_graph_attributes
     from gsr.task_spec import Layout, PlacedObject
     from skills.camera import default_views, render_frame
     from skills.world import build_world
@@ -170,7 +170,7 @@ def test_lidded_box_state_from_its_top_surface_in_the_skills_world():
         for q in (0.0, 0.17):
             pb.resetJointState(box.body, box.links["lid"], q, physicsClientId=world.client)
             spec = dataclasses.replace(default_views(world)["top"], width=640, height=480)
-            frame = _with_graph_attributes(render_frame(world, spec), world.graph)
+            frame = with_graph_attributes(render_frame(world, spec), world.graph)
             seen[q] = perceive(frame).node("red_lid_box").states
     finally:
         world.close()
