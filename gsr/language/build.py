@@ -14,6 +14,7 @@ from lark import Token, Tree
 
 from gsr.language.dests import Destinations, _tok, _tok_cls, _tokens
 from gsr.language.errors import GroundingError
+from gsr.language.everyday import Everyday, count_value
 from gsr.language.intents import Intent
 from gsr.language.lexicon import POSITION_SYNONYMS, Entity
 from gsr.language.refs import Description, Place, Ref, Relation, Resolver
@@ -23,12 +24,16 @@ MASS_NOUNS = frozenset({"rubbish", "trash", "garbage", "litter", "waste", "debri
 
 
 @dataclass(slots=True)
-class Interpreter(Destinations):
+class Interpreter(Destinations, Everyday):
     """Walks one parse tree; keeps the discourse (mentions in order) for pronouns."""
 
     resolver: Resolver
     mentions: list[Ref] = field(default_factory=list)
     intents: list[Intent] = field(default_factory=list)
+    one_head_obj: str | None = None  # the head "one" stands for: "the yellow ones" after "the blue cubes"
+    one_head_dest: str | None = None  # ... among destinations: "the top one" after "the bottom drawer"
+    _one_head: str | None = None  # inside an exception: the excepting phrase's head
+    last_object: Description | None = None  # the last object phrase, for an elided head ("and two in ...")
 
     @property
     def entities(self) -> dict[str, Entity]:
@@ -48,18 +53,25 @@ class Interpreter(Destinations):
         """Interpret one clause."""
         kind = t.data
         trees = [c for c in t.children if isinstance(c, Tree)]
+        if self.everyday_command(kind, t, trees):
+            return
         if kind == "empty_cmd":  # everything now in (or on) the container goes to the destination
             source = self.np(trees[0])
+            # what is in a container (not what stands on its lid), what is on a surface; a container never
+            # goes into another container
+            rel = "in" if any("container" in self.entities[i].affordances for i in source.ids) else "on"
             inside = tuple(
                 x
-                for x, (_, where) in self.resolver.support.items()
+                for x, (how, where) in self.resolver.support.items()
                 if where in self.resolver.with_parts(source.ids)
+                and (how == rel or rel == "on")
+                and "movable" in self.entities[x].affordances
             )
             if not inside:
                 raise GroundingError(
                     f"{source.text!r} is already empty", candidates=source.ids, phrase=source.text
                 )
-            objs = [Ref(inside, f"what is in {source.text}", plural=True)]
+            objs = [Ref(inside, f"what is in {source.text}", plural=True, generic=True)]
             self.mentions.append(objs[0])
             self.intents.append(Intent("place", objs, self.dest(trees[1], objs)))
             return
@@ -81,7 +93,11 @@ class Interpreter(Destinations):
             source = next((c for c in trees if c.data == "source"), None)
             picked = self.objects(objs_trees[0], "movable", source=source)
             self.intents.append(Intent("pick", picked))
-            placed = self.objects(objs_trees[1], "movable") if len(objs_trees) > 1 else picked
+            placed = picked
+            if len(objs_trees) > 1 and not _is_pronoun(objs_trees[1]):
+                placed = self.objects(objs_trees[1], "movable")
+            # "take X and Y out of A and put them in B", "pick up each cube and put it in B": the pronoun
+            # is what was picked up
             dest = self.dest(next(c for c in trees if c.data.startswith("dest_")), placed)
             self.intents.append(Intent("place", placed, dest))
             return
@@ -114,6 +130,9 @@ class Interpreter(Destinations):
             objs_tree, need, source=source
         )  # objects first, also when the destination is fronted
         dest = self.dest(dest_tree, objs) if dest_tree is not None else None
+        exception = next((c for c in trees if c.data == "exception"), None)
+        if exception is not None:  # "put all the mugs in the box except the red ones"
+            objs = self._except(objs, exception)
         for ref in objs:
             self._check_affordance(verb, ref)
         stated = _tok_cls(t.children[0]) == "LEAVE"  # "leave the drawer open": the end state is the goal
@@ -124,6 +143,12 @@ class Interpreter(Destinations):
             for ref in gap_objs:
                 self._check_affordance(verb, ref)
             self.intents.append(Intent(verb, gap_objs, self.dest(parts[1], gap_objs)))
+
+    def _except(self, objs: list[Ref], exception: Tree) -> list[Ref]:
+        d = Description(heads=[(self.one_head_obj or "thing", True)])
+        self.exception(exception, d)
+        out = [Ref(tuple(i for i in r.ids if i not in d.excluded), r.text, plural=True) for r in objs]
+        return [r for r in out if r.ids]
 
     def state(self, trees: list[Tree]) -> None:
         """``make sure X ends up in Y`` / ``X should be closed``: the stated end state as a goal."""
@@ -182,6 +207,8 @@ class Interpreter(Destinations):
         for np in nps:
             ref = self.np(np, need=need, source=source)
             refs.append(ref)
+        if len(refs) > 1:  # "the milk and the popcorn ... them": the list is one mention too
+            self.mentions.append(Ref(tuple(i for r in refs for i in r.ids), "them", plural=True))
         return refs
 
     def np(
@@ -191,10 +218,13 @@ class Interpreter(Destinations):
         lenient: bool = False,
         source: Tree | None = None,
         exclude: tuple[str, ...] = (),
+        dest: bool = False,
     ) -> Ref:
         """Resolve a noun phrase (records it as a mention unless lenient)."""
         if t.data == "pronoun":
             return self.pronoun(t, need, exclude)
+        if t.data in ("partitive_np", "num_np", "everything_np"):
+            return self.everyday_np(t, need)
         if t.data in ("place_of", "place_compound"):
             place = self.place(t)
             if isinstance(place, Place):
@@ -202,13 +232,13 @@ class Interpreter(Destinations):
                     f"there is no {place.text!r} in the scene to refer to", phrase=place.text
                 )
             return place
-        d = self.describe(t)
+        d = self.describe(t, dest)
         if source is not None:
             d.relations.append(Relation("from", (self.target(source.children[-1]),)))
         if lenient:
             return self.lenient(d)
         try:
-            ref = self.resolver.resolve(d)
+            ref = self._resolve_one(d)
         except GroundingError as exc:
             # "put the cheese in the top drawer and shut the drawer": a definite phrase that fits several
             # objects refers to the one of them already mentioned, if exactly one was (anaphora)
@@ -217,7 +247,24 @@ class Interpreter(Destinations):
                 raise
             ref = Ref((mentioned[0],), d.text)
         self.mentions.append(ref)
+        head = next((c for c, _ in d.heads if c not in ("thing", "*")), None)
+        if head is not None and dest:
+            self.one_head_dest = head
+        elif head is not None and need is not None:
+            self.one_head_obj = head
+        if need is not None:
+            self.last_object = d
         return ref
+
+    def _resolve_one(self, d: Description) -> Ref:
+        """Resolve; "one" standing for an earlier head that fits nothing here is any object ("the red one")."""
+        try:
+            return self.resolver.resolve(d)
+        except GroundingError as exc:
+            if not d.one_head or not exc.message.startswith("no object"):
+                raise
+            d.heads = [("thing", p) for _, p in d.heads]
+            return self.resolver.resolve(d)
 
     def lenient(self, d: Description) -> Ref:
         """All matches of a description (for owners and relation targets, which only filter)."""
@@ -242,7 +289,13 @@ class Interpreter(Destinations):
     def target(self, t: Tree, exclude: tuple[str, ...] = ()) -> Ref | Place:
         """A relation target or owner: a phrase or a place, resolved leniently (pronouns skip ``exclude``)."""
         if t.data in ("place_of", "place_compound"):
-            return self.place(t, exclude)
+            try:
+                return self.place(t, exclude)
+            except GroundingError as exc:
+                if not exc.candidates:
+                    raise
+                # "the box on top of the other box": a relation target may be any of them
+                return Place(exc.candidates, "top", exc.phrase or "")
         if t.data == "pronoun":
             return self.pronoun(t, None, exclude)
         return self.np(t, lenient=True)
@@ -256,19 +309,21 @@ class Interpreter(Destinations):
                 continue
             if need and any(need not in self.entities[i].affordances for i in ref.ids):
                 continue
-            if not plural and len(ref.ids) != 1:
+            if not plural and len(ref.ids) != 1 and not ref.distributive:
                 continue
-            return Ref(ref.ids, word, plural=plural, forall=ref.forall)
+            return Ref(ref.ids, word, plural=plural or len(ref.ids) > 1, forall=ref.forall, count=ref.count)
         raise GroundingError(f"{word!r} does not refer to anything mentioned before it", phrase=word)
 
-    def describe(self, t: Tree) -> Description:
+    def describe(self, t: Tree, dest: bool = False) -> Description:
         """Read a plain noun phrase into a Description."""
         d = Description(text=" ".join(tok.text for tok in _tokens(t)))
         for c in t.children:
             if isinstance(c, Token):
                 tok = _tok(c)
-                if tok.cls == "ONE":
-                    d.heads.append(("thing", tok.plural))
+                if tok.cls == "ONE":  # "the yellow ones" after "the blue cubes": cubes
+                    head = self._one_head or (self.one_head_dest if dest else self.one_head_obj)
+                    d.heads.append((head or "thing", tok.plural or tok.text == "ones"))
+                    d.one_head = head is not None
                 elif tok.cls == "COLORNOUN":  # "the orange": the noun, not the colour
                     d.heads.append((tok.value, tok.plural))
                     if not tok.plural:
@@ -279,6 +334,17 @@ class Interpreter(Destinations):
                 continue
             if c.data == "quant":
                 d.quant = {"ALL": "all", "EACH": "each", "BOTH": "both"}[c.children[0].type]
+            elif c.data == "det":
+                d.indefinite = _tok(c.children[0]).text in ("a", "an", "any")
+                d.definite = _tok(c.children[0]).cls in ("POSS",) or _tok(c.children[0]).text in (
+                    "the",
+                    "these",
+                    "those",
+                )
+            elif c.data == "count":
+                d.count = count_value(c)
+                d.definite_count = d.definite
+                d.indefinite = False
             elif c.data == "premod":
                 self._premod(c.children[0], d)
             elif c.data == "heads":
@@ -292,27 +358,37 @@ class Interpreter(Destinations):
                             d.head_words[tok.value] = tok.text
                     elif tok.cls == "ENTITY":
                         d.entity = tok.value
-            elif c.data == "part_of":
-                d.owner = self.target(c.children[-1])
-            elif c.data == "postpos":  # "the drawer low": a word of the node's own name, not a position
-                d.names.append(_tok(c.children[0]).text)
-            elif c.data == "called":  # "the cube called red_cube_3": the node, if it is what the head says
-                d.entity = _tok(c.children[-1]).value
-            elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
-                d.names.append(_tok(c.children[-1]).text)
-            elif c.data == "same_color":
-                d.same_color_as = self.np(c.children[-1], lenient=True)
-            elif c.data == "rel_color":  # "the box that is blue"
-                self._premod(c.children[-1], d)
-            elif c.data == "rel_size":
-                d.sizes.append(_tok(c.children[-1]).text)
-            elif c.data == "rel_state":  # "the drawer that is open"
-                d.states.append("open" if _tok(c.children[-1]).cls == "OPENED" else "closed")
-            elif c.data.startswith("rel_"):
-                self._relation(c, d)
-        if d.heads and any(k == "thing" for k, _ in d.heads) and d.colors and len(d.heads) == 1:
-            pass  # "the red one": any movable thing of that colour
+            else:
+                self.postmod(c, d)
         return d
+
+    def postmod(self, c: Tree, d: Description) -> None:
+        """A restriction after the head: owner, relation, colour match, exception, name."""
+        if c.data == "part_of":
+            d.owner = self.target(c.children[-1])
+        elif c.data == "postpos":  # "the drawer low": a word of the node's own name, not a position
+            d.names.append(_tok(c.children[0]).text)
+        elif c.data == "called":  # "the cube called red_cube_3": the node, if it is what the head says
+            d.entity = _tok(c.children[-1]).value
+        elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
+            d.names.append(_tok(c.children[-1]).text)
+        elif c.data == "same_color":
+            d.same_color_as = self.np([x for x in c.children if isinstance(x, Tree)][-1], lenient=True)
+        elif c.data == "rel_color":  # "the box that is blue"
+            self._premod(c.children[-1], d)
+        elif c.data == "rel_size":
+            d.sizes.append(_tok(c.children[-1]).text)
+        elif c.data == "rel_state":  # "the drawer that is open"
+            d.states.append("open" if _tok(c.children[-1]).cls == "OPENED" else "closed")
+        elif c.data == "rel_not_color":  # "every cube that is not yellow"
+            d.not_colors.extend(_tok(x).value for x in c.children[-1].children if _tok(x).cls == "COLOR")
+        elif c.data == "rel_carries":  # "the box that has the yellow box on it"
+            np = next(x for x in c.children if isinstance(x, Tree) and x.data != "pronoun")
+            d.relations.append(Relation("carries", (self.target(np),)))
+        elif c.data == "exception":
+            self.exception(c, d)
+        elif c.data.startswith("rel_"):
+            self._relation(c, d)
 
     def _premod(self, c: Tree | Token, d: Description) -> None:
         if isinstance(c, Tree) and c.data == "colors":
@@ -327,6 +403,8 @@ class Interpreter(Destinations):
                 d.sizes.append(tok.text)
             elif tok.cls in ("OPENED", "CLOSED"):
                 d.states.append("open" if tok.cls == "OPENED" else "closed")
+            elif tok.cls == "OTHER":  # "the other box": not one mentioned before
+                d.other_than = {i for m in self.mentions for i in m.ids}
             else:
                 d.names.append(tok.value)
 
@@ -391,3 +469,9 @@ class Interpreter(Destinations):
                 phrase=text,
             )
         return Place(owner, pos, text)
+
+
+def _is_pronoun(t: Tree) -> bool:
+    """An object list that is just ``it`` / ``them``."""
+    kids = [c for c in t.children if isinstance(c, Tree)]
+    return len(kids) == 1 and kids[0].data == "pronoun"

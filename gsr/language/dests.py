@@ -23,11 +23,25 @@ class Destinations:
         kids = [c for c in t.children if isinstance(c, Tree)]
         kind = t.data
         if kind in ("dest_in", "dest_on", "dest_to"):
-            ref = (
-                self.np(kids[-1], exclude=own)
-                if kids[-1].data != "pronoun"
-                else self.pronoun(kids[-1], None, own)
-            )
+            prep = {"dest_in": "in", "dest_on": "on", "dest_to": "to"}[kind]
+            try:
+                ref = (
+                    self.np(kids[-1], exclude=own, dest=True)
+                    if kids[-1].data != "pronoun"
+                    else self.pronoun(kids[-1], None, own)
+                )
+            except GroundingError as exc:
+                words = _tokens(kids[-1])
+                if not (
+                    exc.candidates and "ambiguous" in exc.message and words[0].text in ("a", "an", "any")
+                ):
+                    raise
+                # "put the book into a drawer": any one of them will do
+                options = tuple(self._at(Ref((c,), exc.phrase or ""), prep) for c in exc.candidates)
+                return Dest("any", options[0].predicate, options=options)
+            if ref.count == 1 and len(ref.ids) > 1:  # "into a drawer": any one of them
+                options = tuple(self._at(Ref((c,), ref.text), prep) for c in ref.ids)
+                return Dest("any", options[0].predicate, options=options)
             if kids[-1].data == "pronoun":
                 self.mentions.append(ref)
             return self._at(ref, {"dest_in": "in", "dest_on": "on", "dest_to": "to"}[kind])

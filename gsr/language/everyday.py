@@ -109,7 +109,11 @@ class Everyday:
             self.intents.append(Intent("place", objs, Dest("different", "in", category=category)))
             return True
         if kind == "place_color_cmd":  # "put each colour of cube in its own drawer": one colour per drawer
-            objs = self.objects(trees[0], "movable")
+            objs = []
+            for np in (c for c in trees[0].children if isinstance(c, Tree) and c.data != "comma"):
+                d = self.describe(np)  # "each colour of cube": the kind, all of them
+                d.heads = [(c, True) for c, _ in d.heads]
+                objs.append(self.resolver.resolve(d))
             dest = self.dest(next(c for c in trees if c.data.startswith("dest_")), objs)
             if dest.kind not in ("different", "by_color"):
                 raise GroundingError("each colour needs a place of its own (say 'in its own drawer')")

@@ -82,9 +82,18 @@ def _press(x: str, resolver: Resolver) -> Formula:
 def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Formula]:
     dest = intent.dest
     assert dest is not None
+    if dest.kind == "any":  # "put the book into a drawer": all of them in any one
+        objects = [x for r in intent.objects for x in r.ids]
+        return [
+            Or(tuple(And(tuple(Atom(o.predicate, (x, o.target)) for x in objects)) for o in dest.options))
+        ]
     if dest.kind == "at":
         out: list[Formula] = []
         for ref in intent.objects:
+            if ref.count is not None:  # "2 blue cubes": exactly that many of them end there
+                ids = [x for x in ref.ids if x != dest.target]
+                out.append(_exactly(ids, ref.count, dest))
+                continue
             if ref.forall:
                 out.extend(_forall(ref, dest, types, resolver.domain))
             else:
@@ -110,6 +119,9 @@ def _place(intent: Intent, resolver: Resolver, types: dict[str, str]) -> list[Fo
                 candidates=tuple(slots),
             )
         return [_assignments(objects, slots, lambda x: x)]
+    if _colored_slots(objects, slots, resolver):
+        # "sort the cubes into the boxes by colour" when each colour has a box of its own colour: that box
+        return [_corresponding(x, dest, resolver) for x in objects]
     colors: dict[str, str] = {}
     for x in objects:
         cs = resolver.entities[x].colors
@@ -181,4 +193,30 @@ def _assignments(objects: list[str], slots: list[str], key, groups: list[str] | 
     for perm in itertools.permutations(slots, len(groups)):
         slot_of = dict(zip(groups, perm, strict=True))
         options.append(And(tuple(Atom("in", (x, slot_of[key(x)])) for x in objects)))
+    return options[0] if len(options) == 1 else Or(tuple(options))
+
+
+def _colored_slots(objects: list[str], slots: list[str], resolver: Resolver) -> bool:
+    """Whether every object's colour is the colour of one of the slots (coloured boxes, not drawers)."""
+    slot_colors = {resolver.entities[s].colors[0] for s in slots if resolver.entities[s].colors}
+    obj_colors = {resolver.entities[x].colors[0] for x in objects if resolver.entities[x].colors}
+    return bool(obj_colors) and obj_colors <= slot_colors
+
+
+def _exactly(ids: list[str], n: int, dest: Dest) -> Formula:
+    """Exactly ``n`` of the objects at the destination: an ``or`` over which ones (the others not there)."""
+    options: list[Formula] = []
+    for chosen in itertools.combinations(ids, n):
+        options.append(
+            And(
+                tuple(
+                    Atom(dest.predicate, (x, dest.target))
+                    if x in chosen
+                    else Not(Atom(dest.predicate, (x, dest.target)))
+                    for x in ids
+                )
+            )
+        )
+        if len(options) > ASSIGNMENT_LIMIT:
+            raise GroundingError(f"too many ways to choose {n} of {len(ids)} objects", candidates=tuple(ids))
     return options[0] if len(options) == 1 else Or(tuple(options))

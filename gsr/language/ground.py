@@ -56,7 +56,15 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
             errors.append(exc)
             failed_shapes.append(shape)
             continue
-        except (AssertionError, StopIteration, KeyError, IndexError, ValueError) as exc:
+        except (
+            AssertionError,
+            StopIteration,
+            KeyError,
+            IndexError,
+            ValueError,
+            AttributeError,
+            TypeError,
+        ) as exc:
             # a reading the interpreter has no rule for (a grammar path without semantics): not this reading
             errors.append(GroundingError(f"cannot interpret {instruction!r} ({type(exc).__name__}: {exc})"))
             failed_shapes.append(shape)

@@ -11,11 +11,12 @@ from gsr.language.refs import Ref
 class Dest:
     """Where objects go: a node with a predicate, or a pairing rule."""
 
-    kind: str  # "at" | "corresponding" | "different" | "by_color"
+    kind: str  # "at" | "corresponding" | "different" | "by_color" | "any"
     predicate: str = "on"
     target: str | None = None
     category: str | None = None  # the slot category of a pairing rule ("box", "drawer")
     owner: tuple[str, ...] | None = None  # slots restricted to parts of these
+    options: tuple[Dest, ...] = ()  # kind "any": "put the book into a drawer", any one of these
 
 
 @dataclass(slots=True)

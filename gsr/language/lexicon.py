@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any
 
 from gsr.categories import (
     ancestors,
@@ -56,6 +58,7 @@ class Entity:
     is_part: bool
     own_words: frozenset[str] = frozenset()  # words of the node's own id, asset and material only
     extent: tuple[float, float, float] | None = None  # bounding-box size (x, y, z), when the graph has one
+    broader: frozenset[str] = frozenset()  # vocabulary nouns that name it loosely ("cup" for a mug)
 
 
 @dataclass(slots=True)
@@ -69,6 +72,35 @@ class Lexicon:
     def lookup(self, words: tuple[str, ...]) -> tuple[str, str] | None:
         """The (class, value) of a word sequence, or None."""
         return self.phrases.get(words)
+
+
+@lru_cache(maxsize=1)
+def vocabulary() -> dict[str, Any]:
+    """The everyday vocabulary (data/language/vocabulary.yaml): verbs by class, dropped phrases, numbers,
+    and nouns naming categories loosely (hypernyms and near-synonyms)."""
+    import yaml
+
+    from gsr.errors import GSRError
+    from gsr.resources import data_dir
+
+    path = data_dir() / "language" / "vocabulary.yaml"
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise GSRError(f"{path}: cannot read the grounder's vocabulary ({exc})") from None
+    return {
+        "verbs": {cls: [str(w) for w in words] for cls, words in (data.get("verbs") or {}).items()},
+        "drop": [str(w) for w in data.get("drop") or ()],
+        "numbers": {str(k): int(v) for k, v in (data.get("numbers") or {}).items()},
+        "nouns": {str(k): frozenset(map(str, v)) for k, v in (data.get("nouns") or {}).items()},
+    }
+
+
+def number_value(phrase: str) -> int | None:
+    """The count a number word or numeral says ("two", "a couple of", "3"), or None."""
+    if phrase.isdigit():
+        return int(phrase)
+    return vocabulary()["numbers"].get(phrase)
 
 
 def _tokens(text: str) -> list[str]:
@@ -134,6 +166,7 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
         positions.add("top")
     kinds = {cat, *ancestors(cat)} | ({raw} if unregistered else set())
     affs = node_affordances(node)
+    broader = frozenset(w for w, names in vocabulary()["nouns"].items() if names & kinds)
     if "box" in kinds and "openable" in affs:  # GSR-Bench ``red_lid_box``: a box with a lid is a lidded box
         kinds.add("lidded_box")
         words |= {"lidded", "lid"}
@@ -150,6 +183,7 @@ def describe(node: Node, graph: SceneGraph) -> Entity:
         is_part=node.parent is not None or is_part_category(cat),
         own_words=own,
         extent=_extent(node),
+        broader=broader,
     )
 
 
@@ -209,9 +243,25 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
     # function words win over everything single-word except multi-word nouns ("orange juice" stays a noun)
     for phrase, cls in FUNCTION_WORDS.items():
         add(tuple(phrase.split()), cls, phrase, override=True)
-    for phrase, cls in FUNCTION_WORDS.items():  # "putting", "switching off": the verb's class
+    vocab = vocabulary()
+    for cls, verbs in vocab["verbs"].items():  # everyday verbs: never over a noun, colour or function word
+        for phrase in verbs:
+            add(tuple(phrase.split()), cls, phrase)
+    for phrase in vocab["drop"]:  # "one by one", "until none are left": said, but no part of the goal
+        add(tuple(phrase.split()), "DROP", phrase, override=True)
+    for phrase in vocab["numbers"]:
+        add(tuple(phrase.split()), "NUM", phrase, override=True)
+    for noun in vocab["nouns"]:  # loose names ("cup" for mugs): registered categories keep their words
+        words = tuple(noun.split("_"))
+        for phrase, value in ((words, noun), ((*words[:-1], _plural(words[-1])), noun + "#pl")):
+            # over a name word ("wine" of wine_rack and wine_bottle), never over a noun or function word
+            add(phrase, "NOUN", value, override=phrases.get(phrase, ("NAME",))[0] == "NAME")
+    verb_phrases = [(p, c) for p, c in FUNCTION_WORDS.items()] + [
+        (p, c) for c, ps in vocab["verbs"].items() for p in ps
+    ]
+    for phrase, cls in verb_phrases:  # "putting", "switching off": the verb's class
         words = phrase.split()
-        if cls in VERB_CLASSES and words[0] not in ("opened", "turned"):
+        if cls in VERB_CLASSES | {"FILL", "GIVE", "CONTINUE"} and words[0] not in ("opened", "turned"):
             add((gerund(words[0]), *words[1:]), cls, phrase)
     # a word that is both a colour and a noun of this scene ("the orange" fruit, "the orange cube")
     for raw in raw_nouns:

@@ -29,6 +29,7 @@ _CONTRACTIONS = (
     (re.compile(r"'ll\b"), " will"),
     (re.compile(r"'re\b"), " are"),
     (re.compile(r"\bi'm\b"), "i am"),
+    (re.compile(r"\b(that|which|what|it|there|here|who)'s\b"), r"\1 is"),
 )
 #: Ordinals that, at the start of a clause, order the clauses ("First, open the drawer") rather than objects.
 _SEQUENCE_ORDINALS = frozenset({"first"})
@@ -101,6 +102,9 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
         if raw in (",", "."):
             words.append((raw, None))
             continue
+        if raw.isdigit():  # "put 2 cubes in the box": a numeral
+            words.append((raw, None))
+            continue
         if "_" in raw or "/" in raw or any(ch.isdigit() for ch in raw):
             ent = _entity_for(raw, lex)
             if ent is not None:
@@ -117,6 +121,10 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
     i = 0
     while i < len(words):
         word, ent = words[i]
+        if ent is None and word.isdigit():
+            toks.append(Tok("NUM", word, word))
+            i += 1
+            continue
         if ent is not None:
             plural = False
             toks.append(Tok("ENTITY", ent, word, plural))
@@ -142,7 +150,8 @@ def tokenize(text: str, lex: Lexicon) -> list[Tok]:
                 if span[0] in _SEQUENCE_ORDINALS and n == 1 and prev in _CLAUSE_START:
                     cls = "FIRST"
                 plural = value.endswith("#pl")
-                toks.append(Tok(cls, value.removesuffix("#pl"), " ".join(span), plural))
+                if cls != "DROP":  # pacing and continuation tails ("one by one") say nothing about the goal
+                    toks.append(Tok(cls, value.removesuffix("#pl"), " ".join(span), plural))
                 i += n
                 matched = True
                 break

@@ -50,6 +50,14 @@ class Description:
     sizes: list[str] = field(default_factory=list)  # "small", "tall", ...
     head_words: dict[str, str] = field(default_factory=dict)  # category -> singular head as written ("crate")
     text: str = ""
+    count: int | None = None  # "2 blue cubes", "a couple of mugs", "one cube": an exact count
+    definite_count: bool = False  # "the two yellow cubes": all of them, and there must be that many
+    indefinite: bool = False  # "a blue cube": any one of them
+    excluded: set[str] = field(default_factory=set)  # "except the porcelain one"
+    not_colors: list[str] = field(default_factory=list)  # "that is not yellow"
+    other_than: set[str] | None = None  # "the other box": not one already mentioned
+    definite: bool = False  # "the", "these", a possessive
+    one_head: bool = False  # the head is "one" standing for an earlier head
 
     @property
     def plural(self) -> bool:
@@ -66,6 +74,9 @@ class Ref:
     plural: bool = False
     forall: tuple[tuple[str, tuple[str, ...]], ...] | None = None  # ((category, colours), ...)
     generic: bool = False  # the head was "items" / "objects" / "things"
+    count: int | None = None  # exactly this many of ids (the others not) end at the destination
+    distributive: bool = False  # "each red cube ... it": a singular pronoun may stand for each of them
+    other: bool = False  # "the other box": as a relation target, any of ids but the object itself
 
 
 @dataclass(slots=True)
@@ -122,6 +133,15 @@ class Resolver:
         the owner's own compartments (the caddy's right compartment) do not count.
         """
         pos = POSITION_SYNONYMS.get(position, position)
+        if pos in ("middle", "center"):  # "the middle of the table" is its center region
+            for word in (pos, "center" if pos == "middle" else "middle"):
+                found = self._regions(owner, word, outside)
+                if found:
+                    return found
+            return []
+        return self._regions(owner, pos, outside)
+
+    def _regions(self, owner: tuple[str, ...], pos: str, outside: bool) -> list[str]:
         owned = [
             e.id
             for e in self.entities.values()
@@ -156,6 +176,11 @@ class Resolver:
             return [e for e in self.entities.values() if "movable" in e.affordances]
         if strong:
             return strong
+        # a loose name from the vocabulary ("cups" for mugs, "drinks", "the container") when no object is
+        # of the word's own category
+        broader = [e for e in self.entities.values() if category in e.broader]
+        if broader:
+            return broader
         words = set(category.split("_"))
         return [e for e in self.entities.values() if words <= e.words]
 
@@ -166,7 +191,9 @@ class Resolver:
             if sup is None:
                 return False
             if isinstance(target, Place):
-                return sup[1] in self.with_parts(target.owner) and target.position in e.region_words
+                if target.position == "top" and rel.kind == "on":  # "on top of the other box"
+                    return sup[1] in self.with_parts(target.owner)
+                return sup[1] in self.with_parts(target.owner) and _region_position(target.position, e)
             if rel.kind != "from" and sup[0] != rel.kind and not self._loose_support(rel.kind, sup[1]):
                 return False
             return sup[1] in self.with_parts(target.ids)
@@ -177,9 +204,13 @@ class Resolver:
                 return (
                     sup is not None
                     and sup[1] in self.with_parts(target.owner)
-                    and target.position in e.region_words
+                    and _region_position(target.position, e)
                 )
             return sup is not None and sup[1] in self.with_parts(target.ids)
+        if rel.kind in ("under", "carries"):  # the target rests on (or in) this object
+            target = rel.targets[0]
+            ids = target.ids if isinstance(target, Ref) else target.owner
+            return any(self.support.get(t, ("", ""))[1] in self.with_parts((e.id,)) for t in ids if t != e.id)
         if rel.kind == "near":
             return self._near(e, rel.targets[0])
         if rel.kind == "between":
@@ -240,7 +271,21 @@ class Resolver:
             # else: the modifier names nothing in the scene ("the cabinet shelf" where the only furniture
             # is a shelf): it describes the head's kind, so the head alone decides (ambiguity still errs)
         if d.colors:
-            found = [e for e in found if set(d.colors) <= set(e.colors)]
+            every = [e for e in found if set(d.colors) <= set(e.colors)]
+            if not every and d.plural and len(d.colors) > 1:
+                # "all the red and blue cubes": the red ones and the blue ones (no cube is both)
+                every = [e for e in found if set(d.colors) & set(e.colors)]
+                if not all(any(c in e.colors for e in every) for c in d.colors):
+                    every = []
+            found = every
+        if d.not_colors:
+            found = [e for e in found if not set(d.not_colors) & set(e.colors)]
+        if d.excluded:  # "X except Y": Y must be among X ("the basket except the butter" is no reading)
+            kept = [e for e in found if e.id not in d.excluded]
+            found = kept if len(kept) < len(found) else []
+        if d.other_than:
+            others = [e for e in found if e.id not in d.other_than]
+            found = others or found
         for p in d.positions:
             canon = POSITION_SYNONYMS.get(p, p)
             named = [e for e in found if canon in e.positions]
@@ -270,7 +315,8 @@ class Resolver:
                 e for e in found if e.colors and e.colors[0] in ref_colors and e.id not in d.same_color_as.ids
             ]
         for rel in d.relations:
-            found = [e for e in found if e.id not in _ids(rel.targets) and self._relation_holds(e, rel)]
+            own = _ids(tuple(t for t in rel.targets if not (isinstance(t, Ref) and t.other)))
+            found = [e for e in found if e.id not in own and self._relation_holds(e, rel)]
         for word in d.sizes:
             found = self._sized(found, word, d)
         return found
@@ -368,16 +414,18 @@ class Resolver:
                     phrase=d.text,
                     candidates=self.near_misses(category),
                 )
-            if not d.plural and len(found) > 1:
+            if not d.plural and len(found) > 1 and d.count is None:
                 found = self.best_named(found, d, category)
-            if not d.plural and len(found) > 1:
+            if not d.plural and len(found) > 1 and d.indefinite and d.count is None:
+                d.count = 1  # "a blue cube": any one of them
+            if not d.plural and len(found) > 1 and d.count is None:
                 raise GroundingError(
                     f"{d.text!r} is ambiguous: it could be any of {', '.join(e.id for e in found)}",
                     candidates=tuple(e.id for e in found),
                     phrase=d.text,
                 )
             ids.extend(e.id for e in found if e.id not in ids)
-            if self._quantifiable(d, category):
+            if self._quantifiable(d, category) and all(category in e.kinds for e in found):
                 forall.append((category, tuple(d.colors)))
         if d.quant == "both" and len(ids) != 2:
             raise GroundingError(
@@ -385,10 +433,33 @@ class Resolver:
                 candidates=tuple(ids),
                 phrase=d.text,
             )
-        quantified = d.quant in ("all", "each") and len(forall) == len(d.heads)
+        count = d.count
+        if count is not None and (d.definite_count or count == len(ids)):
+            if len(ids) != count:  # "the two yellow cubes": there must be two
+                raise GroundingError(
+                    f"{d.text!r} should name {count} object{'s' if count != 1 else ''}, found {len(ids)}: "
+                    f"{', '.join(ids)}",
+                    candidates=tuple(ids),
+                    phrase=d.text,
+                )
+            count = None  # all of them
+        elif count is not None and len(ids) < count:
+            raise GroundingError(
+                f"{d.text!r} asks for {count} but the scene has only {len(ids)}: {', '.join(ids)}",
+                candidates=tuple(ids),
+                phrase=d.text,
+            )
+        quantified = d.quant in ("all", "each") and len(forall) == len(d.heads) and count is None
         generic = any(c == "thing" for c, _ in d.heads)
         return Ref(
-            tuple(ids), d.text, plural=d.plural, forall=tuple(forall) if quantified else None, generic=generic
+            tuple(ids),
+            d.text,
+            plural=d.plural or count is not None,
+            forall=tuple(forall) if quantified else None,
+            generic=generic,
+            count=count,
+            distributive=d.quant in ("all", "each"),
+            other=d.other_than is not None,
         )
 
     def best_named(self, found: list[Entity], d: Description, category: str) -> list[Entity]:
@@ -428,6 +499,8 @@ class Resolver:
             not (
                 d.positions or d.names or d.noun_mods or d.owner or d.relations or d.same_color_as or d.states
             )
+            and not (d.excluded or d.not_colors or d.other_than or d.count is not None)
+            and not (d.plural and len(d.colors) > 1)
             and category != "thing"
             and category in self.domain.types
         )
@@ -460,6 +533,12 @@ SIZE_SCALES = {
     "wide": (lambda x: max(x[0], x[1]), False),
     "narrow": (lambda x: min(x[0], x[1]), True),
 }
+
+
+def _region_position(position: str, e: Entity) -> bool:
+    """Whether the object's starting region names the position ("middle" and "center" alike)."""
+    same = {"middle", "center"} if position in ("middle", "center") else {position}
+    return bool(same & e.region_words)
 
 
 def _ids(targets: tuple[Ref | Place, ...]) -> set[str]:
