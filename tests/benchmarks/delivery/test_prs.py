@@ -269,3 +269,19 @@ def test_uncalibrated_folder_is_one_clear_error(
     assert prs_command(folder, tasks, tmp_path / "out") == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "no floor is calibrated" in err[0]
+
+
+@pytest.mark.slow
+def test_prs_dev_acceptance(shared_data: Path) -> None:
+    """Issue 19's benchmark: all 324 dev tasks, cross-fitted (no task scored on its own calibration or
+    captions), Task SR >= 0.80 and PRS's eval.py agreeing on every figure."""
+    data = shared_data / "prs"
+    if not (data / "eval.py").is_file():
+        pytest.skip(f"PRS data not found at {data}")
+    from benchmarks.delivery.prs_eval_check import compare
+    from benchmarks.delivery.prs_run import run_prs_crossfit
+
+    run = run_prs_crossfit(data, data / "delivery_tasks_dev.json", folds=2)
+    assert run["summary"]["tasks"] == 324 and run["summary"]["Task SR"] >= 0.80
+    check = compare(data / "eval.py", data / "delivery_tasks_dev.json", run["submission"])
+    assert check["equal"], check
