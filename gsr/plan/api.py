@@ -121,7 +121,9 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
         if gc_was_enabled:
             gc.enable()
     ground_time = time.perf_counter() - start
-    relax = Relaxation(task)  # built once: the reachability check and the search share it
+    # Built once: the reachability check and the search share it. The greedy planners estimate
+    # plan length (unit costs), as lama-first does; the optimal ones need the real costs.
+    relax = Relaxation(task, unit=planner not in OPTIMAL and planner != "bfs")
     if not task.goals or relax.hadd(task.init)[0][relax.goal_fact] == INF:  # same reachability as h_max
         t = time.perf_counter() - start
         return PlanResult(

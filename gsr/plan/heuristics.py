@@ -24,9 +24,14 @@ class Relaxation:
     # (then counting the state's facts from scratch is cheaper; measured on blocks and tabletop).
     far = 8
 
-    def __init__(self, task: Task) -> None:
+    def __init__(self, task: Task, unit: bool = False) -> None:
+        """``unit``: every operator costs 1 in the relaxation (Fast Downward's cost type "one", as
+        lama-first's heuristics use): on tasks with action costs the greedy searches then look for
+        short plans first instead of crawling through cheap steps; h_max and LM-cut need the real
+        costs (unit=False) to stay admissible."""
         n = len(task.atoms)
         self.task = task
+        self.unit = unit
         self.goal_fact = n
         self.true_fact = n + 1
         # Negative preconditions, effect conditions and goals become complement facts "not a" (true
@@ -100,7 +105,7 @@ class Relaxation:
             if base_add:
                 pre.append(base_pre)
                 add.append(base_add)
-                cost.append(o.cost)
+                cost.append(1 if unit else o.cost)
                 owner.append(i)
         for ax in task.axioms:
             pre.append((*ax.pre, *(comp[a] for a in ax.neg if a in comp)) or (self.true_fact,))
@@ -385,7 +390,7 @@ class Relaxation:
                     stack.append(g)
         task = self.task
         pre_mask, neg_mask = task.pre_mask, task.neg_mask
-        h = sum(task.ops[o].cost for o in ops)
+        h = len(ops) if self.unit else sum(task.ops[o].cost for o in ops)
         preferred = [o for o in ops if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
         return h, preferred
 
