@@ -142,7 +142,8 @@ class PrsAgent:
         obj = self._fetch(env, parsed, out)
         if obj is None or env.done:
             out.reason = out.reason or ("time limit" if env.done else "object not found")
-            env.done or env.give_up(out.reason)
+            if not env.done:
+                env.give_up(out.reason)
             return out
         self._deliver(env, parsed, person, out)
         return out
