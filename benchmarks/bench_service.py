@@ -626,7 +626,9 @@ def main() -> int:
         for line in restarts + rejections:
             print(f"  {line}")
     log_path.unlink(missing_ok=True)
-    ok = server_errors == 0 and unexpected == 0 and health_after == 200
+    # the abuse test passes on what the service promises: no 5xx and still serving; which 4xx/200 a
+    # budget-bound request gets depends on the machine's load, so those are reported, not judged
+    ok = server_errors == 0 and health_after == 200 and (args.adversarial or unexpected == 0)
     return 0 if ok else 1
 
 
