@@ -12,6 +12,8 @@ request id; a refusal by a limit names the limit's variable. Where a request run
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import gc
 import logging
 import time
 from collections.abc import Callable
@@ -28,6 +30,7 @@ from gsr.errors import GSRError
 from gsr.service.handlers import (
     ApiError,
     Scene,
+    _builtin_domain,
     api_error_from,
     check_instruction,
     check_plan_length,
@@ -108,6 +111,18 @@ def _small(data: Any, steps: int = 0) -> bool:
     return isinstance(nodes, list) and len(nodes) <= INLINE_NODES and steps <= INLINE_STEPS
 
 
+def _preload() -> None:
+    """Import what in-process requests use, at startup rather than inside the first requests."""
+    import gsr.check
+    import gsr.facts
+    import gsr.io
+    import gsr.plan_format
+    import gsr.validate  # noqa: F401
+
+    with contextlib.suppress(GSRError):  # a missing domain is reported by the requests that name it
+        _builtin_domain("tabletop")
+
+
 def create_app(settings: ServiceSettings | None = None) -> FastAPI:
     """The FastAPI application with keys and limits from ``settings`` (defaults: ServiceSettings())."""
     from gsr import __version__
@@ -126,6 +141,8 @@ def create_app(settings: ServiceSettings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(_: FastAPI):
         warming = asyncio.create_task(pool.warm()) if settings.warm_workers else None
+        _preload()
+        gc.freeze()  # the long-lived startup objects leave the collector's generations: shorter pauses
         yield
         if warming is not None and not warming.done():
             warming.cancel()

@@ -34,6 +34,7 @@ def _worker_main(conn, settings: ServiceSettings) -> None:
     from gsr.service.handlers import run_handler
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the server stops us; Ctrl-C is for it
+    gc.freeze()  # the preloaded modules stay out of the collector's way
     if settings.worker_nice > 0:
         os.nice(settings.worker_nice)
     if settings.worker_memory_mb > 0:
