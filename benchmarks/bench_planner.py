@@ -123,7 +123,8 @@ def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: fl
         tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
         return {"status": "error", "time": elapsed, "cpu": cpu, "length": None, "message": tail}
     row = json.loads(lines[-1])
-    if row["status"] == "timeout":
+    if row["status"] == "timeout" or elapsed > timeout:  # grounding past the limit is a timeout too
+        row = {**row, "status": "timeout", "length": None}
         elapsed = cpu = timeout
     return {**row, "time": min(elapsed, timeout), "cpu": cpu}
 

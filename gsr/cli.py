@@ -66,7 +66,7 @@ def plan_cmd(
         list[Path], typer.Argument(help="[DOMAIN] PROBLEM; a BDDL problem plans against the tabletop domain.")
     ],
     planner: Annotated[
-        str, typer.Option(help="lazy-ff, gbfs-ff, astar-lmcut, astar-hmax, astar-blind, bfs or fd.")
+        str, typer.Option(help="lazy-ff, lama, gbfs-ff, astar-lmcut, astar-hmax, astar-blind, bfs or fd.")
     ] = "lazy-ff",
     timeout: Annotated[float, typer.Option(help="Time limit in seconds.")] = 60.0,
     out: Annotated[

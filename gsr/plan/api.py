@@ -12,12 +12,13 @@ from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula, Problem
 from gsr.plan.ground import ground_task
 from gsr.plan.heuristics import INF, Relaxation
-from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs
+from gsr.plan.landmarks import Landmarks
+from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
 from gsr.plan.task import Task
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Plan
 
-PLANNERS = ("lazy-ff", "gbfs-ff", "astar-lmcut", "astar-hmax", "astar-blind", "bfs", "fd")
+PLANNERS = ("lazy-ff", "lama", "gbfs-ff", "astar-lmcut", "astar-hmax", "astar-blind", "bfs", "fd")
 OPTIMAL = frozenset({"astar-lmcut", "astar-hmax", "astar-blind"})
 
 
@@ -46,6 +47,10 @@ class PlanResult:
 def _search(task: Task, relax: Relaxation, planner: str, deadline: float) -> tuple[SearchResult, str]:
     if planner == "lazy-ff":
         return lazy_gbfs(task, relax, deadline), "lazy GBFS, h_FF, preferred operators"
+    if planner == "lama":
+        return lazy_lama(
+            task, relax, Landmarks(task), deadline
+        ), "lazy GBFS, h_FF + landmark count, preferred operators"
     if planner == "gbfs-ff":
         return eager_search(task, lambda s: relax.ff(s)[0], deadline, 0.0), "eager GBFS, h_FF"
     if planner == "astar-lmcut":

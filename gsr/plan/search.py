@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from heapq import heappop, heappush
 
 from gsr.plan.heuristics import INF, Relaxation
+from gsr.plan.landmarks import Landmarks
 from gsr.plan.task import Task
 
 CLOCK_EVERY = 64
@@ -204,3 +205,74 @@ def breadth_first(task: Task, deadline: float) -> SearchResult:
                 return res
             queue.append(tid)
     return res
+
+
+def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: float) -> SearchResult:
+    """LAMA's first iteration (Fast Downward's lama-first): lazy greedy search alternating four
+    queues, h_FF and the landmark count, each with all successors and with preferred successors
+    only (the union of both heuristics' preferred operators), preferred queues boosted by 1000 when
+    either heuristic reaches a new best value. Accepted landmarks are kept per state (the path
+    that first reached it)."""
+    res = SearchResult("unsolvable")
+    space = _Space()
+    init = task.init
+    root = space.add(init, -1, -1)
+    accepted = [landmarks.accept(0, init)]
+    if task.is_goal(init):
+        res.status = "solved"
+        return res
+    queues: tuple[list, list, list, list] = ([], [], [], [])  # ff, ff preferred, lm, lm preferred
+    priority = [0, 0, 0, 0]
+    counter = 0
+    best = [INF, INF]
+    apply, applicable, is_goal, ff, lm = task.apply, task.applicable, task.is_goal, relax.ff, landmarks.value
+    pending: int | None = root
+    while True:
+        if pending is None:
+            choices = [i for i in (1, 3, 0, 2) if queues[i]]
+            if not choices:
+                return res
+            which = min(choices, key=lambda i: priority[i])
+            priority[which] += 1
+            _, _, pid, op = heappop(queues[which])
+            state = apply(space.states[pid], op)
+            if state in space.ids:
+                continue
+            sid = space.add(state, pid, op)
+            accepted.append(landmarks.accept(accepted[pid], state))
+            res.generated += 1
+            if is_goal(state):
+                res.status, res.ops = "solved", space.path(sid)
+                return res
+        else:
+            sid, pending = pending, None
+            state = space.states[sid]
+        h_ff, pref_ff = ff(state)
+        res.evaluated += 1
+        if h_ff == INF:
+            continue
+        h_lm, pref_lm = lm(accepted[sid], state)
+        progress = False
+        if h_ff < best[0]:
+            best[0] = h_ff
+            progress = True
+        if h_lm < best[1]:
+            best[1] = h_lm
+            progress = True
+        if progress:
+            priority[1] -= BOOST
+            priority[3] -= BOOST
+        res.expanded += 1
+        if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
+            res.status = "timeout"
+            return res
+        pref = set(pref_ff)
+        pref.update(pref_lm)
+        q_ff, q_ff_pref, q_lm, q_lm_pref = queues
+        for op in applicable(state):
+            counter += 1
+            heappush(q_ff, (h_ff, counter, sid, op))
+            heappush(q_lm, (h_lm, counter, sid, op))
+            if op in pref:
+                heappush(q_ff_pref, (h_ff, counter, sid, op))
+                heappush(q_lm_pref, (h_lm, counter, sid, op))

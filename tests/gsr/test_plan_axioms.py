@@ -121,3 +121,36 @@ def test_validating_a_plan_never_grounds_the_task() -> None:
     report = validate_plan(domain, problem, Plan(()))
     assert not report.valid and not report.goal_reached
     assert time.process_time() - start < 15
+
+
+def test_landmarks_of_a_logistics_like_task_and_the_lama_planner() -> None:
+    """Goal facts are landmarks, and preconditions shared by all first achievers precede them."""
+    from gsr.plan.ground import ground_task
+    from gsr.plan.landmarks import Landmarks
+
+    domain = parse_domain(
+        "(define (domain carry) (:requirements :typing) (:types place box)"
+        " (:predicates (at ?b - box ?p - place) (held ?b - box) (road ?p ?q - place) (me ?p - place))"
+        " (:action go :parameters (?p ?q - place) :precondition (and (me ?p) (road ?p ?q))"
+        "  :effect (and (me ?q) (not (me ?p))))"
+        " (:action pick :parameters (?b - box ?p - place) :precondition (and (me ?p) (at ?b ?p))"
+        "  :effect (and (held ?b) (not (at ?b ?p))))"
+        " (:action drop :parameters (?b - box ?p - place) :precondition (and (me ?p) (held ?b))"
+        "  :effect (and (at ?b ?p) (not (held ?b)))))"
+    )
+    problem = parse_problem(
+        "(define (problem p) (:domain carry) (:objects a b c - place x - box)"
+        " (:init (me a) (at x b) (road a b) (road b a) (road b c) (road c b)) (:goal (at x c)))",
+        domain=domain,
+    )
+    task = ground_task(domain, problem)
+    lm = Landmarks(task)
+    names = {str(task.atoms[f]) for f in lm.facts}
+    assert {"(at x c)", "(held x)", "(me c)", "(me b)"} <= names  # (me b): every pick of x is at b
+    init_accepted = lm.accept(0, task.init)
+    h, preferred = lm.value(init_accepted, task.init)
+    assert h == len(lm.facts) - init_accepted.bit_count() > 0
+    assert [str(task.ops[i]) for i in preferred] == ["(go a b)"]
+    result = plan(domain, problem, planner="lama")
+    assert result.status == "solved" and validate_plan(domain, problem, result.plan).valid
+    assert [str(s) for s in result.plan] == ["(go a b)", "(pick x b)", "(go b c)", "(drop x c)"]
