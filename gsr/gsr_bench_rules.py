@@ -177,6 +177,9 @@ class _Scene:
         self.on_top: dict[str, list[str]] = {}
         self.support: dict[str, Edge] = {}
         self.inside: dict[str, list[str]] = {}
+        self.container_of: dict[
+            str, str
+        ] = {}  # the first ``in`` edge of an object, as the validator reads it
         for e in graph.edges:
             if e.relation == "on":
                 self.on_top.setdefault(e.target, []).append(e.source)
@@ -184,10 +187,7 @@ class _Scene:
                 self.support.setdefault(e.source, e)
             if e.relation == "in":
                 self.inside.setdefault(e.target, []).append(e.source)
-        self.container_of = {
-            s: next(e.target for e in graph.edges if e.source == s and e.relation == "in")
-            for s in {e.source for e in graph.edges if e.relation == "in"}
-        }
+                self.container_of.setdefault(e.source, e.target)
 
     def state(self, name: str) -> str | None:
         node = self.nodes.get(name)
