@@ -8,7 +8,7 @@ and, when solved, validated with gsr.validate; with ``--fd``, Fast Downward (lam
 the same files to tell the domains it accepts. Each domain runs in its own subprocess under a hard
 wall limit, so a grounding that does not finish cannot stall the run.
 
-Usage: python benchmarks/bench_ipc_language.py ROOT [--timeout 10] [--pick 0] [--fd] [--only a,b]
+Usage: python benchmarks/bench_ipc_language.py ROOT [--timeout 10] [--planner lazy-ff] [--pick 0] [--fd] [--only a,b]
        [--save FILE]
 
 Columns: load (parsed), plan (solved / timeout / unsolvable / error), valid (plan checked), time
@@ -49,7 +49,7 @@ def pick_problem(folder: Path, pick: int) -> tuple[Path, Path] | None:
     return dom, prob
 
 
-def run_one(domain_file: Path, problem_file: Path, timeout: float) -> dict:
+def run_one(domain_file: Path, problem_file: Path, timeout: float, planner: str = "lazy-ff") -> dict:
     """Parse, plan and validate in this process (called in a subprocess by ``main``)."""
     from gsr.errors import GSRError
     from gsr.pddl.parser import load_domain, load_problem
@@ -65,7 +65,7 @@ def run_one(domain_file: Path, problem_file: Path, timeout: float) -> dict:
         return {**row, "message": str(err), "time": time.perf_counter() - start}
     row["load"] = True
     row["axioms"] = len(domain.axioms)
-    result = plan(domain, problem, timeout=timeout)
+    result = plan(domain, problem, planner=planner, timeout=timeout)
     row["plan"] = result.status
     row["ground_time"] = result.ground_time
     if result.status != "solved":
@@ -91,9 +91,10 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> str:
         return "n/a"
 
 
-def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float) -> dict:
+def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
     hard = 3 * timeout + 60  # grounding is not interruptible: the wall limit is the subprocess's
     cmd = [sys.executable, __file__, "--one", str(domain_file), str(problem_file), "--timeout", str(timeout)]
+    cmd += ["--planner", planner]
     env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
     start = time.perf_counter()
     try:
@@ -118,6 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("root", type=Path, nargs="?", help="folder with one subfolder per domain")
     parser.add_argument("--timeout", type=float, default=10.0, help="planner limit per problem (s)")
+    parser.add_argument("--planner", default="lazy-ff", help="GSR planner (see gsr.plan.PLANNERS)")
     parser.add_argument("--pick", type=int, default=0, help="which problem by size (0: smallest)")
     parser.add_argument("--fd", action="store_true", help="also run Fast Downward lama-first")
     parser.add_argument("--only", default="", help="comma-separated domain folders")
@@ -125,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--one", nargs=2, type=Path, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.one:
-        print(json.dumps(run_one(args.one[0], args.one[1], args.timeout)))
+        print(json.dumps(run_one(args.one[0], args.one[1], args.timeout, args.planner)))
         return 0
     if args.root is None or not args.root.is_dir():
         parser.error("ROOT must be a folder with one subfolder per domain")
@@ -137,7 +139,11 @@ def main(argv: list[str] | None = None) -> int:
         files = pick_problem(folder, args.pick)
         if files is None:
             continue
-        row = {"domain": folder.name, "problem": files[1].name, **_subprocess_row(*files, args.timeout)}
+        row = {
+            "domain": folder.name,
+            "problem": files[1].name,
+            **_subprocess_row(*files, args.timeout, args.planner),
+        }
         if args.fd:
             row["fd"] = run_fd(*files, args.timeout)
         rows.append(row)
