@@ -157,8 +157,49 @@ class RoomMatcher:
 
 #: Words that may follow a room mention.
 ROOM_FOLLOWERS = frozenset(
-    "room rooms area space s and then to for with on in at from of where who which that she he they it "
-    "please so while or but i me my him her them by near next before after there here".split()
+    [
+        "room",
+        "rooms",
+        "area",
+        "space",
+        "s",
+        "and",
+        "then",
+        "to",
+        "for",
+        "with",
+        "on",
+        "in",
+        "at",
+        "from",
+        "of",
+        "where",
+        "who",
+        "which",
+        "that",
+        "she",
+        "he",
+        "they",
+        "it",
+        "please",
+        "so",
+        "while",
+        "or",
+        "but",
+        "i",
+        "me",
+        "my",
+        "him",
+        "her",
+        "them",
+        "by",
+        "near",
+        "next",
+        "before",
+        "after",
+        "there",
+        "here",
+    ]
 )
 
 
