@@ -103,7 +103,9 @@ def tasks(n: int) -> dict:
         (i0, i1), (j0, j1) = ROOMS[room_of_code[code]]
         pi, pj = int(rng.integers(i0 + 1, i1)), int(rng.integers(j0 + 1, j1))
         while (
-            (pi, pj) in {(2, 5), (2, 6)} or (2 <= pi <= 3 and 5 <= pj <= 9) or (7 <= pi <= 8 and 30 <= pj <= 33)
+            (pi, pj) in {(2, 5), (2, 6)}
+            or (2 <= pi <= 3 and 5 <= pj <= 9)
+            or (7 <= pi <= 8 and 30 <= pj <= 33)
         ):
             pi, pj = int(rng.integers(i0 + 1, i1)), int(rng.integers(j0 + 1, j1))
         px, pz = world(pi, pj)
