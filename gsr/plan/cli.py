@@ -66,6 +66,11 @@ def plan_command(domain: Path | None, problem: Path, planner: str, timeout: floa
     except (RecursionError, MemoryError) as err:
         print(f"error: the task is too large for the planner ({type(err).__name__})", file=sys.stderr)
         return EXIT_ERROR
+    except Exception as err:  # the command's contract: one line, never a traceback
+        print(
+            f"error: internal planner error ({type(err).__name__}: {err}); please report it", file=sys.stderr
+        )
+        return EXIT_ERROR
     stats = (
         f"{result.planner}: {result.status} in {result.time:.3f} s (ground {result.ground_time:.3f} s, "
         f"search {result.search_time:.3f} s); expanded {result.expanded}, generated {result.generated}, "

@@ -170,3 +170,15 @@ def test_problem_alone_finds_its_domain_file(tmp_path: Path, capsys) -> None:
     assert find_domain_file(tmp_path / "p01.pddl") == tmp_path / "p01-domain.pddl"
     assert plan_command(None, tmp_path / "p01.pddl", "lazy-ff", 5.0, None) == 0
     assert "(go)" in capsys.readouterr().out
+
+
+def test_an_unexpected_planner_failure_is_one_line(blocks: tuple[Path, Path], monkeypatch, capsys) -> None:
+    import gsr.plan.api
+
+    def broken(*args, **kwargs):
+        raise TypeError("unsupported format string passed to NoneType.__format__")
+
+    monkeypatch.setattr(gsr.plan.api, "plan", broken)
+    assert plan_command(blocks[0], blocks[1], "lazy-ff", 5.0, None) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: internal planner error (TypeError") and err.count("\n") == 1
