@@ -154,3 +154,15 @@ def test_landmarks_of_a_logistics_like_task_and_the_lama_planner() -> None:
     result = plan(domain, problem, planner="lama")
     assert result.status == "solved" and validate_plan(domain, problem, result.plan).valid
     assert [str(s) for s in result.plan] == ["(go a b)", "(pick x b)", "(go b c)", "(drop x c)"]
+
+
+def test_fast_downward_agrees_on_derived_predicates(graph) -> None:
+    """FD reads the rules our writer emits; its plan passes our validator, at our optimal cost."""
+    from gsr.plan.fast_downward import find_fast_downward
+
+    if find_fast_downward() is None:
+        pytest.skip("Fast Downward (up-fast-downward) is not installed")
+    domain, problem = graph
+    result = plan(domain, problem, planner="fd", timeout=120)
+    assert result.status == "solved", result.message
+    assert result.cost == 3  # the cost comes from validating FD's plan with gsr.validate
