@@ -10,7 +10,8 @@ class GroundingError(GSRError):
 
     ``unknown_words``: words outside the lexicon. ``candidates``: the objects an ambiguous
     reference could denote (or that a reference was checked against). ``phrase``: the words of the
-    reference that failed, when there is one.
+    reference that failed, when there is one. ``suggestions``: for each unknown word, the known
+    words closest to it (gsr.language.fallback).
     """
 
     def __init__(
@@ -25,4 +26,5 @@ class GroundingError(GSRError):
         self.unknown_words = tuple(unknown_words)
         self.candidates = tuple(candidates)
         self.phrase = phrase
+        self.suggestions: dict[str, tuple[str, ...]] = {}  # unknown word -> the closest known words
         super().__init__(message)

@@ -40,8 +40,18 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
         raise GroundingError("empty instruction")
     domain = domain or load_builtin_domain("tabletop")
     lex = build_lexicon(graph)
-    tokens = tokenize(instruction, lex)
-    tree = parse_tokens(tokens, instruction)
+    try:
+        tokens = tokenize(instruction, lex)
+        tree = parse_tokens(tokens, instruction)
+    except GroundingError as exc:
+        # the second route: a scored match over the simple goals the scene allows, else a clarifying
+        # error naming the unknown words and the closest known ones
+        from gsr.language.fallback import clarifying_error, match_goal
+
+        match = match_goal(instruction, lex)
+        if match is not None:
+            return Goal(formula=match.formula, text=instruction)
+        raise clarifying_error(exc, instruction, lex) from None
     types = graph_objects(graph, domain)
     goals: list[Formula] = []
     errors: list[GroundingError] = []
