@@ -38,7 +38,7 @@ def _imports(path: Path) -> list[tuple[int, str]]:
             # "skills.camera"-style strings: lazy export tables and import_module arguments
             text = node.value
             if text.count(".") >= 1 and " " not in text and _rank(text) is not None:
-                head, _, rest = text.partition(".")
+                _head, _, rest = text.partition(".")
                 if rest and rest.replace(".", "").replace("_", "").isalnum():
                     out.append((node.lineno, text))
     return out
