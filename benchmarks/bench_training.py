@@ -8,8 +8,14 @@ Every condition is one ``gsr bench run tasks`` call on the same task folders wit
 - ``checker``: ``--agent reasoner`` with ``max_repairs=0`` — a rejected step ends the episode, but it
   is never executed.
 - ``checker+repair``: the reasoner with ``max_repairs=R`` — the diagnosis goes back to the model.
-- ``open-loop+constrained``, ``checker+repair+constrained``: the same with the token-trie logits
-  processor over the checker's applicable steps.
+- ``checker+constrained``: the reasoner with the repairs and constrained decoding (the model chooses
+  among the checker's applicable steps that lead to a state not visited yet in the episode).
+- ``open-loop+constrained`` (not in the default set): the open loop with constrained decoding.
+
+``--recipe cpu|gpu --out DIR`` runs the whole trained-reasoner recipe (data, from-scratch training,
+held-out tasks, the four default conditions; :mod:`benchmarks.training_recipe`); its last line is
+``trained model: checker+constrained S/N, checker+repair R/N, checker T/N, open loop O/N (held-out
+generated tasks)``.
 
     python benchmarks/bench_training.py --model MODEL_DIR --tasks gen=GEN_TASKS --tasks gsr-bench=GB_TASKS \\
         --workers 8 --max-steps 24 --out ablation.json --markdown
@@ -34,9 +40,10 @@ CONDITIONS: dict[str, tuple[str, list[str]]] = {
     "open-loop": ("gsr.train.openloop:OpenLoopAgent", []),
     "checker": ("reasoner", ["max_repairs=0"]),
     "checker+repair": ("reasoner", ["max_repairs={repairs}"]),
+    "checker+constrained": ("reasoner", ["max_repairs={repairs}", "constrained=true"]),
     "open-loop+constrained": ("gsr.train.openloop:OpenLoopAgent", ["constrained=true"]),
-    "checker+repair+constrained": ("reasoner", ["max_repairs={repairs}", "constrained=true"]),
 }
+DEFAULT_CONDITIONS = ("open-loop", "checker", "checker+repair", "checker+constrained")
 
 
 def gsr_command() -> list[str]:
@@ -112,17 +119,48 @@ def markdown(table: dict[str, list[dict[str, Any]]]) -> str:
 def main(argv: list[str] | None = None) -> int:
     """Parse options, run every condition on every task set, write JSON, print the table."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--model", required=True, help="A checkpoint folder written by gsr train.")
+    ap.add_argument("--model", help="A checkpoint folder written by gsr train.")
+    ap.add_argument("--tasks", action="append", help="NAME=FOLDER of TaskSpec files (repeatable).")
     ap.add_argument(
-        "--tasks", action="append", required=True, help="NAME=FOLDER of TaskSpec files (repeatable)."
+        "--recipe",
+        choices=("cpu", "gpu"),
+        help="Generate data, train a compact step model from scratch, evaluate it (needs --out DIR).",
     )
-    ap.add_argument("--conditions", default=",".join(CONDITIONS), help="Comma-separated subset.")
+    ap.add_argument("--seed", type=int, default=0, help="Recipe seed (data, model, naming).")
+    ap.add_argument(
+        "--train-budget",
+        type=float,
+        help="Recipe: training CPU seconds in all (default: the recipe's 720 cpu / 1500 gpu).",
+    )
+    ap.add_argument(
+        "--gsr-bench", type=int, default=6, help="Recipe: GSR-Bench dev tasks per category (0: none)."
+    )
+    ap.add_argument("--conditions", default=",".join(DEFAULT_CONDITIONS), help="Comma-separated subset.")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--max-steps", type=int, default=24)
     ap.add_argument("--repairs", type=int, default=2, help="max_repairs of the repair conditions.")
     ap.add_argument("--out", type=Path, help="Write all figures as JSON here (atomically).")
     ap.add_argument("--markdown", action="store_true")
     args = ap.parse_args(argv)
+    if args.recipe:
+        if args.out is None:
+            ap.error("--recipe needs --out DIR (the folder for data, model, tasks and figures)")
+        if args.out.exists() and not args.out.is_dir():
+            ap.error(f"--out {args.out}: not a folder")
+        from benchmarks.training_recipe import run_recipe
+
+        return run_recipe(
+            args.recipe,
+            args.out,
+            args.seed,
+            args.workers,
+            args.max_steps,
+            args.repairs,
+            args.gsr_bench,
+            args.train_budget,
+        )
+    if not args.model or not args.tasks:
+        ap.error("give --model and --tasks, or --recipe cpu|gpu --out DIR")
     if not (Path(args.model) / "config.json").is_file():
         ap.error(f"--model {args.model}: no config.json (not a checkpoint folder)")
     sets: dict[str, str] = {}

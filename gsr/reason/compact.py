@@ -35,13 +35,15 @@ from gsr.scene_graph import SceneGraph
 from gsr.state import State
 from gsr.step import Goal, Step
 
-FORMAT = "gsr-compact-1"
+#: Format versions the backend reads (the marker names the one a model was trained in). Version 2
+#: adds the focus facts after each unmet goal literal and puts the goal last; version 1 is measured.
+FORMATS = {"gsr-compact-1": 1, "gsr-compact-2": 2}
 MARKER = "gsr_compact.json"  # written beside the weights of a compact-format model
 MAX_OBJECTS = 64
 HISTORY = 4
 EOS, PAD, UNK = "<eos>", "<pad>", "<unk>"
 DONE_TOKEN = "done"
-STRUCTURE = ("S:", "G:", "H:", "A:", "T", "F", "(", ")", "and", "or", "not", "imply", "=")
+STRUCTURE = ("S:", "G:", "H:", "A:", "T", "F", "(", ")", "and", "or", "not", "imply", "=", ":")
 _DROPPED = frozenset({"next", "has_color"})
 
 
@@ -192,8 +194,14 @@ def _flatten(parts: list, kind: type) -> list:
     return out
 
 
-def goal_tokens(formula: Formula, state: State, domain: Domain, naming: Naming) -> list[str]:
-    """``G:`` part: marked literals of a conjunctive goal, else the grounded formula in prefix form."""
+def goal_tokens(
+    formula: Formula, state: State, domain: Domain, naming: Naming, version: int = 1
+) -> list[str]:
+    """``G:`` part: marked literals of a conjunctive goal, else the grounded formula in prefix form.
+
+    From version 2 on, a literal that does not hold yet is followed by ``:`` and the current facts
+    about its objects (where each one is, whether it is held, open or openable), so what the next
+    step needs stands next to the literal it serves."""
     from gsr.semantics import holds
 
     grounded = ground_goal(formula, state, domain)
@@ -202,11 +210,27 @@ def goal_tokens(formula: Formula, state: State, domain: Domain, naming: Naming) 
     if all(isinstance(p, Atom) or (isinstance(p, Not) and isinstance(p.formula, Atom)) for p in parts):
         for p in parts:
             atom = p.formula if isinstance(p, Not) else p
-            out.append("T" if holds(domain, p, state) else "F")
+            ok = holds(domain, p, state)
+            out.append("T" if ok else "F")
             out += (["not"] if isinstance(p, Not) else []) + [atom.predicate]
             out += [naming.token(x) for x in atom.args]
+            if version >= 2 and not ok:
+                out += _focus(atom.args, state, naming)
         return out
     return out + _prefix(grounded, naming)
+
+
+_FOCUS = ("on", "in", "holding", "open", "turned_on", "openable", "switchable")
+
+
+def _focus(args: Sequence[str], state: State, naming: Naming) -> list[str]:
+    """``:`` and the atoms of :data:`_FOCUS` whose first argument is one of ``args``."""
+    out = [":"]
+    for arg in args:
+        mine = [a for a in state.atoms if a.args[:1] == (arg,) and a.predicate in _FOCUS]
+        for atom in sorted(mine, key=lambda a: (a.predicate, a.args)):
+            out += [atom.predicate, *(naming.token(x) for x in atom.args)]
+    return out
 
 
 def _prefix(f: Formula, naming: Naming) -> list[str]:
@@ -233,27 +257,35 @@ def context_tokens(
     goal: Goal | Formula | None,
     history: Sequence[Step],
     naming: Naming,
+    version: int = 1,
 ) -> list[str]:
-    """The whole query, ending with the ``A:`` cue."""
+    """The whole query, ending with the ``A:`` cue (version 1: S G H A; version 2: S H G A)."""
     out = state_tokens(state, domain, naming)
+    goal_part = []
     if goal is not None:
-        out += goal_tokens(goal.formula if isinstance(goal, Goal) else goal, state, domain, naming)
-    out.append("H:")
+        formula = goal.formula if isinstance(goal, Goal) else goal
+        goal_part = goal_tokens(formula, state, domain, naming, version)
+    history_part = ["H:"]
     for step in list(history)[-HISTORY:] if HISTORY else []:
-        out += action_tokens(step, naming)
+        history_part += action_tokens(step, naming)
+    out += goal_part + history_part if version == 1 else history_part + goal_part
     out.append("A:")
     return out
 
 
 def query_tokens(
-    graph: SceneGraph, domain: Domain, goal: Goal | Formula | None, history: Sequence[Step]
+    graph: SceneGraph,
+    domain: Domain,
+    goal: Goal | Formula | None,
+    history: Sequence[Step],
+    version: int = 1,
 ) -> tuple[list[str], Naming]:
     """Inference-side context: the graph's state with sorted-name placeholders."""
     from gsr.facts import state_from_graph
 
     state = state_from_graph(graph, domain)
     naming = Naming.make(scene_objects(state, domain))
-    return context_tokens(state, domain, goal, history, naming), naming
+    return context_tokens(state, domain, goal, history, naming, version), naming
 
 
 def answer_step(tokens: Sequence[str], naming: Naming, domain: Domain) -> Step | None:

@@ -42,7 +42,8 @@ def answer_key(text: str) -> tuple[str, tuple[str, ...]] | None:
 class CompactAnswerer:
     """A loaded compact-format causal LM that answers :class:`gsr.reason.backend.Query` objects."""
 
-    def __init__(self, model: Any, tokenizer: Any, device: str = "cpu") -> None:
+    def __init__(self, model: Any, tokenizer: Any, device: str = "cpu", version: int = 1) -> None:
+        self.version = version  # the compact format version the model was trained in
         self.model = model
         self.tokenizer = tokenizer
         self.device = device
@@ -60,7 +61,7 @@ class CompactAnswerer:
 
     def answer(self, query: Any) -> str:
         """The model's step line for ``query`` (constrained to ``query.allowed`` when given)."""
-        context, naming = query_tokens(query.graph, query.domain, query.goal, query.history)
+        context, naming = query_tokens(query.graph, query.domain, query.goal, query.history, self.version)
         prompt = self.ids(context, context=True)
         rejected = {k for k in map(answer_key, getattr(query, "rejected", ()) or ()) if k is not None}
         if query.allowed:
@@ -159,5 +160,3 @@ class CompactAnswerer:
             if len(done) >= BEAM:
                 break
         return sorted(done, key=lambda b: -b[1])
-
-

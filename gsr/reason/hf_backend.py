@@ -21,7 +21,7 @@ def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any
     import json
     from pathlib import Path
 
-    from gsr.reason.compact import FORMAT, MARKER
+    from gsr.reason.compact import FORMATS, MARKER
     from gsr.reason.compact_decode import CompactAnswerer
 
     marker = Path(path) / MARKER
@@ -31,10 +31,11 @@ def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any
         info = json.loads(marker.read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
         raise BackendError(f"{marker}: unreadable compact-format marker: {exc}") from None
-    if not isinstance(info, dict) or info.get("format") != FORMAT:
+    if not isinstance(info, dict) or info.get("format") not in FORMATS:
         found = info.get("format") if isinstance(info, dict) else info
-        raise BackendError(f"{marker}: format {found!r} is not {FORMAT!r} (retrain the model)")
-    return CompactAnswerer(model, tokenizer, device)
+        known = ", ".join(map(repr, FORMATS))
+        raise BackendError(f"{marker}: format {found!r} is not one of {known} (retrain the model)")
+    return CompactAnswerer(model, tokenizer, device, FORMATS[info["format"]])
 
 
 class TransformersBackend:

@@ -137,15 +137,20 @@ def _key(step: Step | None) -> tuple | None:
 
 
 def encode(
-    sample: Sample, domain: Domain, vocab: dict[str, int], rng: random.Random
+    sample: Sample,
+    domain: Domain,
+    vocab: dict[str, int],
+    rng: random.Random | None,
+    version: int = 1,
 ) -> tuple[list[int], int]:
-    """(token ids of context + answer + eos, context length) under a fresh random naming."""
+    """(token ids of context + answer + eos, context length) under a fresh random naming (the
+    inference naming, sorted names, when ``rng`` is None)."""
     from gsr.facts import state_from_graph
     from gsr.reason.compact import EOS, Naming, action_tokens, context_tokens, scene_objects
 
     state = state_from_graph(sample.graph, domain)
     naming = Naming.make(scene_objects(state, domain), rng)
-    context = context_tokens(state, domain, sample.goal, sample.history, naming)
+    context = context_tokens(state, domain, sample.goal, sample.history, naming, version)
     answer = [*action_tokens(sample.answer, naming), EOS]
     return [vocab[t] for t in context + answer], len(context)
 
@@ -196,6 +201,9 @@ def fit(
     optimizer: Any = None,
     schedule: Callable[[float], float] | None = None,
     log: Callable[[str], None] = print,
+    max_steps: int | None = None,
+    version: int = 1,
+    shuffle_names: bool = True,
 ) -> tuple[FitReport, Any]:
     """Train ``model`` on ``samples`` for ``seconds`` of this process's CPU time (the same amount of
     training on a busy or an idle machine); loss on the answer tokens. Returns the optimizer too."""
@@ -211,10 +219,13 @@ def fit(
     steps = examples = 0
     loss_value = float("nan")
     order: list[int] = []
-    while time.process_time() - c0 < seconds:
+    while time.process_time() - c0 < seconds and (max_steps is None or steps < max_steps):
         if len(order) < batch_size:
             order += rng.sample(range(len(samples)), len(samples))
-        batch = [encode(samples[order.pop()], domain, vocab, rng) for _ in range(batch_size)]
+        batch = [
+            encode(samples[order.pop()], domain, vocab, rng if shuffle_names else None, version)
+            for _ in range(batch_size)
+        ]
         width = max(len(ids) for ids, _ in batch)
         ids = torch.full((len(batch), width), pad, dtype=torch.long)
         labels = torch.full((len(batch), width), -100, dtype=torch.long)
@@ -243,7 +254,9 @@ def fit(
     return report, opt
 
 
-def accuracy(model: Any, samples: Sequence[Sample], domain: Domain, tokenizer: Any) -> float:
+def accuracy(
+    model: Any, samples: Sequence[Sample], domain: Domain, tokenizer: Any, version: int = 1
+) -> float:
     """Share of samples whose free (beam) answer equals the planner's label (exact action and arguments)."""
     from gsr.reason.backend import Query
     from gsr.reason.compact_decode import CompactAnswerer, answer_key
@@ -251,7 +264,7 @@ def accuracy(model: Any, samples: Sequence[Sample], domain: Domain, tokenizer: A
 
     if not samples:
         return float("nan")
-    answerer = CompactAnswerer(model, tokenizer)
+    answerer = CompactAnswerer(model, tokenizer, version=version)
     hits = 0
     for s in samples:
         query = Query("step", Prompt("", ""), s.graph, domain, "", s.goal, s.history)
@@ -267,6 +280,7 @@ def rollout_samples(
     domain: Domain,
     max_steps: int = 12,
     budget: float | None = None,
+    version: int = 1,
 ) -> tuple[list[Sample], int]:
     """DAgger: run the model (free decoding, no checker) on ``tasks``; label every visited state with the
     planner. Returns (samples, episodes the model solved on its own)."""
@@ -276,7 +290,7 @@ def rollout_samples(
     from gsr.reason.prompt import Prompt
     from gsr.reason.step_format import parse_first_step
 
-    answerer = CompactAnswerer(model, tokenizer)
+    answerer = CompactAnswerer(model, tokenizer, version=version)
     out: list[Sample] = []
     solved = 0
     start = time.perf_counter()
@@ -305,9 +319,9 @@ def rollout_samples(
     return out, solved
 
 
-def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any]) -> None:
+def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any], version: int = 1) -> None:
     """Write the folder to a temporary name and rename it to ``out`` (never half-written)."""
-    from gsr.reason.compact import FORMAT, HISTORY, MARKER, MAX_OBJECTS
+    from gsr.reason.compact import FORMATS, HISTORY, MARKER, MAX_OBJECTS
 
     if out.exists() and any(out.iterdir()):
         raise GSRError(f"{out} exists and is not empty; choose a new output folder")
@@ -316,7 +330,8 @@ def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any]) -> None:
     tmp.mkdir(parents=True)
     model.save_pretrained(tmp)
     tokenizer.save_pretrained(tmp)
-    marker = {"format": FORMAT, "max_objects": MAX_OBJECTS, "history": HISTORY}
+    fmt = {v: k for k, v in FORMATS.items()}[version]  # the format version the model was trained in
+    marker = {"format": fmt, "max_objects": MAX_OBJECTS, "history": HISTORY}
     (tmp / MARKER).write_text(json.dumps(marker, indent=1))
     (tmp / "gsr_training.json").write_text(json.dumps(info, indent=1, default=str))
     if out.exists():

@@ -60,13 +60,16 @@ def test_goal_literals_are_marked_true_or_false_and_quantifiers_are_grounded(dom
     state = state_from_graph(graph, domain)
     naming = Naming.make(scene_objects(state, domain))
     t = naming.token
-    marked = goal_tokens(
-        parse_formula("(and (on red_cube1 table) (in red_cube1 blue_box))"), state, domain, naming
-    )
+    goal = parse_formula("(and (on red_cube1 table) (in red_cube1 blue_box))")
+    marked = goal_tokens(goal, state, domain, naming, version=1)
     assert marked == ["G:", "T", "on", t("red_cube1"), t("table"), "F", "in", t("red_cube1"), t("blue_box")]
+    # version 2: a literal not holding yet is followed by the facts about its objects
+    focus = goal_tokens(goal, state, domain, naming, version=2)
+    assert focus[: len(marked)] == marked
+    assert focus[len(marked) :] == [":", "on", t("red_cube1"), t("table"), "on", t("blue_box"), t("table")]
     # every red cube in the box: the colour test is static, so it is evaluated away
     forall = parse_formula("(forall (?x - cube) (imply (has_color ?x red) (in ?x blue_box)))")
-    assert goal_tokens(forall, state, domain, naming) == ["G:", "F", "in", t("red_cube1"), t("blue_box")]
+    assert goal_tokens(forall, state, domain, naming, 1) == ["G:", "F", "in", t("red_cube1"), t("blue_box")]
 
 
 def test_unknown_answers_are_compact_errors(domain, graph) -> None:

@@ -1,0 +1,302 @@
+"""The trained-reasoner recipes behind ``bench_training.py --recipe cpu|gpu --out DIR`` (issue 21).
+
+One command generates the data, trains a compact-format step model from scratch, exports held-out
+generated tasks (unseen object-target pairs, colours, longer horizons) and GSR-Bench dev tasks, and
+runs the four conditions (open loop, checker, checker + repair, checker + constrained decoding) with
+the suites runner; the planner never takes over. Everything lands under DIR:
+
+    DIR/dataset/           gsr datagen output          DIR/model/      the trained folder
+    DIR/tasks-generated/   held-out TaskSpec files     DIR/tasks-gsr-bench/   GSR-Bench dev tasks
+    DIR/recipe.json        every figure (written atomically)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import sys
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """Data sizes and time budgets of one recipe."""
+
+    samples: int  # gsr datagen rows
+    recovery: int  # off-plan recovery rows
+    train_seconds: float  # first round, CPU seconds of the training process
+    dagger_tasks: int  # training tasks the model is rolled out on
+    dagger_seconds: float  # training after the on-policy rows are added
+    threads: int
+    hidden: int = 128
+    layers: int = 3
+    heads: int = 4
+    intermediate: int = 256
+    batch_size: int = 32
+    lr: float = 2e-3
+    format_version: int = 1  # gsr.reason.compact format (FORMATS)
+
+
+RECIPES = {
+    # 12 CPU-minutes of training on one thread: <= 15 minutes wall on an idle 2-core machine
+    "cpu": Recipe(
+        samples=30000, recovery=1500, train_seconds=480, dagger_tasks=100, dagger_seconds=240, threads=1
+    ),
+    "gpu": Recipe(
+        samples=200000,
+        recovery=20000,
+        train_seconds=900,
+        dagger_tasks=2000,
+        dagger_seconds=600,
+        threads=8,
+        hidden=256,
+        layers=6,
+        heads=8,
+        intermediate=768,
+        batch_size=128,
+        lr=1e-3,
+    ),
+}
+HELDOUT_KINDS = ("pair", "color", "horizon")
+HELDOUT_TASKS = 24
+
+
+def log(msg: str) -> None:
+    """Progress on stderr."""
+    print(msg, file=sys.stderr, flush=True)
+
+
+def start_tasks(data: Path, split: str, count: int, seed: int) -> list[tuple[Any, Any]]:
+    """(start graph, goal) of ``count`` random tasks of ``split`` (for the on-policy rounds)."""
+    from gsr.train.compact import dataset_samples
+
+    starts = [s for s in dataset_samples(data, split) if not s.history]
+    random.Random(seed).shuffle(starts)
+    return [(s.graph, s.goal) for s in starts[:count]]
+
+
+def export_heldout(data: Path, out: Path, count: int) -> dict[str, int]:
+    """Write ``count`` held-out test tasks: up to count/3 of each kind (pair, colour, horizon), the rest
+    filled from the kinds that have more (pair scenes yield few tasks); returns the count per kind."""
+    from gsr.datagen.tasks import generated_tasks
+    from gsr.io import write_bytes_atomic
+    from gsr.task_spec import task_json
+
+    by_kind = {k: generated_tasks(data, "test", k) for k in HELDOUT_KINDS}
+    chosen = {k: v[: count // len(HELDOUT_KINDS)] for k, v in by_kind.items()}
+    rest = [t for k in HELDOUT_KINDS for t in by_kind[k][len(chosen[k]) :]]
+    missing = count - sum(map(len, chosen.values()))
+    for t in rest[: max(0, missing)]:
+        chosen[t.category].append(t)
+    for tasks in chosen.values():
+        for t in tasks:
+            write_bytes_atomic(out / f"{t.id}.json", task_json(t).encode())
+    return {k: len(v) for k, v in chosen.items()}
+
+
+def gsr_bench_dev(out: Path, per_category: int) -> int:
+    """Export the ``per_category`` lowest-numbered GSR-Bench dev tasks of each category; 0 without the data."""
+    from benchmarks.cli import load_suite_tasks
+    from gsr.errors import GSRError
+    from gsr.io import write_text_atomic
+    from gsr.task_spec import task_json
+
+    try:
+        tasks = load_suite_tasks("gsr-bench", None, None, 0, None)
+    except (GSRError, OSError) as exc:
+        log(f"GSR-Bench dev: skipped ({exc})")
+        return 0
+    chosen: dict[str, list] = {}
+    for t in sorted(tasks, key=lambda t: int("".join(filter(str.isdigit, t.id)) or 0)):
+        if len(chosen.setdefault(t.category, [])) < per_category:
+            chosen[t.category].append(t)
+    n = 0
+    for group in chosen.values():
+        for t in group:
+            write_text_atomic(out / f"{t.id}.json", task_json(t) + "\n")
+            n += 1
+    return n
+
+
+def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str, Any]:
+    """Trajectory + recovery rows, first training round, DAgger round, save; the training figures."""
+    import torch
+
+    from gsr.reason.compact import build_tokenizer
+    from gsr.resources import load_builtin_domain
+    from gsr.train.compact import (
+        CompactSpec,
+        accuracy,
+        cosine,
+        dataset_samples,
+        fit,
+        new_model,
+        recovery_samples,
+        rollout_samples,
+        save,
+        spec_dict,
+    )
+
+    torch.set_num_threads(cfg.threads)
+    domain = load_builtin_domain()
+    figures: dict[str, Any] = {}
+    t0, c0 = time.perf_counter(), time.process_time()
+    samples = dataset_samples(data, "train")
+    val = dataset_samples(data, "val")
+    random.Random(seed).shuffle(val)
+    val = val[:100]
+    recovery = recovery_samples(samples, cfg.recovery, seed, domain)
+    figures["rows"] = {"trajectory": len(samples), "recovery": len(recovery), "val": len(val)}
+    figures["prepare_seconds"] = round(time.perf_counter() - t0, 1)
+    figures["prepare_cpu_seconds"] = round(time.process_time() - c0, 1)
+    log(f"rows: {figures['rows']} in {figures['prepare_seconds']} s")
+    tokenizer = build_tokenizer(domain)
+    vocab = tokenizer.get_vocab()
+    spec = CompactSpec(cfg.hidden, cfg.layers, cfg.heads, cfg.intermediate)
+    model = new_model(tokenizer, spec, seed)
+    device = "cuda" if torch.cuda.is_available() else "cpu"
+    model.to(device)
+    total = cfg.train_seconds + cfg.dagger_seconds
+    first = cfg.train_seconds / total
+
+    def sched1(p: float) -> float:
+        return cosine()(p * first)
+
+    def sched2(p: float) -> float:
+        return cosine()(first + p * (1 - first))
+
+    rows = samples + recovery
+    v = cfg.format_version
+    r1, opt = fit(
+        model,
+        rows,
+        domain,
+        vocab,
+        cfg.train_seconds,
+        seed,
+        cfg.batch_size,
+        cfg.lr,
+        None,
+        sched1,
+        log,
+        None,
+        v,
+    )
+    figures["round1"] = r1.__dict__
+    figures["round1_val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
+    log(f"round 1: {r1}, val next-step accuracy {figures['round1_val_accuracy']}")
+    d0, dc0 = time.perf_counter(), time.process_time()
+    dagger, solved = rollout_samples(
+        model, tokenizer, start_tasks(data, "train", cfg.dagger_tasks, seed), domain, version=v
+    )
+    figures["dagger"] = {
+        "tasks": cfg.dagger_tasks,
+        "solved_free": solved,
+        "rows": len(dagger),
+        "seconds": round(time.perf_counter() - d0, 1),
+        "cpu_seconds": round(time.process_time() - dc0, 1),
+    }
+    log(f"dagger: {figures['dagger']}")
+    # the on-policy rows are where the model goes wrong: weigh them like the rest of the data together
+    rows = rows + dagger * max(1, len(rows) // max(1, 3 * len(dagger)))
+    r2, _ = fit(
+        model,
+        rows,
+        domain,
+        vocab,
+        cfg.dagger_seconds,
+        seed + 1,
+        cfg.batch_size,
+        cfg.lr,
+        opt,
+        sched2,
+        log,
+        None,
+        v,
+    )
+    figures["round2"] = r2.__dict__
+    figures["val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
+    figures["train_seconds"] = round(r1.seconds + r2.seconds, 1)
+    figures["train_cpu_seconds"] = round(r1.cpu_seconds + r2.cpu_seconds, 1)
+    figures["parameters"] = sum(p.numel() for p in model.parameters())
+    figures["spec"] = spec_dict(spec)
+    log(f"round 2: {r2}, val next-step accuracy {figures['val_accuracy']}")
+    model.to("cpu")
+    save(model, tokenizer, model_dir, {"recipe": cfg.__dict__, "seed": seed, **figures}, v)
+    return figures
+
+
+def run_recipe(
+    name: str,
+    out: Path,
+    seed: int,
+    workers: int,
+    max_steps: int,
+    repairs: int,
+    gsr_bench: int,
+    train_budget: float | None = None,
+) -> int:
+    """Data, training, task export and the ablation; prints the table and the summary line.
+
+    ``train_budget`` (CPU seconds) replaces the recipe's training time, split 2:1 between the rounds."""
+    from benchmarks.bench_training import DEFAULT_CONDITIONS, markdown, run_condition
+    from gsr.datagen.runner import RunConfig, generate_dataset
+    from gsr.io import write_text_atomic
+
+    cfg = RECIPES[name]
+    if os.environ.get("GSR_RECIPE_SCALE"):  # tests: a tiny version of the same pipeline
+        scale = float(os.environ["GSR_RECIPE_SCALE"])
+        cfg = replace(
+            cfg,
+            samples=max(2000, int(cfg.samples * scale)),
+            recovery=int(cfg.recovery * scale),
+            train_seconds=cfg.train_seconds * scale,
+            dagger_tasks=max(2, int(cfg.dagger_tasks * scale)),
+            dagger_seconds=cfg.dagger_seconds * scale,
+            hidden=32,
+            layers=1,
+            heads=2,
+            intermediate=64,
+        )
+    if train_budget is not None:
+        cfg = replace(cfg, train_seconds=train_budget * 2 / 3, dagger_seconds=train_budget / 3)
+    out.mkdir(parents=True, exist_ok=True)
+    data, model_dir = out / "dataset", out / "model"
+    report: dict[str, Any] = {"recipe": name, "config": cfg.__dict__, "seed": seed}
+    t0 = time.perf_counter()
+    if not (data / "manifest.json").is_file():
+        generate_dataset(RunConfig(data, cfg.samples, seed=seed), progress=False)
+    report["datagen_seconds"] = round(time.perf_counter() - t0, 1)
+    if (model_dir / "config.json").is_file():
+        log(f"{model_dir}: already trained, reusing it")
+        report["training"] = json.loads((model_dir / "gsr_training.json").read_text())
+    else:
+        report["training"] = train_model(cfg, data, model_dir, seed)
+    sets = {"generated": out / "tasks-generated"}
+    report["generated_tasks"] = export_heldout(data, sets["generated"], HELDOUT_TASKS)
+    if gsr_bench and gsr_bench_dev(out / "tasks-gsr-bench", gsr_bench):
+        sets["gsr-bench"] = out / "tasks-gsr-bench"
+    table: dict[str, list[dict[str, Any]]] = {s: [] for s in sets}
+    for cond in DEFAULT_CONDITIONS:
+        for s, folder in sets.items():
+            row = run_condition(cond, str(model_dir), str(folder), workers, max_steps, repairs)
+            table[s].append(row)
+            log(json.dumps({"set": s, **row}))
+    report["sets"] = table
+    write_text_atomic(out / "recipe.json", json.dumps(report, indent=1, default=str))
+    print(markdown(table))
+    gen = {r["condition"]: r for r in table["generated"]}
+
+    def frac(c: str) -> str:
+        return f"{gen[c]['successes']}/{gen[c]['episodes']}"
+
+    print(
+        f"trained model: checker+constrained {frac('checker+constrained')}, checker+repair "
+        f"{frac('checker+repair')}, checker {frac('checker')}, open loop {frac('open-loop')} "
+        "(held-out generated tasks)"
+    )
+    return 0
