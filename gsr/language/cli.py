@@ -33,6 +33,7 @@ def ground_command(scene: Path, instruction: str, as_json: bool) -> int:
                         "error": exc.message,
                         "unknown_words": list(exc.unknown_words),
                         "candidates": list(exc.candidates),
+                        "suggestions": {w: list(c) for w, c in exc.suggestions.items()},
                     },
                     indent=2,
                 )
