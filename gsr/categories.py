@@ -45,7 +45,7 @@ COLORS: tuple[str, ...] = (
     "silver",
     "cyan",
 )
-_COLOR_SYNONYMS = {"gray": "grey", "golden": "gold", "violet": "purple"}
+COLOR_SYNONYMS = {"gray": "grey", "golden": "gold", "violet": "purple"}
 MATERIALS = frozenset({"wooden", "wood", "porcelain", "glass", "metal", "plastic", "ceramic", "paper"})
 SIZES = frozenset({"short", "tall", "small", "large", "big", "little", "flat"})
 #: Position words that give a drawer's ``level`` (0 = bottom).
@@ -246,7 +246,7 @@ def is_part_category(category: str) -> bool:
 def normalize_color(word: str) -> str | None:
     """The palette colour a word denotes, or None."""
     w = word.lower()
-    w = _COLOR_SYNONYMS.get(w, w)
+    w = COLOR_SYNONYMS.get(w, w)
     return w if w in COLORS else None
 
 

@@ -28,7 +28,7 @@ HAND_EMPTY = Atom("hand_empty", ())
 DYNAMIC_STATES = frozenset({"open", "closed", "on", "off", "held"})
 
 
-def _default_domain() -> Domain:
+def default_domain() -> Domain:
     from gsr.resources import load_builtin_domain
 
     return load_builtin_domain("tabletop")
@@ -157,7 +157,7 @@ def graph_objects(graph: SceneGraph, domain: Domain) -> dict[str, str]:
 
 def state_from_graph(graph: SceneGraph, domain: Domain | None = None) -> State:
     """The symbolic state a graph entails; objects are the nodes (typed) plus the domain's constants."""
-    domain = domain or _default_domain()
+    domain = domain or default_domain()
     objects = dict(domain.constants)
     objects.update(graph_objects(graph, domain))
     return State(facts(graph), objects)
@@ -167,7 +167,7 @@ def problem_from_graph(
     graph: SceneGraph, goal: Formula, name: str = "task", domain: Domain | None = None
 ) -> Problem:
     """A PDDL problem: the graph's objects and facts as the initial state, with this goal."""
-    domain = domain or _default_domain()
+    domain = domain or default_domain()
     return Problem(
         name=name,
         domain_name=domain.name,

@@ -76,3 +76,23 @@ def test_the_checker_sees_every_kind_of_import(tmp_path: Path, source: str, bad:
     f = tmp_path / "m.py"
     f.write_text(source)
     assert any(_rank(m) and _rank(m) > 0 for _, m in _imports(f)) is bad
+
+
+def test_no_private_name_crosses_a_module() -> None:
+    """``from a.b import _x`` couples two modules through a name that promises nothing: make it public."""
+    problems = []
+    for layer in LAYERS:
+        for path in sorted((REPO / layer).rglob("*.py")):
+            tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+            for node in ast.walk(tree):
+                if (
+                    isinstance(node, ast.ImportFrom)
+                    and node.level == 0
+                    and _rank(node.module or "") is not None
+                ):
+                    problems += [
+                        f"{path.relative_to(REPO)}:{node.lineno}: from {node.module} import {a.name}"
+                        for a in node.names
+                        if a.name.startswith("_") and not a.name.startswith("__")
+                    ]
+    assert not problems, "private names imported across modules:\n" + "\n".join(problems)

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from lark import Token, Tree
 
-from gsr.language.dests import Destinations, _tok, _tok_cls, _tokens
+from gsr.language.dests import Destinations, token_class, token_value, tree_tokens
 from gsr.language.errors import GroundingError
 from gsr.language.everyday import Everyday, count_value
 from gsr.language.intents import Intent
@@ -135,7 +135,7 @@ class Interpreter(Destinations, Everyday):
             objs = self._except(objs, exception)
         for ref in objs:
             self._check_affordance(verb, ref)
-        stated = _tok_cls(t.children[0]) == "LEAVE"  # "leave the drawer open": the end state is the goal
+        stated = token_class(t.children[0]) == "LEAVE"  # "leave the drawer open": the end state is the goal
         self.intents.append(Intent(verb, objs, dest, stated=stated))
         for gap in (c for c in trees if c.data == "gapped"):  # the verb is elided: same verb, new objects
             parts = [c for c in gap.children if isinstance(c, Tree) and c.data != "comma"]
@@ -165,7 +165,7 @@ class Interpreter(Destinations, Everyday):
             dest = self.dest(next(c for c in st.children if isinstance(c, Tree)), objs)
             self.intents.append(Intent("place", objs, dest))
             return
-        classes = [_tok_cls(x) for x in st.children]
+        classes = [token_class(x) for x in st.children]
         if "ON" in classes or "OFF" in classes:
             verb = "turn_on" if ("ON" in classes) != ("NOT" in classes) else "turn_off"
         else:
@@ -302,7 +302,7 @@ class Interpreter(Destinations, Everyday):
 
     def pronoun(self, t: Tree, need: str | None, exclude: tuple[str, ...]) -> Ref:
         """The most recent mention that fits (an affordance, not one of the clause's own objects)."""
-        word = _tok(t.children[0]).text
+        word = token_value(t.children[0]).text
         plural = word == "them"
         for ref in reversed(self.mentions):
             if set(ref.ids) & set(exclude):
@@ -316,10 +316,10 @@ class Interpreter(Destinations, Everyday):
 
     def describe(self, t: Tree, dest: bool = False) -> Description:
         """Read a plain noun phrase into a Description."""
-        d = Description(text=" ".join(tok.text for tok in _tokens(t)))
+        d = Description(text=" ".join(tok.text for tok in tree_tokens(t)))
         for c in t.children:
             if isinstance(c, Token):
-                tok = _tok(c)
+                tok = token_value(c)
                 if tok.cls == "ONE":  # "the yellow ones" after "the blue cubes": cubes
                     head = self._one_head or (self.one_head_dest if dest else self.one_head_obj)
                     d.heads.append((head or "thing", tok.plural or tok.text == "ones"))
@@ -335,8 +335,10 @@ class Interpreter(Destinations, Everyday):
             if c.data == "quant":
                 d.quant = {"ALL": "all", "EACH": "each", "BOTH": "both"}[c.children[0].type]
             elif c.data == "det":
-                d.indefinite = _tok(c.children[0]).text in ("a", "an", "any")
-                d.definite = _tok(c.children[0]).cls in ("POSS",) or _tok(c.children[0]).text in (
+                d.indefinite = token_value(c.children[0]).text in ("a", "an", "any")
+                d.definite = token_value(c.children[0]).cls in ("POSS",) or token_value(
+                    c.children[0]
+                ).text in (
                     "the",
                     "these",
                     "those",
@@ -351,7 +353,7 @@ class Interpreter(Destinations, Everyday):
                 for h in c.children:
                     if not isinstance(h, Token):
                         continue  # the comma of "cubes, mugs and bowls"
-                    tok = _tok(h)
+                    tok = token_value(h)
                     if tok.cls == "NOUN":
                         d.heads.append((tok.value, tok.plural))
                         if not tok.plural:
@@ -367,21 +369,23 @@ class Interpreter(Destinations, Everyday):
         if c.data == "part_of":
             d.owner = self.target(c.children[-1])
         elif c.data == "postpos":  # "the drawer low": a word of the node's own name, not a position
-            d.names.append(_tok(c.children[0]).text)
+            d.names.append(token_value(c.children[0]).text)
         elif c.data == "called":  # "the cube called red_cube_3": the node, if it is what the head says
-            d.entity = _tok(c.children[-1]).value
+            d.entity = token_value(c.children[-1]).value
         elif c.data == "with_feature":  # "the box with a lid": a word of the object's description
-            d.names.append(_tok(c.children[-1]).text)
+            d.names.append(token_value(c.children[-1]).text)
         elif c.data == "same_color":
             d.same_color_as = self.np([x for x in c.children if isinstance(x, Tree)][-1], lenient=True)
         elif c.data == "rel_color":  # "the box that is blue"
             self._premod(c.children[-1], d)
         elif c.data == "rel_size":
-            d.sizes.append(_tok(c.children[-1]).text)
+            d.sizes.append(token_value(c.children[-1]).text)
         elif c.data == "rel_state":  # "the drawer that is open"
-            d.states.append("open" if _tok(c.children[-1]).cls == "OPENED" else "closed")
+            d.states.append("open" if token_value(c.children[-1]).cls == "OPENED" else "closed")
         elif c.data == "rel_not_color":  # "every cube that is not yellow"
-            d.not_colors.extend(_tok(x).value for x in c.children[-1].children if _tok(x).cls == "COLOR")
+            d.not_colors.extend(
+                token_value(x).value for x in c.children[-1].children if token_value(x).cls == "COLOR"
+            )
         elif c.data == "rel_carries":  # "the box that has the yellow box on it"
             np = next(x for x in c.children if isinstance(x, Tree) and x.data != "pronoun")
             d.relations.append(Relation("carries", (self.target(np),)))
@@ -392,11 +396,13 @@ class Interpreter(Destinations, Everyday):
 
     def _premod(self, c: Tree | Token, d: Description) -> None:
         if isinstance(c, Tree) and c.data == "colors":
-            d.colors.extend(_tok(x).value for x in c.children if _tok(x).cls in ("COLOR", "COLORNOUN"))
+            d.colors.extend(
+                token_value(x).value for x in c.children if token_value(x).cls in ("COLOR", "COLORNOUN")
+            )
         elif isinstance(c, Tree) and c.data == "noun_mod":
-            d.noun_mods.append(_tok(c.children[0]).value)
+            d.noun_mods.append(token_value(c.children[0]).value)
         else:
-            tok = _tok(c)
+            tok = token_value(c)
             if tok.cls in ("POS", "SIDE"):
                 d.positions.append(tok.text)
             elif tok.cls == "SIZE":
@@ -412,7 +418,9 @@ class Interpreter(Destinations, Everyday):
         kind = c.data.removeprefix("rel_")
         nps = [x for x in c.children if isinstance(x, Tree)]
         if kind == "pos":  # "the bowl at the back": the same as a position premodifier ("the back bowl")
-            d.positions.append(next(_tok(x).text for x in c.children if _tok_cls(x) in ("POS", "SIDE")))
+            d.positions.append(
+                next(token_value(x).text for x in c.children if token_class(x) in ("POS", "SIDE"))
+            )
             return
         if kind == "side":
             side = nps[0]
@@ -426,12 +434,12 @@ class Interpreter(Destinations, Everyday):
         owner = self.target([x for x in t.children if isinstance(x, Tree) and x.data != "det"][-1], exclude)
         if t.data == "side_behind":
             return "back", owner
-        word = next(_tok(x).text for x in toks if _tok(x).cls in ("SIDE", "POS"))
+        word = next(token_value(x).text for x in toks if token_value(x).cls in ("SIDE", "POS"))
         return POSITION_SYNONYMS.get(word, word), owner
 
     def place(self, t: Tree, exclude: tuple[str, ...] = ()) -> Ref | Place:
         """``the top of the cabinet`` / ``the table center``: a part or region node, else a Place."""
-        toks = [_tok(x) for x in t.children if isinstance(x, Token)]
+        toks = [token_value(x) for x in t.children if isinstance(x, Token)]
         pos = POSITION_SYNONYMS.get(
             next(x.text for x in toks if x.cls == "POS"), next(x.text for x in toks if x.cls == "POS")
         )
@@ -446,7 +454,7 @@ class Interpreter(Destinations, Everyday):
             owner = tuple(
                 e.id for e in self.resolver.candidates(Description(heads=[(noun.value, False)]), noun.value)
             )
-        text = " ".join(x.text for x in _tokens(t))
+        text = " ".join(x.text for x in tree_tokens(t))
         found = self.resolver.regions(owner, pos)
         if not found and t.data == "place_of":  # "the top of the drawer": its owner's top
             parents = tuple({self.entities[o].parent for o in owner} - {None})

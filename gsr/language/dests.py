@@ -31,7 +31,7 @@ class Destinations:
                     else self.pronoun(kids[-1], None, own)
                 )
             except GroundingError as exc:
-                words = _tokens(kids[-1])
+                words = tree_tokens(kids[-1])
                 if not (
                     exc.candidates and "ambiguous" in exc.message and words[0].text in ("a", "an", "any")
                 ):
@@ -65,7 +65,7 @@ class Destinations:
         if kind == "dest_under":
             # the tabletop domain has no "under": only a bottom part of the object (a shelf's lower
             # layer) can be the place, else the instruction cannot be stated as a goal
-            text = " ".join(x.text for x in _tokens(kids[-1]))
+            text = " ".join(x.text for x in tree_tokens(kids[-1]))
             part = self._one_region(
                 self.target(kids[-1], own),
                 "bottom",
@@ -75,7 +75,7 @@ class Destinations:
             )
             return self._at(Ref((part,), f"under {text}"), "in")
         if kind == "dest_near":
-            text = " ".join(x.text for x in _tokens(kids[-1]))
+            text = " ".join(x.text for x in tree_tokens(kids[-1]))
             region = self._one_region(
                 self.target(kids[-1]),
                 "next",
@@ -89,10 +89,10 @@ class Destinations:
             # "to the right of X" / "behind X" is beside X; "on the right side of X" may be a part of X
             outside = (
                 kids[0].data == "side_behind"
-                or any(_tok_cls(x) == "TO" for x in t.children)
-                or not any(_tok_cls(x) in ("ON", "IN") for x in (*t.children, *kids[0].children))
+                or any(token_class(x) == "TO" for x in t.children)
+                or not any(token_class(x) in ("ON", "IN") for x in (*t.children, *kids[0].children))
             )
-            text = " ".join(x.text for x in _tokens(kids[0]))
+            text = " ".join(x.text for x in tree_tokens(kids[0]))
             region = self._one_region(
                 owner,
                 word,
@@ -104,7 +104,9 @@ class Destinations:
             return Dest("at", "on", region)
         nominal = next(c for c in kids if c.data == "nominal")
         category = [
-            _tok(x).value for x in nominal.children if isinstance(x, Token) and _tok(x).cls == "NOUN"
+            token_value(x).value
+            for x in nominal.children
+            if isinstance(x, Token) and token_value(x).cls == "NOUN"
         ][-1]
         owner_tree = next((c for c in kids if c.data == "part_of"), None)
         owner = None
@@ -178,14 +180,14 @@ class Destinations:
         )
 
 
-def _tok(x: Token | Tree) -> Tok:
+def token_value(x: Token | Tree) -> Tok:
     assert isinstance(x, Token)
     return x.value  # type: ignore[return-value]
 
 
-def _tok_cls(x: Token | Tree) -> str | None:
+def token_class(x: Token | Tree) -> str | None:
     return x.value.cls if isinstance(x, Token) else None  # type: ignore[union-attr]
 
 
-def _tokens(t: Tree) -> list[Tok]:
+def tree_tokens(t: Tree) -> list[Tok]:
     return [tok.value for tok in t.scan_values(lambda v: isinstance(v, Token))]  # type: ignore[misc]

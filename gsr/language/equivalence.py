@@ -14,7 +14,7 @@ def ground_dnf(formula: Formula, graph: SceneGraph, domain: Domain | None = None
     evaluated in the graph, exactly as the planner compiles a goal. Two goals with the same DNF have
     the same satisfying states among the states reachable from the graph (statics never change).
     """
-    from gsr.plan.ground import _TypedObjects
+    from gsr.plan.ground import ObjectsByType
     from gsr.plan.normalize import ground_simplify, nnf, to_dnf
     from gsr.resources import load_builtin_domain
     from gsr.semantics import compile_domain
@@ -22,7 +22,7 @@ def ground_dnf(formula: Formula, graph: SceneGraph, domain: Domain | None = None
     domain = domain or load_builtin_domain("tabletop")
     problem = problem_from_graph(graph, formula, domain=domain)
     fluents = compile_domain(domain).fluents
-    objects = _TypedObjects(domain, problem.all_objects(domain))
+    objects = ObjectsByType(domain, problem.all_objects(domain))
 
     def static(atom):
         return None if atom.predicate in fluents else atom in problem.init

@@ -12,7 +12,7 @@ from dataclasses import replace
 
 from lark import Token, Tree
 
-from gsr.language.dests import _tok, _tokens
+from gsr.language.dests import token_value, tree_tokens
 from gsr.language.errors import GroundingError
 from gsr.language.intents import Dest, Intent
 from gsr.language.lexicon import number_value
@@ -21,7 +21,7 @@ from gsr.language.refs import Description, Ref
 
 def count_value(t: Tree) -> int:
     """The number of a ``count`` subtree (NUM or ONE)."""
-    tok = _tok(t.children[0])
+    tok = token_value(t.children[0])
     if tok.cls == "ONE":
         return 1
     n = number_value(tok.value)
@@ -46,14 +46,14 @@ class Everyday:
                 )
             ref = Ref(
                 inner.ids,
-                " ".join(x.text for x in _tokens(t)),
+                " ".join(x.text for x in tree_tokens(t)),
                 plural=True,
                 count=n if n < len(inner.ids) else None,
             )
             self.mentions.append(ref)
             return ref
         if t.data == "num_np":  # "... and two in the blue box": the last object phrase, counted anew
-            tok = _tok(t.children[0])
+            tok = token_value(t.children[0])
             n = number_value(tok.value)
             last = getattr(self, "last_object", None)
             if last is None or n is None:
@@ -66,11 +66,13 @@ class Everyday:
             self.mentions.append(ref)
             return ref
         # "everything", "everything blue", "everything except the ketchup", "everything on the table"
-        d = Description(text=" ".join(x.text for x in _tokens(t)), heads=[("thing", True)], quant="all")
+        d = Description(text=" ".join(x.text for x in tree_tokens(t)), heads=[("thing", True)], quant="all")
         self._one_head = "thing"
         for c in t.children:
             if isinstance(c, Tree) and c.data == "colors":
-                d.colors.extend(_tok(x).value for x in c.children if _tok(x).cls in ("COLOR", "COLORNOUN"))
+                d.colors.extend(
+                    token_value(x).value for x in c.children if token_value(x).cls in ("COLOR", "COLORNOUN")
+                )
             elif isinstance(c, Tree):
                 self.postmod(c, d)
         ref = self.resolver.resolve(d)
@@ -104,7 +106,9 @@ class Everyday:
             objs = self.objects(trees[0], "movable")
             nominal = next(c for c in trees if c.data == "nominal")
             category = [
-                _tok(x).value for x in nominal.children if isinstance(x, Token) and _tok(x).cls == "NOUN"
+                token_value(x).value
+                for x in nominal.children
+                if isinstance(x, Token) and token_value(x).cls == "NOUN"
             ][-1]
             self.intents.append(Intent("place", objs, Dest("different", "in", category=category)))
             return True

@@ -51,11 +51,11 @@ class Match:
 
 def _words(instruction: str, lex: Lexicon) -> list[tuple[str, str, str]]:
     """(word, class, value) per word; class ``?`` for unknown words."""
-    from gsr.language.parse import _CONTRACTIONS
+    from gsr.language.parse import CONTRACTIONS
     from gsr.language.words import FILLER
 
     text = instruction.lower().replace("\u2019", "'")
-    for pattern, full in _CONTRACTIONS:
+    for pattern, full in CONTRACTIONS:
         text = pattern.sub(full, text)
     for mark in ",.?!;:":
         text = text.replace(mark, " ")

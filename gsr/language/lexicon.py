@@ -234,11 +234,11 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
         add(words, "NOUN", raw)
         add((*words[:-1], _plural(words[-1])), "NOUN", raw + "#pl")
     # colours
-    from gsr.categories import _COLOR_SYNONYMS, COLORS
+    from gsr.categories import COLOR_SYNONYMS, COLORS
 
     for c in COLORS:
         add((c,), "COLOR", c, override=True)
-    for syn, c in _COLOR_SYNONYMS.items():
+    for syn, c in COLOR_SYNONYMS.items():
         add((syn,), "COLOR", c, override=True)
     # function words win over everything single-word except multi-word nouns ("orange juice" stays a noun)
     for phrase, cls in FUNCTION_WORDS.items():

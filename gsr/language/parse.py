@@ -20,7 +20,7 @@ _SPLIT = re.compile(r"\s+|(?=[,.])|(?<=[,.])")
 #: Classes after which "switch" is a verb ("switch on the lamp"), elsewhere the noun ("press the switch").
 _CLAUSE_START = {None, "AND", "THEN", "COMMA", "ALSO", "PERIOD", "OPENER", "FIRST"}
 #: Contractions written out before splitting ("don't forget to" -> "do not forget to").
-_CONTRACTIONS = (
+CONTRACTIONS = (
     (re.compile(r"\bcan't\b"), "can not"),
     (re.compile(r"\bwon't\b"), "will not"),
     (re.compile(r"\blet's\b"), "let us"),
@@ -90,7 +90,7 @@ def _singular(word: str) -> list[str]:
 def tokenize(text: str, lex: Lexicon) -> list[Tok]:
     """Word-class tokens of an instruction; GroundingError naming every unknown word."""
     clean = text.strip().lower().replace("\u2019", "'")
-    for pattern, full in _CONTRACTIONS:
+    for pattern, full in CONTRACTIONS:
         clean = pattern.sub(full, clean)
     clean = _SENTENCE_END.sub(" . ", _PUNCT.sub(" , ", clean)).replace("'s ", " ")
     raws = [r for r in _SPLIT.split(clean) if r and r.strip()]

@@ -88,19 +88,19 @@ def _children(f: Formula) -> tuple[str, list[Formula]] | None:
     return None
 
 
-def _inline(f: Formula) -> str:
+def inline_formula(f: Formula) -> str:
     match f:
         case Atom():
             return _atom(f)
         case Equals(left=left, right=right):
             return f"(= {left} {right})"
     head, parts = _children(f) or ("", [])
-    return "(" + " ".join([head, *(_inline(p) for p in parts)]) + ")"
+    return "(" + " ".join([head, *(inline_formula(p) for p in parts)]) + ")"
 
 
 def write_formula(f: Formula, indent: int = 0) -> str:
     """A formula as PDDL; long ones are broken over lines, continuation lines indented by ``indent``."""
-    text = _inline(f)
+    text = inline_formula(f)
     compound = _children(f)
     if compound is None or len(text) + indent <= _WIDTH or not compound[1]:
         return text
@@ -117,11 +117,11 @@ def _effect_children(e: Effect) -> tuple[str, list[Effect]] | None:
         case ForallEffect(params=params, effect=inner):
             return f"forall ({_typed_vars(params)})", [inner]
         case When(condition=condition, effect=inner):
-            return f"when {_inline(condition)}", [inner]
+            return f"when {inline_formula(condition)}", [inner]
     return None
 
 
-def _effect_inline(e: Effect) -> str:
+def effect_inline(e: Effect) -> str:
     match e:
         case Literal(atom=atom, negated=negated):
             return f"(not {_atom(atom)})" if negated else _atom(atom)
@@ -129,12 +129,12 @@ def _effect_inline(e: Effect) -> str:
             value = amount if isinstance(amount, str) else _number(amount)
             return f"(increase ({' '.join((function, *args))}) {value})"
     head, parts = _effect_children(e) or ("", [])
-    return "(" + " ".join([head, *(_effect_inline(p) for p in parts)]) + ")"
+    return "(" + " ".join([head, *(effect_inline(p) for p in parts)]) + ")"
 
 
 def write_effect(e: Effect, indent: int = 0) -> str:
     """An effect as PDDL; long ones are broken over lines like :func:`write_formula`."""
-    text = _effect_inline(e)
+    text = effect_inline(e)
     compound = _effect_children(e)
     if compound is None or len(text) + indent <= _WIDTH or not compound[1]:
         return text

@@ -176,9 +176,9 @@ def plan_graph(
     timeout: float = 60.0,
 ) -> PlanResult:
     """Plan from a scene graph to a goal (the problem is built by gsr.facts.problem_from_graph)."""
-    from gsr.facts import _default_domain, problem_from_graph
+    from gsr.facts import default_domain, problem_from_graph
 
-    domain = domain or _default_domain()
+    domain = domain or default_domain()
     formula = goal.formula if isinstance(goal, Goal) else goal
     problem = problem_from_graph(graph, formula, domain=domain)
     return plan(domain, problem, planner=planner, timeout=timeout)

@@ -11,7 +11,7 @@ from gsr.plan.precondition import AtomKey
 from gsr.plan.simplify import Simplifier
 
 if TYPE_CHECKING:
-    from gsr.plan.ground import _Variant
+    from gsr.plan.ground import Variant
 
 # Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
 # a part takes effect under the union of base and inner. The parts list of a memoised effect group
@@ -29,7 +29,7 @@ EMPTY: Conjunction = frozenset()
 Literals = tuple[tuple[Atom, bool], ...]
 # (params, condition, guards, (outer, inner) literals or None, effect atoms with is_delete,
 # action variables the per-instance part mentions)
-_EffectGroup = tuple[
+EffectGroup = tuple[
     tuple[TypedVar, ...],
     Formula,
     tuple[Atom, ...],
@@ -39,7 +39,7 @@ _EffectGroup = tuple[
 ]
 
 
-def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
+def effect_groups(schema: Schema, simplify: Simplifier) -> list[EffectGroup]:
     """Effects sharing variables and condition, grouped: (params, condition, guards, literals, atoms).
 
     ``forall ?n ?m (when c (and (not (cube_count ?c ?n)) (cube_count ?c ?m)))`` flattens into two
@@ -51,7 +51,7 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
     groups: dict[tuple, list[tuple[Atom, bool]]] = {}
     for eff in schema.effects:
         groups.setdefault((eff.params, eff.condition), []).append((eff.literal.atom, eff.literal.negated))
-    out: list[_EffectGroup] = []
+    out: list[EffectGroup] = []
     for (params, cond), lits in groups.items():
         literals = simplify.literals(cond)
         split = None
@@ -65,7 +65,7 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
             )
             split = (outer, inner)
         guards = simplify.guards(cond, True) if params else ()
-        # Action variables the per-instance part mentions: its memo key (see _ground_group).
+        # Action variables the per-instance part mentions: its memo key (see ground_group).
         # Guards without effect variables are checked once per binding, in base/instances.
         names = {p.name for p in params}
         atoms = [g for g in guards if names.intersection(g.args)]
@@ -76,12 +76,12 @@ def _effect_groups(schema: Schema, simplify: Simplifier) -> list[_EffectGroup]:
     return out
 
 
-Deferred = tuple["_Variant", _EffectGroup, dict[str, str], Conjunction]
+Deferred = tuple["Variant", EffectGroup, dict[str, str], Conjunction]
 
 
-def _effects(
-    v: _Variant,
-    groups: list[_EffectGroup],
+def ground_effects(
+    v: Variant,
+    groups: list[EffectGroup],
     simplify: Simplifier,
     reached: set[AtomKey],
     deferred: list[Deferred],
@@ -104,11 +104,11 @@ def _effects(
             if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
                 deferred.append((v, group, v.binding, base))
                 continue
-        _ground_group(group, v.binding, base, simplify, v.effects, memo)
+        ground_group(group, v.binding, base, simplify, v.effects, memo)
 
 
-def _ground_group(
-    group: _EffectGroup,
+def ground_group(
+    group: EffectGroup,
     binding: dict[str, str],
     base: Conjunction | None,
     simplify: Simplifier,
@@ -173,7 +173,7 @@ def _ground_group(
         effects.append((EMPTY, own))
 
 
-def _new_adds(
+def new_adds(
     blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[AtomKey, ...], AtomKey]]
 ) -> None:
     """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""

@@ -27,27 +27,27 @@ from gsr.pddl.model import (
 from gsr.plan.effects import (
     Deferred,
     EffectBlock,
+    EffectGroup,
     EffectMemo,
-    _effect_groups,
-    _EffectGroup,
-    _effects,
-    _ground_group,
-    _new_adds,
+    effect_groups,
+    ground_effects,
+    ground_group,
+    new_adds,
 )
-from gsr.plan.intern import _intern, axiom_action, ground_goal
+from gsr.plan.intern import axiom_action, ground_goal, intern_task
 from gsr.plan.normalize import (
     Schema,
     normalize_action,
 )
 from gsr.plan.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
-from gsr.plan.simplify import Simplifier, _TypedObjects, free_variables
+from gsr.plan.simplify import ObjectsByType, Simplifier, free_variables
 from gsr.plan.task import Task
 
 __all__ = ["ground_goal", "ground_task"]  # ground_goal lives in gsr.plan.intern; re-exported here
 
 
 @dataclass(slots=True)
-class _Variant:
+class Variant:
     """A ground action: its simplified precondition formula; effects are grounded once it fires."""
 
     name: str
@@ -125,7 +125,7 @@ def _index_atom(
 def _bindings(
     schema: Schema,
     index: dict[str, set[tuple[str, ...]]],
-    objects: _TypedObjects,
+    objects: ObjectsByType,
     disjunction: tuple[Atom, ...] = (),
     by_arg: ArgIndex | None = None,
     delta: dict[str, list[tuple[str, ...]]] | None = None,
@@ -298,7 +298,7 @@ def _variant(
     simplify: Simplifier,
     memo: dict[tuple, Formula],
     cores: FormulaCache,
-) -> _Variant | None:
+) -> Variant | None:
     """Ground one action's precondition; None when it is statically false.
 
     Conjuncts over fewer variables than the action (``(imply (openable ?c) (open ?c))`` in
@@ -343,7 +343,7 @@ def _variant(
     pre = Simplifier.combine(True, kept)
     need = Simplifier.combine(True, core)
     args = tuple(binding[p.name] for p in schema.params)
-    return _Variant(schema.name, args, pre, binding, schema, need)
+    return Variant(schema.name, args, pre, binding, schema, need)
 
 
 @dataclass(frozen=True, slots=True)
@@ -352,7 +352,7 @@ class _Compiled:
 
     schemas: list[Schema]
     fluent: set[str]
-    groups: list[list[_EffectGroup]]
+    groups: list[list[EffectGroup]]
     alternatives: list[list[tuple[Formula, ...]]]
     narrow: list[list[tuple[Formula, tuple[str, ...]]]]
     parts: list[list[Part]]
@@ -377,11 +377,11 @@ def _compile(domain: Domain) -> _Compiled:
     schemas = [normalize_action(a) for a in (*domain.actions.values(), *map(axiom_action, domain.axioms))]
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     # Effect groups need only the fluent predicates (literal splitting, static guards).
-    no_objects = Simplifier(_TypedObjects(domain, {}), fluent, ())
+    no_objects = Simplifier(ObjectsByType(domain, {}), fluent, ())
     compiled = _Compiled(
         schemas,
         fluent,
-        [_effect_groups(s, no_objects) for s in schemas],
+        [effect_groups(s, no_objects) for s in schemas],
         # Top-level disjunctions of atoms in each residual precondition, e.g. pick's (or (on ?o
         # ?from) (in ?o ?from)): a binding with none of them reached cannot fire yet, so it is
         # skipped before its precondition is simplified (and looked at again next round).
@@ -421,7 +421,7 @@ def _compile(domain: Domain) -> _Compiled:
 
 def ground_task(domain: Domain, problem: Problem) -> Task:
     """Ground a problem: only relaxed-reachable operators, static atoms compiled away."""
-    objects = _TypedObjects(domain, problem.all_objects(domain))
+    objects = ObjectsByType(domain, problem.all_objects(domain))
     compiled = _compile(domain)
     schemas, fluent = compiled.schemas, compiled.fluent
     init = set(problem.init)
@@ -443,8 +443,8 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     narrow_memo: dict[tuple, bool] = {}
     part_memo: dict[tuple, Formula] = {}
     cores: FormulaCache = {}
-    cache: dict[tuple, _Variant | None] = {}
-    fired: list[_Variant] = []
+    cache: dict[tuple, Variant | None] = {}
+    fired: list[Variant] = []
     # Add effects of fired operators not reached yet: (positive condition atoms, atom key). Each
     # round only scans these, not every effect of every fired operator again.
     pending: list[tuple[tuple[AtomKey, ...], AtomKey]] = []
@@ -497,9 +497,9 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                     still.append(binding)
                 else:
                     v.fired = True
-                    _effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
+                    ground_effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
                     fired.append(v)
-                    _new_adds(v.effects, reached_keys, pending)
+                    new_adds(v.effects, reached_keys, pending)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
@@ -507,8 +507,8 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 blocked.append((v, group, binding, base))
                 continue
             start = len(v.effects)
-            _ground_group(group, binding, base, simplify, v.effects, effect_memo)
-            _new_adds(v.effects[start:], reached_keys, pending)
+            ground_group(group, binding, base, simplify, v.effects, effect_memo)
+            new_adds(v.effects[start:], reached_keys, pending)
         deferred = blocked
         # Fire the add effects of reached operators whose (positive) conditions are reached.
         waiting = []
@@ -524,4 +524,4 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             else:
                 waiting.append((cond, key))
         pending = waiting
-    return _intern(domain, problem, fired, reached, fluent)
+    return intern_task(domain, problem, fired, reached, fluent)

@@ -10,11 +10,11 @@ from gsr.pddl.model import Action, Atom, Axiom, Domain, Formula, Increase, Liter
 from gsr.plan.effects import EffectPart
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
 from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
-from gsr.plan.simplify import Simplifier, _TypedObjects
+from gsr.plan.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task
 
 if TYPE_CHECKING:
-    from gsr.plan.ground import _Variant
+    from gsr.plan.ground import Variant
 
 
 AXIOM_PREFIX = "axiom:"  # no PDDL action name has a colon
@@ -121,8 +121,8 @@ def _cond_table(
     )
 
 
-def _intern(
-    domain: Domain, problem: Problem, fired: list[_Variant], reached: set[Atom], fluent: set[str]
+def intern_task(
+    domain: Domain, problem: Problem, fired: list[Variant], reached: set[Atom], fluent: set[str]
 ) -> Task:
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
@@ -232,7 +232,7 @@ def ground_goal(
     domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
 ) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
     """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
-    simplify = Simplifier(_TypedObjects(domain, problem.all_objects(domain)), fluent, problem.init)
+    simplify = Simplifier(ObjectsByType(domain, problem.all_objects(domain)), fluent, problem.init)
     out = []
     for conj in to_dnf(simplify(nnf(goal), {})):
         if any(pos and a not in ids for a, pos in conj):

@@ -301,7 +301,7 @@ def _flatten(formula: Formula, kind: type) -> list[Formula]:
     return [formula]
 
 
-class _TypedObjects:
+class ObjectsByType:
     """Objects of a type (either-tuples allowed), cached and sorted for determinism."""
 
     def __init__(self, domain: Domain, objects: dict[str, str]) -> None:

@@ -89,9 +89,9 @@ def goal_problems(domain: Domain, state: State, formula: Formula) -> list[str]:
 def parse_goal_answer(text: str, domain: Domain, state: State, instruction: str | None = None) -> Goal:
     """The first formula in a model's goal answer as a Goal; GoalRejected with the reasons otherwise."""
     from gsr.pddl.parser import parse_formula
-    from gsr.reason.step_format import _content_lines
+    from gsr.reason.step_format import content_lines
 
-    lines = [line.strip() for _, line in _content_lines(text)]
+    lines = [line.strip() for _, line in content_lines(text)]
     body = " ".join(lines)
     if body.lower().startswith("goal:"):
         body = body[5:].strip()

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from gsr.diagnosis import typed_text
 from gsr.graph_text import to_prompt_text
 from gsr.pddl.model import Domain, Formula
-from gsr.pddl.writer import _effect_inline, _inline
+from gsr.pddl.writer import effect_inline, inline_formula
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
@@ -78,7 +78,7 @@ def action_text(domain: Domain, detail: str = "pddl") -> str:
             lines.append(head)
         else:
             lines.append(
-                f"{head}\n  pre: {_inline(action.precondition)}\n  eff: {_effect_inline(action.effect)}"
+                f"{head}\n  pre: {inline_formula(action.precondition)}\n  eff: {effect_inline(action.effect)}"
             )
     return "\n".join(lines)
 
@@ -121,7 +121,7 @@ def _goal_line(goal: Goal | Formula | None) -> str:
     if goal is None:
         return ""
     formula = goal.formula if isinstance(goal, Goal) else goal
-    return f"Goal: {_inline(formula)}\n"
+    return f"Goal: {inline_formula(formula)}\n"
 
 
 def build_prompt(

@@ -177,7 +177,7 @@ def step_from_json(data: Any, source: str = "<step>", lineno: int = 1) -> Step:
     return Step(action.strip().lower(), tuple(a.strip().lower() for a in args), add, delete)
 
 
-def _content_lines(text: str) -> Iterable[tuple[int, str]]:
+def content_lines(text: str) -> Iterable[tuple[int, str]]:
     """(line number, text) of the lines that can hold steps: no blanks, comments or code fences."""
     for lineno, raw in enumerate(text.splitlines(), start=1):
         if _FENCE.match(raw):
@@ -189,7 +189,7 @@ def _content_lines(text: str) -> Iterable[tuple[int, str]]:
 
 def parse_steps(text: str, source: str = "<steps>") -> list[Step]:
     """Parse reasoner output: step lines or JSON (objects per line, or one list); ParseError on bad input."""
-    content = dict(_content_lines(text))
+    content = dict(content_lines(text))
     # blank out fences and comments but keep the line count, so JSON error positions stay true
     kept = "\n".join(content.get(i, "") for i in range(1, text.count("\n") + 2))
     stripped = kept.strip()
@@ -204,7 +204,7 @@ def parse_steps(text: str, source: str = "<steps>") -> list[Step]:
             raise ParseError("expected a JSON list of steps", source=source, line=1, column=1)
         return [step_from_json(item, source, 1) for item in data]
     steps = []
-    for lineno, line in _content_lines(text):
+    for lineno, line in content_lines(text):
         if line.lstrip().startswith("{"):
             try:
                 data = json.loads(line)
@@ -220,7 +220,7 @@ def parse_steps(text: str, source: str = "<steps>") -> list[Step]:
 
 def parse_first_step(text: str, source: str = "<reply>") -> Step:
     """The first step of a model reply (later lines are ignored); ParseError when there is none."""
-    for lineno, line in _content_lines(text):
+    for lineno, line in content_lines(text):
         if line.lstrip().startswith("{"):
             return parse_steps(line, source)[0]
         return parse_step_line(line, source, lineno)

@@ -30,8 +30,8 @@ from gsr.errors import GSRError
 from gsr.service.handlers import (
     ApiError,
     Scene,
-    _builtin_domain,
     api_error_from,
+    builtin_domain,
     check_instruction,
     check_plan_length,
     check_scene_size,
@@ -120,7 +120,7 @@ def _preload() -> None:
     import gsr.validate  # noqa: F401
 
     with contextlib.suppress(GSRError):  # a missing domain is reported by the requests that name it
-        _builtin_domain("tabletop")
+        builtin_domain("tabletop")
 
 
 def create_app(settings: ServiceSettings | None = None) -> FastAPI:

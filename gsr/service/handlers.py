@@ -80,7 +80,7 @@ def _parse_domain_text(digest: str, text: str):  # digest keys the cache without
 
 
 @lru_cache(maxsize=16)
-def _builtin_domain(name: str):  # per process: a server reads its domain files once (restart to reload)
+def builtin_domain(name: str):  # per process: a server reads its domain files once (restart to reload)
     from gsr.resources import load_builtin_domain
 
     return load_builtin_domain(name)
@@ -90,7 +90,7 @@ def domain_of(ref: DomainRef):
     """The request's domain: parsed PDDL text (cached by digest) or a built-in domain (cached)."""
     if ref.domain_pddl is not None:
         return _parse_domain_text(hashlib.sha1(ref.domain_pddl.encode()).hexdigest(), ref.domain_pddl)
-    return _builtin_domain(ref.domain)
+    return builtin_domain(ref.domain)
 
 
 def check_scene_size(data: Any, settings: ServiceSettings, field: str = "scene_graph") -> None:

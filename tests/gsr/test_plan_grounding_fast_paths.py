@@ -8,7 +8,7 @@ import random
 from benchmarks.bench_planner import long_tabletop_task
 from gsr.facts import problem_from_graph
 from gsr.plan import plan
-from gsr.plan.ground import _bindings, _compile, _TypedObjects, ground_task
+from gsr.plan.ground import ObjectsByType, _bindings, _compile, ground_task
 from gsr.plan.heuristics import Relaxation
 from gsr.plan.precondition import fast_dnf, id_dnf, relaxed, relaxed_core
 from gsr.plan.simplify import Simplifier
@@ -30,7 +30,7 @@ def _ground_preconditions(seed: int):
     """Every candidate action's simplified precondition (the fixpoint's inputs), with the problem."""
     domain, problem = _tabletop(), _problem(seed)
     compiled = _compile(domain)
-    objects = _TypedObjects(domain, problem.all_objects(domain))
+    objects = ObjectsByType(domain, problem.all_objects(domain))
     simplify = Simplifier(objects, compiled.fluent, problem.init)
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in problem.init:
@@ -79,7 +79,7 @@ def test_disjunction_join_lists_exactly_the_bindings_the_filter_keeps() -> None:
     # every ?from is listed and the disjunction tested afterwards.
     domain, problem = _tabletop(), _problem(3)
     compiled = _compile(domain)
-    objects = _TypedObjects(domain, problem.all_objects(domain))
+    objects = ObjectsByType(domain, problem.all_objects(domain))
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in problem.init:
         index.setdefault(a.predicate, set()).add(a.args)

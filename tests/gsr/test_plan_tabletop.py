@@ -245,7 +245,7 @@ def test_negative_preconditions_optimal_cost_matches_fast_downward_lmcut(n: int,
 
 
 def test_fast_simplifier_equals_reference_ground_simplify(libero_dir: Path) -> None:
-    from gsr.plan.ground import _TypedObjects
+    from gsr.plan.ground import ObjectsByType
     from gsr.plan.normalize import ground_simplify, normalize_action, to_dnf
     from gsr.plan.simplify import Simplifier
 
@@ -256,7 +256,7 @@ def test_fast_simplifier_equals_reference_ground_simplify(libero_dir: Path) -> N
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     checked = 0
     for problem in scenes:
-        objects = _TypedObjects(domain, problem.all_objects(domain))
+        objects = ObjectsByType(domain, problem.all_objects(domain))
         fast = Simplifier(objects, fluent, problem.init)
 
         def static(atom: Atom, init=problem.init) -> bool | None:
