@@ -28,6 +28,18 @@ class GoalUnreachable(BackendError):
     """The grounder backend's planner proves the goal unreachable from the current scene."""
 
 
+@runtime_checkable
+class PlanProposer(Protocol):
+    """A backend that proposes whole step sequences as ``Step`` objects, not text: the loop asks it once,
+    checks and applies its steps in order, and asks again only after a rejection (or when the sequence
+    ends before the goal holds). No prompt is built and no step goes through text (the embedded
+    grounder's planner is one; language models answer through :meth:`Backend.complete`)."""
+
+    def propose_plan(self, domain: Domain, graph: SceneGraph, goal: Goal) -> list[Step]:
+        """Steps from ``graph`` towards ``goal`` (empty when it holds); GoalUnreachable / BackendError."""
+        ...
+
+
 @dataclass(frozen=True)
 class Query:
     """What the reasoner asks: ``kind`` is ``step`` or ``goal``; ``allowed`` lists admissible step lines."""

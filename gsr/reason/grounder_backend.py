@@ -4,9 +4,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from gsr.pddl.model import Domain
 from gsr.reason.backend import BackendError, GoalUnreachable, Query
 from gsr.reason.prompt import DONE, Prompt
-from gsr.step import Goal
+from gsr.scene_graph import SceneGraph
+from gsr.step import Goal, Step
 
 
 def ground_goal(query: Query) -> Goal:
@@ -30,7 +32,6 @@ class GrounderBackend:
     def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
         """The goal formula, or the next planned step with its effects (``(done)`` when the goal holds)."""
         from gsr.diagnosis import formula_text
-        from gsr.plan.api import plan_graph
         from gsr.reason.examples import annotate_steps
         from gsr.reason.step_format import format_step
 
@@ -39,12 +40,19 @@ class GrounderBackend:
         goal = query.goal if query.goal is not None else ground_goal(query)
         if query.kind == "goal":
             return formula_text(goal.formula)
-        result = plan_graph(query.domain, query.graph, goal, planner=self.planner, timeout=self.timeout)
+        steps = self.propose_plan(query.domain, query.graph, goal)
+        if not steps:
+            return DONE
+        first = annotate_steps(query.domain, query.graph, steps[:1])[0]
+        return format_step(first)
+
+    def propose_plan(self, domain: Domain, graph: SceneGraph, goal: Goal) -> list[Step]:
+        """The planner's whole plan from ``graph`` to ``goal`` (the loop's :class:`PlanProposer` path)."""
+        from gsr.plan.api import plan_graph
+
+        result = plan_graph(domain, graph, goal, planner=self.planner, timeout=self.timeout)
         if result.status == "unsolvable":
             raise GoalUnreachable(f"the planner proves the goal unreachable: {result.message}")
         if not result.solved or result.plan is None:
             raise BackendError(f"the planner found no plan ({result.status}): {result.message}")
-        if not result.plan.steps:
-            return DONE
-        first = annotate_steps(query.domain, query.graph, result.plan.steps[:1])[0]
-        return format_step(first)
+        return list(result.plan.steps)

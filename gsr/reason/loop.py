@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Domain
-from gsr.reason.backend import Backend, BackendError, GoalUnreachable, Query, as_backend
+from gsr.reason.backend import Backend, BackendError, GoalUnreachable, PlanProposer, Query, as_backend
 from gsr.reason.prompt import DONE, Example, Prompt, build_goal_prompt, build_prompt
 from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.scene_graph import SceneGraph
@@ -211,10 +211,53 @@ class _Run:
                 return
             self.accept(step, diagnosis, "planner", ())
 
+    def run_proposed(self, proposer: PlanProposer, goal: Goal) -> None:
+        """The loop for a backend that proposes ``Step`` sequences: one call gives the plan, whose steps
+        are checked and applied in order; a rejected step (or a plan that ends short of the goal) asks
+        again from the current graph, at most ``max_repairs`` times in a row."""
+        from gsr.check import check_step
+        from gsr.facts import state_from_graph
+        from gsr.reason.examples import claimed_effects
+
+        pending: list[Step] = []
+        rejected: list[Attempt] = []
+        while len(self.result.steps) < self.o["max_steps"]:
+            if self.goal_holds(goal):
+                self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+                return
+            if not pending:
+                if len(rejected) > self.o["max_repairs"]:
+                    self.result.unrepaired.append(tuple(rejected))
+                    last = rejected[-1]
+                    why = last.error or (last.diagnosis.message if last.diagnosis else "rejected")
+                    self.finish("stuck", f"no valid step after {len(rejected)} proposal(s): {why}")
+                    return
+                pending = proposer.propose_plan(self.domain, self.graph, goal)
+                if not pending:  # the proposer sees the goal as reached, the checker does not
+                    rejected.append(Attempt("(done)", error="the proposer ended before the goal holds"))
+                    continue
+            step = pending.pop(0)
+            state = state_from_graph(self.graph, self.domain)
+            diagnosis = check_step(self.domain, state, step)
+            if not diagnosis.ok:
+                rejected.append(Attempt(str(step), step, diagnosis))
+                pending = []
+                continue
+            # recorded with the change it makes, as a model's step line would claim it
+            self.accept(claimed_effects(diagnosis, state), diagnosis, "model", rejected)
+            rejected = []
+        if self.goal_holds(goal):
+            self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+        else:
+            self.finish("step_limit", f"goal not reached within {self.o['max_steps']} step(s)")
+
     def run_steps(self, goal: Goal | None) -> None:
         """The propose-check-repair loop."""
         from gsr.facts import state_from_graph
 
+        if isinstance(self.backend, PlanProposer) and goal is not None and not self.o["constrained"]:
+            self.run_proposed(self.backend, goal)
+            return
         seen = self.seen
         seen[state_from_graph(self.graph, self.domain).atoms] += 1
         while len(self.result.steps) < self.o["max_steps"]:

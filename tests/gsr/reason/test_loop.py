@@ -142,3 +142,50 @@ def test_json_answers_are_accepted(graph, domain, box_goal):
     pick = '{"action": "pick", "args": ["red_cube1", "table"], "add": ["(holding red_cube1)"], "delete": ["(hand_empty)", "(on red_cube1 table)"]}'
     result = solve(graph, "x", Script([pick, "```\n" + PLACE + "\n```"]), goal=box_goal, domain=domain)
     assert result.success and result.rejections == 0
+
+
+def test_a_plan_proposer_is_asked_once_and_no_prompt_is_built(monkeypatch) -> None:
+    """The grounder backend proposes Step objects: a long solve makes one planner call and no prompt."""
+    import gsr.plan.api as plan_api
+    import gsr.reason.loop as loop
+    from benchmarks.suites import get_suite
+
+    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id.endswith("sod_simple_00"))
+    calls = {"plan": 0, "prompt": 0}
+    real_plan = plan_api.plan_graph
+
+    def counting_plan(*a, **k):
+        calls["plan"] += 1
+        return real_plan(*a, **k)
+
+    def no_prompt(*a, **k):
+        calls["prompt"] += 1
+        raise AssertionError("a prompt was built for the grounder backend")
+
+    monkeypatch.setattr(plan_api, "plan_graph", counting_plan)
+    monkeypatch.setattr(loop, "build_prompt", no_prompt)
+    result = solve(task.initial, task.instruction)
+    assert result.status == "solved" and len(result.steps) >= 6
+    assert calls == {"plan": 1, "prompt": 0}
+
+
+def test_a_rejected_proposal_is_diagnosed_and_the_proposer_asked_again(graph, domain, box_goal) -> None:
+    from gsr.reason.step_format import parse_first_step
+
+    class Proposer(FunctionBackend):
+        def __init__(self, plans):
+            super().__init__(lambda text: "(done)")
+            self.plans, self.asked = list(plans), 0
+
+        def propose_plan(self, domain, graph, goal):
+            self.asked += 1
+            return [parse_first_step(line) for line in self.plans.pop(0)]
+
+    bad, good = ["(pick red_cube1 blue_box)"], [PICK.split(" +")[0], PLACE.split(" +")[0]]
+    proposer = Proposer([bad, good])
+    result = solve(graph, box_goal.text, proposer, goal=box_goal, domain=domain)
+    assert result.status == "solved" and proposer.asked == 2
+    assert [s.step.action for s in result.steps] == ["pick", "place_in"]
+    assert not result.steps[0].rejected[0].diagnosis.ok  # the bad step was checked, not executed
+    stuck = solve(graph, box_goal.text, Proposer([bad] * 5), goal=box_goal, domain=domain, max_repairs=2)
+    assert stuck.status == "stuck" and not stuck.steps
