@@ -1,0 +1,67 @@
+"""How much a ``gsr solve`` costs with the grounder backend: planner calls, prompts built, CPU per solve.
+
+    python benchmarks/bench_solve.py [--tasks 5] [--repeat 3]
+
+Picks the first generated GSR-Bench tasks (gsr-bench-gen, seed 0) that the grounder solves in 6 or more
+steps, counts ``plan_graph`` calls and prompts built during one solve, and times repeated solves
+(CPU time: the machine may be shared). Figures: docs/performance.md (Reasoner).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from unittest import mock
+
+
+def main() -> None:
+    import gsr.plan.api as plan_api
+    import gsr.reason.loop as loop
+    from benchmarks.suites import get_suite
+    from gsr.reason.loop import solve
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tasks", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+
+    calls = {"plan": 0, "prompt": 0}
+    real_plan, real_prompt = plan_api.plan_graph, loop.build_prompt
+
+    def counting_plan(*a, **k):
+        calls["plan"] += 1
+        return real_plan(*a, **k)
+
+    def counting_prompt(*a, **k):
+        calls["prompt"] += 1
+        return real_prompt(*a, **k)
+
+    picked = []
+    for task in get_suite("gsr-bench-gen").tasks(None, 0):
+        calls.update(plan=0, prompt=0)
+        with (
+            mock.patch.object(plan_api, "plan_graph", counting_plan),
+            mock.patch.object(loop, "build_prompt", counting_prompt),
+        ):
+            result = solve(task.initial, task.instruction)
+        if result.status == "solved" and len(result.steps) >= 6:
+            picked.append((task, len(result.steps), dict(calls)))
+        if len(picked) == args.tasks:
+            break
+    print("| task | steps | planner calls | prompts built | CPU per solve (median) |")
+    print("|---|---:|---:|---:|---:|")
+    for task, steps, counted in picked:
+        times = []
+        for _ in range(args.repeat):
+            start = time.process_time()
+            solve(task.initial, task.instruction)
+            times.append(time.process_time() - start)
+        print(
+            f"| {task.id} | {steps} | {counted['plan']} | {counted['prompt']} | "
+            f"{statistics.median(times) * 1000:.0f} ms |"
+        )
+
+
+if __name__ == "__main__":
+    main()
