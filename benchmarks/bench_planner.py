@@ -407,6 +407,23 @@ HEAD = [
 ]
 
 
+def _row(label: str, system: str, s: dict, fd: dict, median: str) -> list[str]:
+    """One table row: coverage, totals, ratios to Fast Downward (when it ran), medians, peak memory."""
+    ok = fd["coverage"] is not None
+    return [
+        label,
+        system,
+        str(s["coverage"]),
+        f"{s['total_time']:.2f}",
+        f"{s['total_cpu']:.2f}",
+        str(s["total_length"]),
+        f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
+        f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
+        median,
+        "" if s["peak_mb"] is None else f"{s['peak_mb']:.0f}",
+    ]
+
+
 def table_lines(results: list[dict]) -> list[list[str]]:
     """One row per set and system: coverage, totals, ratios to Fast Downward, medians."""
     lines = []
@@ -417,50 +434,22 @@ def table_lines(results: list[dict]) -> list[list[str]]:
             if s["coverage"] is None:
                 lines.append([res["set"], system, "n/a"] + [""] * (len(HEAD) - 3))
                 continue
-            ok = fd["coverage"] is not None
             median = f"{s['median_time'] * 1000:.1f} / {s['median_cpu'] * 1000:.1f}"
             if s["long_tasks"] and res["set"] in TABLETOP_SETS:
                 median += (
                     f"; {s['long_tasks']} solved with >= {LONG} steps: "
                     f"{s['median_time_long'] * 1000:.1f} / {s['median_cpu_long'] * 1000:.1f}"
                 )
-            lines.append(
-                [
-                    f"{res['set']} ({s['tasks']})",
-                    system,
-                    str(s["coverage"]),
-                    f"{s['total_time']:.2f}",
-                    f"{s['total_cpu']:.2f}",
-                    str(s["total_length"]),
-                    f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
-                    f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
-                    median,
-                    "" if s["peak_mb"] is None else f"{s['peak_mb']:.0f}",
-                ]
-            )
+            lines.append(_row(f"{res['set']} ({s['tasks']})", system, s, fd, median))
     ipc = [r for r in results if r["set"] in IPC_SETS]
     if len(ipc) > 1:  # all IPC sets together: the side-by-side totals
         merged = {"set": "IPC total", "rows": [row for r in ipc for row in r["rows"]]}
         fd = summarize(merged, "fd")
         for system in _systems(merged):
             s = summarize(merged, system)
-            if s["coverage"] is None:
-                continue
-            ok = fd["coverage"] is not None
-            lines.append(
-                [
-                    f"all IPC sets ({s['tasks']})",
-                    system,
-                    str(s["coverage"]),
-                    f"{s['total_time']:.2f}",
-                    f"{s['total_cpu']:.2f}",
-                    str(s["total_length"]),
-                    f"{s['total_time'] / fd['total_time']:.2f}" if ok else "",
-                    f"{s['total_cpu'] / fd['total_cpu']:.2f}" if ok else "",
-                    f"{s['median_time'] * 1000:.1f} / {s['median_cpu'] * 1000:.1f}",
-                    "" if s["peak_mb"] is None else f"{s['peak_mb']:.0f}",
-                ]
-            )
+            if s["coverage"] is not None:
+                median = f"{s['median_time'] * 1000:.1f} / {s['median_cpu'] * 1000:.1f}"
+                lines.append(_row(f"all IPC sets ({s['tasks']})", system, s, fd, median))
     return lines
 
 
