@@ -130,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--train-budget",
         type=float,
-        help="Recipe: training CPU seconds in all (default: the recipe's 720 cpu / 1500 gpu).",
+        help="Recipe: training CPU seconds in all (default: the recipe's 900 cpu / 1500 gpu).",
     )
     ap.add_argument(
         "--gsr-bench", type=int, default=6, help="Recipe: GSR-Bench dev tasks per category (0: none)."

@@ -36,8 +36,9 @@ from gsr.state import State
 from gsr.step import Goal, Step
 
 #: Format versions the backend reads (the marker names the one a model was trained in). Version 2
-#: adds the focus facts after each unmet goal literal and puts the goal last; version 1 is measured.
-FORMATS = {"gsr-compact-1": 1, "gsr-compact-2": 2}
+#: adds the focus facts after each unmet goal literal and puts the goal last; version 3 (the recipe's)
+#: also lists the facts in which a literal's object is a later argument (what stands on or in it).
+FORMATS = {"gsr-compact-1": 1, "gsr-compact-2": 2, "gsr-compact-3": 3}
 MARKER = "gsr_compact.json"  # written beside the weights of a compact-format model
 MAX_OBJECTS = 64
 HISTORY = 4
@@ -201,7 +202,8 @@ def goal_tokens(
 
     From version 2 on, a literal that does not hold yet is followed by ``:`` and the current facts
     about its objects (where each one is, whether it is held, open or openable), so what the next
-    step needs stands next to the literal it serves."""
+    step needs stands next to the literal it serves. From version 3 on, the focus facts also include
+    the ones naming the object in a later position (what is on or in it: what blocks it)."""
     from gsr.semantics import holds
 
     grounded = ground_goal(formula, state, domain)
@@ -215,7 +217,7 @@ def goal_tokens(
             out += (["not"] if isinstance(p, Not) else []) + [atom.predicate]
             out += [naming.token(x) for x in atom.args]
             if version >= 2 and not ok:
-                out += _focus(atom.args, state, naming)
+                out += _focus(atom.args, state, naming, anywhere=version >= 3)
         return out
     return out + _prefix(grounded, naming)
 
@@ -223,11 +225,20 @@ def goal_tokens(
 _FOCUS = ("on", "in", "holding", "open", "turned_on", "openable", "switchable")
 
 
-def _focus(args: Sequence[str], state: State, naming: Naming) -> list[str]:
-    """``:`` and the atoms of :data:`_FOCUS` whose first argument is one of ``args``."""
+def _focus(args: Sequence[str], state: State, naming: Naming, anywhere: bool = False) -> list[str]:
+    """``:`` and the atoms of :data:`_FOCUS` whose first argument (any argument when ``anywhere``)
+    is one of ``args``; an atom is written once."""
     out = [":"]
+    seen: set[Atom] = set()
     for arg in args:
-        mine = [a for a in state.atoms if a.args[:1] == (arg,) and a.predicate in _FOCUS]
+        mine = [
+            a
+            for a in state.atoms
+            if a.predicate in _FOCUS
+            and a not in seen
+            and (arg in a.args if anywhere else a.args[:1] == (arg,))
+        ]
+        seen.update(mine)
         for atom in sorted(mine, key=lambda a: (a.predicate, a.args)):
             out += [atom.predicate, *(naming.token(x) for x in atom.args)]
     return out

@@ -67,6 +67,17 @@ def test_goal_literals_are_marked_true_or_false_and_quantifiers_are_grounded(dom
     focus = goal_tokens(goal, state, domain, naming, version=2)
     assert focus[: len(marked)] == marked
     assert focus[len(marked) :] == [":", "on", t("red_cube1"), t("table"), "on", t("blue_box"), t("table")]
+    # version 3: also the facts naming the literal's objects later (what stands on or in them), once each
+    on_table = [a for a in state.atoms if a.predicate == "on" and a.args[1] == "table"]
+    assert len(on_table) >= 2
+    v3 = goal_tokens(parse_formula("(not (on red_cube1 table))"), state, domain, naming, version=3)
+    assert v3[:6] == ["G:", "F", "not", "on", t("red_cube1"), t("table")] and v3[6] == ":"
+    facts = [tuple(v3[i : i + 3]) for i in range(7, len(v3), 3)]
+    assert len(facts) == len(set(facts)) == (len(v3) - 7) // 3
+    for atom in on_table:  # every object standing on the table is named after the literal
+        assert ("on", t(atom.args[0]), t(atom.args[1])) in facts
+    v2 = goal_tokens(parse_formula("(not (on red_cube1 table))"), state, domain, naming, version=2)
+    assert len(v2) < len(v3)
     # every red cube in the box: the colour test is static, so it is evaluated away
     forall = parse_formula("(forall (?x - cube) (imply (has_color ?x red) (in ?x blue_box)))")
     assert goal_tokens(forall, state, domain, naming, 1) == ["G:", "F", "in", t("red_cube1"), t("blue_box")]
