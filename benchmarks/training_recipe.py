@@ -38,7 +38,7 @@ class Recipe:
     intermediate: int = 256
     batch_size: int = 32
     lr: float = 2e-3
-    format_version: int = 1  # gsr.reason.compact format (FORMATS)
+    format_version: int = 3  # gsr.reason.compact format (FORMATS)
 
 
 RECIPES = {
@@ -50,7 +50,6 @@ RECIPES = {
         dagger_tasks=100,
         dagger_seconds=300,
         threads=1,
-        format_version=3,
     ),
     "gpu": Recipe(
         samples=200000,
