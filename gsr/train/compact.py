@@ -156,26 +156,11 @@ def encode(
 
 
 def new_model(tokenizer: Any, spec: CompactSpec, seed: int) -> Any:
-    """A freshly initialised LlamaForCausalLM for the word-level vocabulary."""
-    import torch
-    from transformers import LlamaConfig, LlamaForCausalLM
+    """A freshly initialised LlamaForCausalLM for the word-level vocabulary (the same Llama shape as the
+    tiny models: ``spec`` gives hidden, intermediate, layers, heads and context)."""
+    from gsr.train.tiny import tiny_model
 
-    config = LlamaConfig(
-        vocab_size=len(tokenizer),
-        hidden_size=spec.hidden,
-        intermediate_size=spec.intermediate,
-        num_hidden_layers=spec.layers,
-        num_attention_heads=spec.heads,
-        num_key_value_heads=spec.heads,
-        max_position_embeddings=spec.context,
-        rms_norm_eps=1e-5,
-        tie_word_embeddings=True,
-        bos_token_id=tokenizer.eos_token_id,
-        eos_token_id=tokenizer.eos_token_id,
-        pad_token_id=tokenizer.pad_token_id,
-    )
-    torch.manual_seed(seed)
-    return LlamaForCausalLM(config)
+    return tiny_model(tokenizer, spec, seed)
 
 
 @dataclass

@@ -59,7 +59,8 @@ def train_tokenizer(texts: Iterable[str], vocab_size: int) -> Any:
 
 
 def tiny_model(tokenizer: Any, spec: TinySpec, seed: int) -> Any:
-    """A freshly initialised LlamaForCausalLM sized by ``spec`` (deterministic for a seed)."""
+    """A freshly initialised LlamaForCausalLM sized by ``spec`` (deterministic for a seed); any spec with
+    ``hidden``, ``intermediate``, ``layers``, ``heads`` and ``context`` will do (the compact models use it)."""
     import torch
     from transformers import LlamaConfig, LlamaForCausalLM
 
