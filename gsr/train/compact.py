@@ -61,23 +61,17 @@ def dataset_samples(data: Path, split: str = "train", limit: int | None = None) 
     """Trajectory samples from a ``gsr datagen`` folder's ``next_action`` rows."""
     from gsr.datagen.schema import decode
     from gsr.pddl.parser import parse_formula
+    from gsr.train.format import read_rows
 
     files = sorted(glob.glob(str(data / "data" / split / "*.jsonl")))
     if not files:
         raise GSRError(f"{data}: no data/{split}/*.jsonl files (generate them with gsr datagen)")
     out: list[Sample] = []
-    for path in files:
-        with open(path, encoding="utf-8") as fh:
-            for line in fh:
-                row = json.loads(line)
-                if row.get("type") != "next_action":
-                    continue
-                _, inp, res = decode(row)
-                history = tuple(Step(s.action, tuple(s.args)) for s in inp.history)
-                answer = None if res.done else Step(res.step.action, tuple(res.step.args))
-                out.append(Sample(inp.graph, parse_formula(inp.goal), history, answer))
-                if limit is not None and len(out) >= limit:
-                    return out
+    for row in read_rows(files, ("next_action",), limit):
+        _, inp, res = decode(row)
+        history = tuple(Step(s.action, tuple(s.args)) for s in inp.history)
+        answer = None if res.done else Step(res.step.action, tuple(res.step.args))
+        out.append(Sample(inp.graph, parse_formula(inp.goal), history, answer))
     return out
 
 
