@@ -15,7 +15,8 @@ from collections import deque
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
-from benchmarks.scoring import any_goal
+from gsr.benchmarks.scoring import any_goal
+
 from gsr.diagnosis import Diagnosis
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula

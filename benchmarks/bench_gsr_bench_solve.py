@@ -28,8 +28,9 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from benchmarks.scoring import score_task
-from benchmarks.suites.gsr_bench import load_configs, task_from_config
+from gsr.benchmarks.scoring import score_task
+from gsr.benchmarks.suites.gsr_bench import load_configs, task_from_config
+
 from gsr.errors import GSRError
 from gsr.facts import state_from_graph
 from gsr.gsr_bench_format import graph_from_gsr_bench
@@ -97,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", type=Path, help="write the per-config records here")
     args = parser.parse_args(argv)
     if args.generated:
-        from benchmarks.suites.gsr_bench_gen import generate_configs
+        from gsr.benchmarks.suites.gsr_bench_gen import generate_configs
 
         configs = generate_configs(seed=args.seed, per_cell=args.generated)
         name = f"generated ({args.generated} per cell, seed {args.seed})"

@@ -22,8 +22,9 @@ REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
-from benchmarks.scoring import relations  # noqa: E402
-from benchmarks.suites.gsr_bench_gen import generate_gsr_bench  # noqa: E402
+from gsr.benchmarks.scoring import relations  # noqa: E402
+from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench  # noqa: E402
+
 from gsr.facts import node_affordances, state_from_graph  # noqa: E402
 from gsr.pddl.model import Atom, Domain, Formula  # noqa: E402
 from gsr.resources import load_builtin_domain  # noqa: E402
@@ -73,7 +74,7 @@ def main() -> int:
     if args.results:
         lengths = {r["id"]: r["steps"] for r in json.loads(args.results.read_text())["tasks"] if r["success"]}
     else:
-        from benchmarks.runner import RunConfig, run_tasks
+        from gsr.benchmarks.runner import RunConfig, run_tasks
 
         results = run_tasks(tasks, RunConfig(agent="planner", agent_options={"planner": args.planner}))
         lengths = {r.id: r.steps for r in results if r.success}

@@ -21,9 +21,8 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np
-
-from benchmarks.perception_eval import evaluate, procedural_scene, skills_scene
-from perception.pipeline import perceive
+from gsr.benchmarks.perception_eval import evaluate, procedural_scene, skills_scene
+from gsr.perception.pipeline import perceive
 
 NOISE = (0.0, 0.002, 0.005, 0.01, 0.02)
 EROSION = (0, 2, 4)

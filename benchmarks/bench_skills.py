@@ -1,13 +1,13 @@
 """Meta-skill benchmark: per-skill physical success over seeded scenes, and a 10-step episode's wall time.
 
 Each trial builds a fresh world (PyBullet DIRECT) from a seeded scene graph: a three-drawer cabinet,
-a stove and a few objects drawn from the catalogue, laid out by ``skills.layout.layout_from_graph``.
+a stove and a few objects drawn from the catalogue, laid out by ``gsr.skills.layout.layout_from_graph``.
 Setup steps (e.g. the pick before a place) run physically too; a trial whose setup fails is counted
 as ``setup_failed`` and left out of the skill's success rate (so each rate is conditional on reaching
 the skill). Success means the skill reported ok, i.e. its own effect holds in the simulator.
 
 With ``--suite NAME[:SOURCE]`` it instead runs the planner agent on a task suite with physical
-execution (``skills.sim_executor.SimExecutor`` in ``benchmarks.runner.run_episode``) and reports the
+execution (``gsr.skills.sim_executor.SimExecutor`` in ``gsr.benchmarks.runner.run_episode``) and reports the
 physical success per category (``--level Simple`` keeps one level, ``--limit N`` the first N tasks).
 
 Usage: python benchmarks/bench_skills.py [--trials 50] [--skills pick,place_on,...] [--episodes 5]
@@ -253,8 +253,8 @@ TRIALS: dict[str, Callable[[random.Random], tuple[SceneGraph, list[Step], Step]]
 
 def run_trial(job: tuple[str, int]) -> dict:
     """One seeded trial of one skill: build, run setup, run the skill; a JSON-ready record."""
-    from skills.library import run_step
-    from skills.world import build_world
+    from gsr.skills.library import run_step
+    from gsr.skills.world import build_world
 
     skill, seed = job
     rng = random.Random(f"{skill}-{seed}")
@@ -303,8 +303,8 @@ EPISODE = [
 
 def run_episode(seed: int) -> dict:
     """The 10-step episode (drawer, stove, three pick-and-places) closed loop; wall time with and without build."""
-    from skills.executor import execute_plan
-    from skills.world import build_world
+    from gsr.skills.executor import execute_plan
+    from gsr.skills.world import build_world
 
     rng = random.Random(f"episode-{seed}")
     graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
@@ -327,11 +327,12 @@ def run_episode(seed: int) -> dict:
 
 def run_suite_task(job: tuple[dict, int]) -> dict:
     """One suite task, planner agent, physical execution; a JSON-ready record."""
-    from benchmarks.agents import make_agent
-    from benchmarks.runner import run_episode
+    from gsr.benchmarks.agents import make_agent
+    from gsr.benchmarks.runner import run_episode
+    from gsr.skills.sim_executor import SimExecutor
+
     from gsr.resources import load_builtin_domain
     from gsr.task_spec import task_from_dict
-    from skills.sim_executor import SimExecutor
 
     data, seed = job
     task = task_from_dict(data)
@@ -507,9 +508,9 @@ def render_figures(out: Path) -> list[Path]:
     """PNG figures for docs/skills.md: a 10-step episode's scene before and after, from two cameras."""
     from dataclasses import replace
 
-    from skills.camera import default_views, render, save_png
-    from skills.executor import execute_plan
-    from skills.world import build_world
+    from gsr.skills.camera import default_views, render, save_png
+    from gsr.skills.executor import execute_plan
+    from gsr.skills.world import build_world
 
     out.mkdir(parents=True, exist_ok=True)
     rng = random.Random("episode-0")
@@ -527,7 +528,8 @@ def render_figures(out: Path) -> list[Path]:
 
 
 def _main_suite(args: argparse.Namespace) -> int:
-    from benchmarks.suites import get_suite
+    from gsr.benchmarks.suites import get_suite
+
     from gsr.errors import GSRError
 
     name, _, source = args.suite.partition(":")

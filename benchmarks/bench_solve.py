@@ -16,9 +16,10 @@ from unittest import mock
 
 
 def main() -> None:
+    from gsr.benchmarks.suites import get_suite
+
     import gsr.plan.api as plan_api
     import gsr.reason.loop as loop
-    from benchmarks.suites import get_suite
     from gsr.reason.loop import solve
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

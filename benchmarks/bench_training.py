@@ -13,7 +13,7 @@ Every condition is one ``gsr bench run tasks`` call on the same task folders wit
 - ``open-loop+constrained`` (not in the default set): the open loop with constrained decoding.
 
 ``--recipe cpu|gpu --out DIR`` runs the whole trained-reasoner recipe (data, from-scratch training,
-held-out tasks, the four default conditions; :mod:`benchmarks.training_recipe`); its last line is
+held-out tasks, the four default conditions; :mod:`gsr.benchmarks.training_recipe`); its last line is
 ``trained model: checker+constrained S/N, checker+repair R/N, checker T/N, open loop O/N (held-out
 generated tasks)``.
 
@@ -147,7 +147,7 @@ def main(argv: list[str] | None = None) -> int:
             ap.error("--recipe needs --out DIR (the folder for data, model, tasks and figures)")
         if args.out.exists() and not args.out.is_dir():
             ap.error(f"--out {args.out}: not a folder")
-        from benchmarks.training_recipe import run_recipe
+        from gsr.benchmarks.training_recipe import run_recipe
 
         return run_recipe(
             args.recipe,

@@ -13,8 +13,8 @@ from gsr.errors import GSRError
 
 def list_text() -> str:
     """The suites and agents, one per line."""
-    from benchmarks.agents import BUILTIN
-    from benchmarks.suites import SUITES
+    from gsr.benchmarks.agents import BUILTIN
+    from gsr.benchmarks.suites import SUITES
 
     lines = ["suites:"]
     lines += [f"  {s.name:<14} {s.description}" for s in SUITES.values()]
@@ -45,7 +45,7 @@ def parse_options(pairs: list[str]) -> dict[str, Any]:
 
 def load_suite_tasks(suite: str, source: str | None, tasks: str | None, seed: int, limit: int | None) -> list:
     """The tasks of a suite (``--tasks`` overrides the source), cut to ``limit``."""
-    from benchmarks.suites import get_suite
+    from gsr.benchmarks.suites import get_suite
 
     s = get_suite("tasks" if tasks else suite)
     out = s.tasks(tasks or source, seed)
@@ -103,9 +103,9 @@ def run(
     perceive: bool = False,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
-    from benchmarks.report import results_document, write_reports
-    from benchmarks.runner import EpisodeOptions, RunConfig, run_tasks
-    from benchmarks.suites import SUITES, get_suite
+    from gsr.benchmarks.report import results_document, write_reports
+    from gsr.benchmarks.runner import EpisodeOptions, RunConfig, run_tasks
+    from gsr.benchmarks.suites import SUITES, get_suite
 
     if trials < 1 or workers < 1 or max_steps < 1 or retries < 0:
         raise GSRError("--trials, --workers and --max-steps must be at least 1, --retries at least 0")
@@ -171,9 +171,9 @@ def run(
 def run_episode_suite(
     hosted: Any, options: Any, workers: int, backend: str, address: str | None, out: str | None
 ) -> dict[str, Any]:
-    """Run an episode suite (``benchmarks.runner.EpisodeSuite``) on the runner's pool; write its reports."""
-    from benchmarks.report import write_reports
-    from benchmarks.runner import run_jobs
+    """Run an episode suite (``gsr.benchmarks.runner.EpisodeSuite``) on the runner's pool; write its reports."""
+    from gsr.benchmarks.report import write_reports
+    from gsr.benchmarks.runner import run_jobs
 
     payloads, config = hosted.prepare(options)
     jobs = [(p, k) for p in payloads for k in range(options.trials)]
@@ -190,7 +190,7 @@ def run_episode_suite(
 
 def summary_text(doc: dict[str, Any]) -> str:
     """A few lines for the terminal: overall and per-category success."""
-    from benchmarks.suites import SUITES
+    from gsr.benchmarks.suites import SUITES
 
     hosted = SUITES[doc["suite"]].episode_suite() if doc["suite"] in SUITES else None
     if hosted is not None:

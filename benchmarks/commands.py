@@ -39,7 +39,7 @@ def register(app: typer.Typer) -> None:
 
             raise typer.Exit(run_demo(task))
         try:
-            from benchmarks.demo import run_demo as run_physical
+            from gsr.benchmarks.demo import run_demo as run_physical
         except ImportError as exc:
             raise fail(
                 f"the physical demo needs the 'sim' and 'vision' extras ({exc}); try --symbolic"
@@ -65,7 +65,7 @@ def register(app: typer.Typer) -> None:
             raise fail("--depth-noise and --mask-erosion must be >= 0")
         if world not in ("skills", "procedural"):
             raise fail(f"--world must be 'skills' or 'procedural', got {world!r}")
-        from benchmarks.perception_eval import evaluate, format_report
+        from gsr.benchmarks.perception_eval import evaluate, format_report
 
         report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras, world=world)
         typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
@@ -78,7 +78,7 @@ def register(app: typer.Typer) -> None:
     @bench_app.command("list")
     def bench_list_cmd() -> None:
         """List the benchmark suites and built-in agents."""
-        from benchmarks.cli import list_text
+        from gsr.benchmarks.cli import list_text
 
         typer.echo(list_text())
 
@@ -133,7 +133,7 @@ def register(app: typer.Typer) -> None:
         ] = False,
     ) -> None:
         """Run an agent on a suite: every step checked, goal scored; exit 0 when all episodes succeed, else 1."""
-        from benchmarks.cli import run, summary_text
+        from gsr.benchmarks.cli import run, summary_text
 
         doc = run(
             suite,
@@ -168,6 +168,6 @@ def register(app: typer.Typer) -> None:
         seed: Annotated[int, typer.Option(help="Seed for generated suites.")] = 0,
     ) -> None:
         """Write a suite's tasks as TaskSpec JSON files (run them later with --tasks)."""
-        from benchmarks.cli import export
+        from gsr.benchmarks.cli import export
 
         typer.echo(f"wrote {export(suite, out, source, seed)} task(s) to {out}")

@@ -17,8 +17,8 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import typer
+from gsr.benchmarks.demo_report import DemoRecord, write_report
 
-from benchmarks.demo_report import DemoRecord, write_report
 from gsr.errors import GSRError
 
 T = TypeVar("T")
@@ -44,8 +44,10 @@ def run_demo(
     mode: str = "goal",
 ) -> int:
     """Run the physical demo; writes ``out`` and returns the exit code (0 only when the goal is verified)."""
-    from benchmarks.perceived_scene import PerceivedScene, contradicted_effects
-    from benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.benchmarks.perceived_scene import PerceivedScene, contradicted_effects
+    from gsr.benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.skills import build_world, default_views, render, run_step, scene_graph_from_sim
+
     from gsr.demo import default_task_path
     from gsr.facts import state_from_graph
     from gsr.graph_svg import scene_graph_svg
@@ -54,7 +56,6 @@ def run_demo(
     from gsr.reason import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
-    from skills import build_world, default_views, render, run_step, scene_graph_from_sim
 
     path = task_path or default_task_path()
     if not path.is_file():

@@ -9,7 +9,8 @@ reason naming the rule. Actions GSR-Bench does not have (turn on, press, push) a
 
 from __future__ import annotations
 
-from benchmarks.runner import SymbolicExecutor
+from gsr.benchmarks.runner import SymbolicExecutor
+
 from gsr.diagnosis import Diagnosis, Reason, ReasonKind
 from gsr.gsr_bench_rules import Command, Verdict, check_command, transition
 from gsr.pddl.model import Domain

@@ -1,11 +1,11 @@
-"""The physical runner's executor: ``skills.SimExecutor`` with perceived graphs, saved frames and a truth verdict.
+"""The physical runner's executor: ``gsr.skills.SimExecutor`` with perceived graphs, saved frames and a truth verdict.
 
-``RunnerSimExecutor`` implements ``benchmarks.runner.Executor``. With ``perceive=False`` it is the
+``RunnerSimExecutor`` implements ``gsr.benchmarks.runner.Executor``. With ``perceive=False`` it is the
 simulator executor of ``skills`` (the agent observes the simulator's ground-truth graph). With
 ``perceive=True`` the agent's initial graph and the graph re-derived after every step come from
-:class:`benchmarks.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,
+:class:`gsr.benchmarks.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,
 object permanence), and the closed loop compares the expected next graph with the perceived one only on
-what the sensors confirm (:func:`benchmarks.perceived_scene.observable_view`). Either way
+what the sensors confirm (:func:`gsr.benchmarks.perceived_scene.observable_view`). Either way
 :meth:`RunnerSimExecutor.truth_state` is the simulator's ground truth, which is what the runner scores:
 physical success means the goal holds in the world, not in the agent's belief.
 """
@@ -14,12 +14,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
+from gsr.benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
+from gsr.skills.executor import PhysicalExecutor
+from gsr.skills.sim_executor import SimExecutor
+
 from gsr.pddl.model import Domain
 from gsr.state import State
 from gsr.task_spec import TaskSpec
-from skills.executor import PhysicalExecutor
-from skills.sim_executor import SimExecutor
 
 
 class PerceivingPhysicalExecutor(PhysicalExecutor):
@@ -69,8 +70,9 @@ class RunnerSimExecutor(SimExecutor):
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world; the observed initial state (perceived when ``perceive``)."""
+        from gsr.skills.world import build_world
+
         from gsr.facts import state_from_graph
-        from skills.world import build_world
 
         if not self.perceive:
             return super().reset(task, domain)
@@ -90,8 +92,9 @@ class RunnerSimExecutor(SimExecutor):
 
     def truth_state(self) -> State:
         """The simulator's ground-truth state now (what physical success is judged on)."""
+        from gsr.skills.sim_graph import scene_graph_from_sim
+
         from gsr.facts import state_from_graph
-        from skills.sim_graph import scene_graph_from_sim
 
         assert self.ex is not None and self.domain is not None, "call reset() first"
         return state_from_graph(scene_graph_from_sim(self.ex.world), self.domain)

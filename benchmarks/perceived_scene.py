@@ -1,17 +1,17 @@
 """A perception-backed scene-graph source for a simulated world: what the robot's sensors say, not the truth.
 
 Shared by the demo (``benchmarks/demo.py``) and the physical runner (``gsr bench run --physical --perceive``,
-:mod:`benchmarks.perceived_executor`). Each :meth:`PerceivedScene.observe` call
+:mod:`gsr.benchmarks.perceived_executor`). Each :meth:`PerceivedScene.observe` call
 
-1. renders RGB-D and instance masks from the world's cameras (``skills.render_frame``, plus a mask for each
+1. renders RGB-D and instance masks from the world's cameras (``gsr.skills.render_frame``, plus a mask for each
    door that is no graph node: :func:`frame_with_doors`; the masks stand in for a detector: ids and
-   labels, no geometry) and runs :func:`perception.perceive` on them (fused views);
+   labels, no geometry) and runs :func:`gsr.perception.perceive` on them (fused views);
 2. adds the robot's *known map*: the table's named regions (LIBERO ``stove_front_region`` ...) are not
    visible things, so their nodes come from the map and an object perceived on the table inside a region's
    rectangle is on that region (the same rule as the simulator's ground truth);
 3. adds *proprioception*: an object both fingers touch is held (grasp state, not vision): it gets the
    ``held`` state and loses any support edge; if the hand hides it, its node comes from the last belief;
-4. merges the result into the previous belief with :func:`perception.update_belief` (objects inside a
+4. merges the result into the previous belief with :func:`gsr.perception.update_belief` (objects inside a
    container that is now closed, or hidden behind something nearer in every camera, such as the arm,
    are remembered, marked ``observed: False``);
 5. keeps the states no sensor sees (power: on/off) from its prior (:func:`with_unsensed_states`).
@@ -31,11 +31,11 @@ from gsr.errors import GSRError
 from gsr.scene_graph import Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
-    from perception import Frame, PerceptionParams
-    from skills.camera import CameraSpec
-    from skills.world import World
+    from gsr.perception import Frame, PerceptionParams
+    from gsr.skills.camera import CameraSpec
+    from gsr.skills.world import World
 
-#: The cameras perceived (skills.camera.default_views names); the first one's RGB is kept for reports.
+#: The cameras perceived (gsr.skills.camera.default_views names); the first one's RGB is kept for reports.
 VIEWS = ("front", "top", "left", "right")
 _SUPPORT = ("on", "in")
 #: Node states the sensors confirm: articulation (cameras) and the grasp (gripper).
@@ -51,7 +51,7 @@ class PerceivedScene:
     def __init__(
         self, world: World, views: Sequence[str] = VIEWS, params: PerceptionParams | None = None
     ) -> None:
-        from skills.camera import default_views
+        from gsr.skills.camera import default_views
 
         specs = default_views(world)
         unknown = [v for v in views if v not in specs]
@@ -74,7 +74,7 @@ class PerceivedScene:
         ``expected`` (the graph the robot's last step should have produced) is the prior for what no
         sensor sees: states in ``UNSENSED_STATES``, and where a remembered object the robot just let go
         of is (:func:`with_remembered_support`); without it the previous belief is."""
-        from perception import perceive, update_belief
+        from gsr.perception import perceive, update_belief
 
         frames = self.frames()
         self.last_rgb = frames[0].rgb
@@ -90,7 +90,7 @@ class PerceivedScene:
 
 
 def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
-    """``skills.render_frame`` plus one mask per door that the scene graph has no part node for.
+    """``gsr.skills.render_frame`` plus one mask per door that the scene graph has no part node for.
 
     A microwave's door is a link of the microwave, not a node, so ``render_frame`` labels its pixels as
     the microwave and perception can only judge the microwave by its top surface (a front door stays
@@ -98,8 +98,8 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
     category ``door``, parent the object), so perception measures the door angle and the object takes
     the door's open/closed state; :func:`without_helper_parts` drops the door node afterwards.
     """
-    from perception.frame import Frame, InstanceLabel
-    from skills.camera import labelled_masks, render
+    from gsr.perception.frame import Frame, InstanceLabel
+    from gsr.skills.camera import labelled_masks, render
 
     img = render(world, spec)
     masks, labels = labelled_masks(world, img)
@@ -135,7 +135,7 @@ def without_helper_parts(graph: SceneGraph, world: World) -> SceneGraph:
 
 def held_objects(world: World) -> set[str]:
     """Objects both fingers touch now (the gripper's grasp state, not vision)."""
-    from skills.sim_graph import support_of
+    from gsr.skills.sim_graph import support_of
 
     # boxes=[]: skip the containment test, only the finger contacts matter here
     return {
@@ -262,7 +262,7 @@ def observed_ids(graph: SceneGraph) -> set[str]:
 
 def observable_view(graph: SceneGraph, confirmed: set[str]) -> SceneGraph:
     """The symbolic part a sensor can confirm: confirmed nodes' open/on/held states and support edges."""
-    from skills.executor import symbolic_view
+    from gsr.skills.executor import symbolic_view
 
     sym = symbolic_view(graph)
     sym = sym.model_copy(

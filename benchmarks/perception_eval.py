@@ -1,11 +1,11 @@
 """Perception evaluation harness: render random PyBullet scenes, perceive them, score against ground truth.
 
 Two worlds: ``skills`` (the project's simulator: random GSR-Bench-style tasks built by
-``skills.build_world``, ground truth from ``skills.scene_graph_from_sim``; scored on ``on``/``in`` and
+``gsr.skills.build_world``, ground truth from ``gsr.skills.scene_graph_from_sim``; scored on ``on``/``in`` and
 part states, which is what that ground truth defines) and ``procedural`` (benchmarks/perception_scenes.py:
 primitive scenes with exact ground truth for every relation perception infers, drawer openings and door
 angles). Used by ``gsr perceive-eval`` and benchmarks/bench_perception.py. Rendering, noise and mask
-erosion are outside the timed region: ``fps`` is frames per second of :func:`perception.perceive` alone.
+erosion are outside the timed region: ``fps`` is frames per second of :func:`gsr.perception.perceive` alone.
 
 Protocol: relations are scored twice, over **all** truth relations (``relations``) and over the
 **perceivable** ones (``perceivable``: both ends shown by at least one camera with VISIBLE_PIXELS pixels);
@@ -21,12 +21,12 @@ import time
 from typing import Any
 
 import numpy as np
+from gsr.perception.corrupt import add_depth_noise, erode_masks
+from gsr.perception.evaluate import SCORED_RELATIONS, Score
+from gsr.perception.frame import Frame
+from gsr.perception.pipeline import PerceptionParams, perceive
 
 from gsr.scene_graph import SceneGraph
-from perception.corrupt import add_depth_noise, erode_masks
-from perception.evaluate import SCORED_RELATIONS, Score
-from perception.frame import Frame
-from perception.pipeline import PerceptionParams, perceive
 
 
 def degrade(frame: Frame, depth_noise: float, mask_erosion: int, rng: np.random.Generator) -> Frame:
@@ -80,14 +80,14 @@ def perceivable_prediction(graph: SceneGraph, truth: SceneGraph, visible: set[st
     return SceneGraph(nodes=nodes, edges=edges, metadata=graph.metadata)
 
 
-#: Views of the skills world used for 1, 2, 3 ... cameras (skills.camera.default_views names).
+#: Views of the skills world used for 1, 2, 3 ... cameras (gsr.skills.camera.default_views names).
 SKILLS_VIEWS = ("top", "left", "right", "front")
 
 
 def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
     """Frames and exact ground truth of one primitive scene (benchmarks/perception_scenes.py)."""
-    from benchmarks.perception_render import camera_specs, render
-    from benchmarks.perception_scenes import random_scene
+    from gsr.benchmarks.perception_render import camera_specs, render
+    from gsr.benchmarks.perception_scenes import random_scene
 
     rng = np.random.default_rng(scene_seed)
     scene = random_scene(scene_seed)
@@ -102,10 +102,10 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
     """Frames and ``scene_graph_from_sim`` truth of a random GSR-Bench-style task in the skills world."""
     import random
 
-    from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
-    from skills.camera import default_views, render_frame
-    from skills.sim_graph import scene_graph_from_sim
-    from skills.world import build_world
+    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from gsr.skills.camera import default_views, render_frame
+    from gsr.skills.sim_graph import scene_graph_from_sim
+    from gsr.skills.world import build_world
 
     pick = random.Random(scene_seed)
     task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]

@@ -1,6 +1,6 @@
 """Cameras for the procedural perception scenes: look-at specs and PyBullet TinyRenderer rendering.
 
-:func:`render` returns a ``perception.Frame`` whose mask ids are PyBullet's segmentation values
+:func:`render` returns a ``gsr.perception.Frame`` whose mask ids are PyBullet's segmentation values
 (``body + (link + 1) << 24``), labelled by the scene (benchmarks/perception_scenes.py).
 """
 
@@ -10,10 +10,9 @@ import json
 from pathlib import Path
 
 import numpy as np
-
-from benchmarks.perception_scenes import Scene
-from perception.frame import Frame
-from skills.camera import CameraSpec, capture_gl
+from gsr.benchmarks.perception_scenes import Scene
+from gsr.perception.frame import Frame
+from gsr.skills.camera import CameraSpec, capture_gl
 
 #: Where the procedural scenes' cameras look: the middle of the table in front of the robot.
 TABLE_TARGET = (0.65, 0.0, 0.0)
@@ -52,9 +51,8 @@ def render(scene: Scene, spec: CameraSpec) -> Frame:
 
 def save_frame(frame: Frame, folder: str | Path) -> dict[str, Path]:
     """Write a frame as the files `gsr perceive` reads: rgb.png, depth.npy, masks.npy, camera.json, labels.json."""
+    from gsr.perception.camera import save_camera
     from PIL import Image
-
-    from perception.camera import save_camera
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
@@ -78,7 +76,7 @@ def main() -> None:
     """Render one procedural scene and write its frame files and ground truth (for trying `gsr perceive`)."""
     import argparse
 
-    from benchmarks.perception_scenes import random_scene
+    from gsr.benchmarks.perception_scenes import random_scene
 
     ap = argparse.ArgumentParser(description=main.__doc__)
     ap.add_argument("--seed", type=int, default=0)

@@ -14,11 +14,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gsr.perception.frame import InstanceLabel
+from gsr.perception.geometry import Instance
+from gsr.perception.relations import RelationThresholds, descriptive_relations
 
 from gsr.scene_graph import Edge, Node, SceneGraph
-from perception.frame import InstanceLabel
-from perception.geometry import Instance
-from perception.relations import RelationThresholds, descriptive_relations
 
 COLORS_RGB: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.1, 0.1),
@@ -63,7 +63,7 @@ class Scene:
         """The exact ground-truth graph: nodes, support edges, part states and openings.
 
         With ``descriptive``, ``adjacent`` and the robot-frame directions come from the same rules
-        perception applies (perception.relations), evaluated on the exact boxes instead of points.
+        perception applies (gsr.perception.relations), evaluated on the exact boxes instead of points.
         """
         nodes = []
         for p in self.placed:

@@ -4,7 +4,7 @@ Run: ``python benchmarks/perception_views.py [--scenes 25] [--seed 0] [--json]
 [--set NAME=view,view,...]...``. Every scene (the random GSR-Bench-style tasks of
 ``gsr perceive-eval --world skills``, same seeds) is rendered once from every view named in any set
 (640x480); each set is perceived (fused) and scored against ``scene_graph_from_sim``, over all truth and
-over the perceivable relations (both ends shown by one of that set's cameras). Views: the ``skills.camera.default_views`` (``front``, ``top``,
+over the perceivable relations (both ends shown by one of that set's cameras). Views: the ``gsr.skills.camera.default_views`` (``front``, ``top``,
 ``left``, ``right``) and three placed across the table from the robot (``back``, ``back_left``,
 ``back_right``), where the arm does not stand between camera and table. The last line of the report
 counts the truth support edges no camera of the largest set sees, by what hides them.
@@ -35,7 +35,7 @@ DEFAULT_SETS = {
 
 def views(world: Any) -> dict[str, Any]:
     """The default views plus three from the far side of the table (facing the robot)."""
-    from skills.camera import CameraSpec, default_views
+    from gsr.skills.camera import CameraSpec, default_views
 
     out = dict(default_views(world))
     lo, hi = world.body_aabb(world.table_body)
@@ -59,18 +59,18 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     """Scores per view set over the same ``scenes`` skills-world scenes (deterministic per seed)."""
     import random
 
-    from benchmarks.perception_eval import (
+    from gsr.benchmarks.perception_eval import (
         perceivable_prediction,
         perceivable_truth,
         visible_nodes,
         with_graph_attributes,
     )
-    from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
-    from perception import perceive
-    from perception.evaluate import Score
-    from skills.camera import render_frame
-    from skills.sim_graph import scene_graph_from_sim
-    from skills.world import build_world
+    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from gsr.perception import perceive
+    from gsr.perception.evaluate import Score
+    from gsr.skills.camera import render_frame
+    from gsr.skills.sim_graph import scene_graph_from_sim
+    from gsr.skills.world import build_world
 
     needed = sorted({v for names in sets.values() for v in names})
     largest = max(sets, key=lambda k: len(sets[k]))

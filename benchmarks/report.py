@@ -13,8 +13,9 @@ import json
 from pathlib import Path
 from typing import Any
 
-from benchmarks.metrics import by_cell, grouped, summarize
-from benchmarks.runner import OUTCOMES, EpisodeResult
+from gsr.benchmarks.metrics import by_cell, grouped, summarize
+from gsr.benchmarks.runner import OUTCOMES, EpisodeResult
+
 from gsr.io import write_text_atomic
 
 _COLS = ("episodes", "success_rate", "score", "executability", "goal_recall", "mean_steps", "mean_time")

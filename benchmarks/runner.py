@@ -16,8 +16,9 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from typing import Any, Protocol
 
-from benchmarks.agents import AgentFailure, make_agent
-from benchmarks.scoring import score_task
+from gsr.benchmarks.agents import AgentFailure, make_agent
+from gsr.benchmarks.scoring import score_task
+
 from gsr.diagnosis import Diagnosis
 from gsr.errors import GSRError
 from gsr.facts import graph_with_state, state_from_graph
@@ -171,7 +172,7 @@ def run_episode(
 ) -> EpisodeResult:
     """Run one episode: ask the agent for steps until done, a rejected step, or the step limit."""
     if executor is None:
-        from benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
+        from gsr.benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
 
         executor = GSRBenchExecutor() if task.suite in GSR_BENCH_SUITES else SymbolicExecutor()
     eseed = episode_seed(seed, task.id, trial)
@@ -268,7 +269,7 @@ class RunConfig:
     max_steps: int = 200
     retries: int = 0
     reference: str | None = None  # a planner name: also record its plan length ("plan length vs optimal")
-    physical: bool = False  # execute steps in the PyBullet world (skills.SimExecutor), closed loop
+    physical: bool = False  # execute steps in the PyBullet world (gsr.skills.SimExecutor), closed loop
     perceive: bool = False  # physical: the agent observes perceived graphs (cameras), not ground truth
     frames_dir: str | None = None  # physical: save a few RGB frames per episode here (PNG)
     frames: int = 3  # how many: first, evenly spaced, last
@@ -283,7 +284,7 @@ def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> di
     domain = load_builtin_domain("tabletop")
     executor = None
     if config.physical:  # the simulator executor implements the Executor seam (skills, 'sim' extra)
-        from benchmarks.perceived_executor import RunnerSimExecutor
+        from gsr.benchmarks.perceived_executor import RunnerSimExecutor
 
         frames = config.frames if config.frames_dir else 0
         executor = RunnerSimExecutor(episode_seed(config.seed, task.id, trial), config.perceive, frames)
@@ -332,7 +333,8 @@ def reference_length(
     task: TaskSpec, domain: Domain, planner: str = "lazy-ff", timeout: float = 120.0
 ) -> int | None:
     """Length of the reference plan (optimal with an A* planner, best-found with lazy-ff); None if none."""
-    from benchmarks.scoring import any_goal
+    from gsr.benchmarks.scoring import any_goal
+
     from gsr.plan.api import plan_graph
 
     result = plan_graph(domain, task.initial, any_goal(task), planner=planner, timeout=timeout)

@@ -105,7 +105,8 @@ def export_heldout(data: Path, out: Path, count: int) -> dict[str, int]:
 
 def gsr_bench_dev(out: Path, per_category: int) -> int:
     """Export the ``per_category`` lowest-numbered GSR-Bench dev tasks of each category; 0 without the data."""
-    from benchmarks.cli import load_suite_tasks
+    from gsr.benchmarks.cli import load_suite_tasks
+
     from gsr.errors import GSRError
     from gsr.io import write_text_atomic
     from gsr.task_spec import task_json
@@ -248,7 +249,8 @@ def run_recipe(
     """Data, training, task export and the ablation; prints the table and the summary line.
 
     ``train_budget`` (CPU seconds) replaces the recipe's training time, split 2:1 between the rounds."""
-    from benchmarks.bench_training import DEFAULT_CONDITIONS, markdown, run_condition
+    from gsr.benchmarks.bench_training import DEFAULT_CONDITIONS, markdown, run_condition
+
     from gsr.datagen.runner import RunConfig, generate_dataset
     from gsr.io import write_text_atomic
 

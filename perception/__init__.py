@@ -3,9 +3,9 @@
 open3d is imported inside the functions that need it, so importing this package stays light.
 """
 
-from perception.articulation import ArticulationThresholds
-from perception.belief import update_belief
-from perception.camera import (
+from gsr.perception.articulation import ArticulationThresholds
+from gsr.perception.belief import update_belief
+from gsr.perception.camera import (
     Camera,
     camera_from_dict,
     camera_from_gl,
@@ -15,12 +15,12 @@ from perception.camera import (
     save_camera,
     split_gl_segmentation,
 )
-from perception.corrupt import add_depth_noise, erode_masks
-from perception.evaluate import Score, score
-from perception.frame import Detector, Frame, InstanceLabel, frame_from_detector, load_frame, load_labels
-from perception.geometry import GeometryParams, back_project
-from perception.pipeline import PerceptionParams, perceive, perceive_files
-from perception.relations import RelationThresholds
+from gsr.perception.corrupt import add_depth_noise, erode_masks
+from gsr.perception.evaluate import Score, score
+from gsr.perception.frame import Detector, Frame, InstanceLabel, frame_from_detector, load_frame, load_labels
+from gsr.perception.geometry import GeometryParams, back_project
+from gsr.perception.pipeline import PerceptionParams, perceive, perceive_files
+from gsr.perception.relations import RelationThresholds
 
 __all__ = [
     "ArticulationThresholds",

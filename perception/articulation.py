@@ -12,10 +12,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from gsr.perception.geometry import Instance
 
 from gsr.facts import node_affordances
 from gsr.scene_graph import Node
-from perception.geometry import Instance
 
 
 def label_affordances(inst: Instance) -> frozenset[str]:

@@ -21,7 +21,7 @@ import numpy as np
 from gsr.scene_graph import SUPPORT_RELATIONS, Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
-    from perception.frame import Frame
+    from gsr.perception.frame import Frame
 
 #: Something this much nearer (m) than a remembered object's top, where the object would be in the
 #: image, hides it; the margin keeps the object's own supporter (a plate under a cup) from counting.

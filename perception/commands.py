@@ -27,7 +27,7 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Perceive one RGB-D frame with instance masks into a scene graph JSON."""
-        from perception.pipeline import perceive_files
+        from gsr.perception.pipeline import perceive_files
 
         graph = perceive_files(rgb, depth, masks, camera, labels, out)
         if out is None:

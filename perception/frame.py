@@ -13,10 +13,10 @@ from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+from gsr.perception.camera import Camera
 
 from gsr.errors import GSRError
 from gsr.scene_graph import NODE_NAME
-from perception.camera import Camera
 
 _LABEL_FIELDS = frozenset(
     {"id", "category", "color", "parent", "attributes", "keypoint_of", "name", "ignore"}
@@ -226,7 +226,7 @@ def load_frame(
     labels: str | Path | None = None,
 ) -> Frame:
     """Load and cross-check the files of one frame (shapes must match the camera)."""
-    from perception.camera import load_camera
+    from gsr.perception.camera import load_camera
 
     cam = load_camera(camera)
     rgb_a, depth_a, masks_a = load_rgb(rgb), load_depth(depth), load_masks(masks)

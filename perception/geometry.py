@@ -11,10 +11,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gsr.perception.camera import Camera
+from gsr.perception.frame import Frame, InstanceLabel
 
 from gsr.categories import COLORS
-from perception.camera import Camera
-from perception.frame import Frame, InstanceLabel
 
 
 @dataclass(frozen=True)

@@ -7,14 +7,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-
-from gsr.categories import category_of
-from gsr.errors import GSRError
-from gsr.io import write_text_atomic
-from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
-from perception.articulation import ArticulationThresholds, keypoints, part_states
-from perception.frame import Frame, InstanceLabel, load_frame
-from perception.geometry import (
+from gsr.perception.articulation import ArticulationThresholds, keypoints, part_states
+from gsr.perception.frame import Frame, InstanceLabel, load_frame
+from gsr.perception.geometry import (
     GeometryParams,
     Instance,
     back_project,
@@ -24,7 +19,12 @@ from perception.geometry import (
     number_anonymous,
     support_plane,
 )
-from perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
+from gsr.perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
+
+from gsr.categories import category_of
+from gsr.errors import GSRError
+from gsr.io import write_text_atomic
+from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
 
 
 @dataclass(frozen=True)

@@ -9,10 +9,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from gsr.perception.articulation import label_affordances
+from gsr.perception.geometry import Instance, plane_height
 
 from gsr.categories import affordances, is_part_category
-from perception.articulation import label_affordances
-from perception.geometry import Instance, plane_height
 
 #: Categories that are the ground every other object ultimately rests on.
 GROUND_CATEGORIES = frozenset({"table", "floor"})
@@ -166,7 +166,7 @@ def _on_flat_lid(a: Instance, b: Instance, th: RelationThresholds) -> bool:
     """A rests on a lidded B's flat top: A's bottom is in B's upper half and nearly all of B's points
     around A's footprint lie at A's bottom.
 
-    A second look at the lid where the whole-object cavity test (perception.articulation) calls a closed
+    A second look at the lid where the whole-object cavity test (gsr.perception.articulation) calls a closed
     lid open (walls and the lid's tab seen by side cameras, depth noise): around an object *in* an open
     box B shows its floor and inner walls well below the object's visible bottom."""
     if "openable" not in label_affordances(b):

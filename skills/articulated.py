@@ -11,14 +11,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from skills.asset_model import Articulation
-from skills.grasping import APPROACH, lift, transit_height
-from skills.motion import Motion
-from skills.result import Failure, SkillError
-from skills.robot import angled, approach_axis, top_down
-from skills.sim_graph import support_of
-from skills.world import SimObject, World
+from gsr.skills.asset_model import Articulation
+from gsr.skills.grasping import APPROACH, lift, transit_height
+from gsr.skills.motion import Motion
+from gsr.skills.result import Failure, SkillError
+from gsr.skills.robot import angled, approach_axis, top_down
+from gsr.skills.sim_graph import support_of
+from gsr.skills.world import SimObject, World
 
 
 def _axis_world(world: World, obj: SimObject, art: Articulation) -> np.ndarray:

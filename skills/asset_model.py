@@ -1,6 +1,6 @@
 """What an asset is besides its URDF: grasp sites, handles, articulations, interiors and surfaces.
 
-Every procedural asset (``skills.assets``) has its base frame at the bottom centre, its front facing
+Every procedural asset (``gsr.skills.assets``) has its base frame at the bottom centre, its front facing
 local -x (towards a robot that looks along +x) and is described in that frame. Parts are named
 generically (``drawer_0`` is the bottom drawer, ``top_side``, ``lid``, ``knob``, ``door``, ``button``,
 ``switch``, ``burner``, ``compartment_0``); the world maps scene-graph part nodes onto them.
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from skills.urdf import Link, Vec
+from gsr.skills.urdf import Link, Vec
 
 
 @dataclass(frozen=True, slots=True)

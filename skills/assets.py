@@ -16,9 +16,8 @@ import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
-from gsr.categories import category_of, get_category
-from skills.asset_model import Articulation, AssetModel, GraspSite, Interior
-from skills.fixtures import (
+from gsr.skills.asset_model import Articulation, AssetModel, GraspSite, Interior
+from gsr.skills.fixtures import (
     make_button,
     make_cabinet,
     make_lamp,
@@ -28,8 +27,10 @@ from skills.fixtures import (
     make_stove,
     make_table,
 )
-from skills.shapes import T, color_rgba, open_box, ring, scale
-from skills.urdf import RGBA, Joint, Link, Vec, box, cylinder, urdf_text
+from gsr.skills.shapes import T, color_rgba, open_box, ring, scale
+from gsr.skills.urdf import RGBA, Joint, Link, Vec, box, cylinder, urdf_text
+
+from gsr.categories import category_of, get_category
 
 
 def _solid(name: str, size: Vec, rgba: RGBA, mass: float, round_: bool = False) -> AssetModel:

@@ -8,15 +8,15 @@ or into its interior; part nodes of the graph map to asset parts (:func:`resolve
 from __future__ import annotations
 
 import numpy as np
+from gsr.skills.asset_model import AssetModel
+from gsr.skills.assets import asset_urdf_path, make_asset
+from gsr.skills.robot import Robot
+from gsr.skills.world import JOINT_FRICTION, SETTLE_STEPS, SimObject, World
 
 from gsr.categories import is_a
 from gsr.errors import GSRError
 from gsr.scene_graph import SceneGraph
 from gsr.task_spec import Layout, PlacedObject, TaskSpec
-from skills.asset_model import AssetModel
-from skills.assets import asset_urdf_path, make_asset
-from skills.robot import Robot
-from skills.world import JOINT_FRICTION, SETTLE_STEPS, SimObject, World
 
 
 def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
@@ -97,14 +97,13 @@ def build_world(
 ) -> World:
     """Build the simulated world for a task (or a bare layout plus its graph), deterministic per seed.
 
-    A task without a layout gets one from :func:`skills.layout.layout_from_graph`. ``debug_weld``
+    A task without a layout gets one from :func:`gsr.skills.layout.layout_from_graph`. ``debug_weld``
     welds a grasped object to the hand with a fixed constraint (debugging only: it hides grasp slips; off
     by default and never used by benchmarks or the executor).
     """
     import pybullet as p
-
-    from skills.layout import layout_from_graph
-    from skills.sim_graph import graph_from_layout
+    from gsr.skills.layout import layout_from_graph
+    from gsr.skills.sim_graph import graph_from_layout
 
     if isinstance(task_or_layout, TaskSpec):
         graph = task_or_layout.initial

@@ -1,6 +1,6 @@
 """Cameras in the simulated world: RGB, metric depth and instance masks with intrinsics and extrinsics.
 
-:func:`render_frame` returns a ``perception.Frame`` whose mask ids are one per scene-graph node (objects
+:func:`render_frame` returns a ``gsr.perception.Frame`` whose mask ids are one per scene-graph node (objects
 and articulated parts, from PyBullet's object-and-link segmentation), with labels naming the node, its
 category, colour and parent: ground truth for the perception pipeline. Rendering uses the CPU tiny
 renderer (headless); camera poses use the world frame (+x forward from the robot, +y left, +z up).
@@ -15,9 +15,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from perception import Camera, Frame
-    from perception.frame import InstanceLabel
-    from skills.world import World
+    from gsr.perception import Camera, Frame
+    from gsr.perception.frame import InstanceLabel
+    from gsr.skills.world import World
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,8 +72,7 @@ def capture_gl(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, Camera]:
     """One TinyRenderer capture: RGB (uint8), metric depth, the raw segmentation buffer and the camera."""
     import pybullet as p
-
-    from perception.camera import camera_from_gl, depth_from_gl_buffer
+    from gsr.perception.camera import camera_from_gl, depth_from_gl_buffer
 
     view = p.computeViewMatrix(eye, target, up, physicsClientId=client)
     proj = p.computeProjectionMatrixFOV(fov, width / height, near, far, physicsClientId=client)
@@ -93,7 +92,7 @@ def capture_gl(
 
 def render(world: World, spec: CameraSpec) -> RGBD:
     """Render RGB, depth and segmentation of the world from one camera."""
-    from perception.camera import split_gl_segmentation
+    from gsr.perception.camera import split_gl_segmentation
 
     rgb, depth, seg, camera = capture_gl(
         world.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
@@ -134,7 +133,7 @@ def _pixel_node(world: World, body: int, link: int) -> str | None:
 
 def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
     """One mask id per visible scene-graph node of a rendering, and each id's ``InstanceLabel``."""
-    from perception.frame import InstanceLabel
+    from gsr.perception.frame import InstanceLabel
 
     masks, names = node_of_pixels(world, img.body, img.link)
     labels = {}
@@ -145,8 +144,8 @@ def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, Insta
 
 
 def render_frame(world: World, spec: CameraSpec) -> Frame:
-    """A ``perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
-    from perception.frame import Frame
+    """A ``gsr.perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
+    from gsr.perception.frame import Frame
 
     img = render(world, spec)
     masks, labels = labelled_masks(world, img)

@@ -2,7 +2,7 @@
 
 Before a step runs, the symbolic transition of the *observed* graph gives the expected next graph
 (``gsr.transition.apply_step``); if the checker rejects the step there, execution stops before moving.
-After the skill, :func:`skills.sim_graph.scene_graph_from_sim` gives the observed graph; its symbolic
+After the skill, :func:`gsr.skills.sim_graph.scene_graph_from_sim` gives the observed graph; its symbolic
 part (support edges, open/on/held states) is diffed against the expectation (``gsr.graph_diff``). Any
 difference, or a skill failure, stops execution with a diagnosis, so a reasoner can replan from the
 observed graph (``ExecutionResult.final_graph``).
@@ -16,15 +16,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from gsr.skills.library import DEFAULT_BUDGET, run_step
+from gsr.skills.result import SkillResult
+from gsr.skills.sim_graph import scene_graph_from_sim
+from gsr.skills.world import World
 
 from gsr.graph_diff import GraphDiff, diff_graphs
 from gsr.pddl.model import Domain
 from gsr.scene_graph import SceneGraph
 from gsr.step import Plan, Step
-from skills.library import DEFAULT_BUDGET, run_step
-from skills.result import SkillResult
-from skills.sim_graph import scene_graph_from_sim
-from skills.world import World
 
 #: Node states that belong to the symbolic state (the rest is description).
 SYMBOLIC_STATES = frozenset({"open", "on", "held"})
@@ -121,7 +121,7 @@ class PhysicalExecutor:
             self._frame()
 
     def _frame(self) -> None:
-        from skills.camera import default_views, render
+        from gsr.skills.camera import default_views, render
 
         assert self.frame_camera is not None
         self.frames.append(render(self.world, default_views(self.world)[self.frame_camera]).rgb)

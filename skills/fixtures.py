@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import math
 
-from skills.asset_model import Articulation, AssetModel, GraspSite, Interior
-from skills.shapes import METAL, WOOD, T, open_box, scale
-from skills.urdf import RGBA, Joint, Link, Vec, box, cylinder
+from gsr.skills.asset_model import Articulation, AssetModel, GraspSite, Interior
+from gsr.skills.shapes import METAL, WOOD, T, open_box, scale
+from gsr.skills.urdf import RGBA, Joint, Link, Vec, box, cylinder
 
 
 def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:

@@ -12,13 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from skills.asset_model import GraspSite
-from skills.motion import Motion
-from skills.result import Failure, SkillError
-from skills.robot import GRIPPER, angled, top_down
-from skills.sim_graph import interior_boxes, support_of
-from skills.world import SimObject, World
+from gsr.skills.asset_model import GraspSite
+from gsr.skills.motion import Motion
+from gsr.skills.result import Failure, SkillError
+from gsr.skills.robot import GRIPPER, angled, top_down
+from gsr.skills.sim_graph import interior_boxes, support_of
+from gsr.skills.world import SimObject, World
 
 TRANSIT_CLEARANCE = 0.08  # m above the tallest thing under the path
 MAX_DROP = 0.06  # m: the most a placed object may be let go above its release point
@@ -425,8 +424,7 @@ def _recentre(
 def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
     """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome."""
     import pybullet as p
-
-    from skills.packing import packed_spot
+    from gsr.skills.packing import packed_spot
 
     ee, quat = m.pose()
     lo, hi = world.body_aabb(obj.body)

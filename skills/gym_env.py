@@ -83,12 +83,12 @@ def _env_class() -> type:
         def _spec(self):
             from dataclasses import replace
 
-            from skills.camera import default_views
+            from gsr.skills.camera import default_views
 
             return replace(default_views(self.world)[self.camera], width=self.width, height=self.height)
 
         def _obs(self) -> dict[str, Any]:
-            from skills.camera import render
+            from gsr.skills.camera import render
 
             img = render(self.world, self._spec())
             return {"rgb": img.rgb, "depth": img.depth, "graph": self.executor.graph.to_json(indent=None)}
@@ -103,8 +103,8 @@ def _env_class() -> type:
         def reset(self, *, seed: int | None = None, options: dict | None = None):
             """Build the task's world (deterministic per seed) and observe it."""
             super().reset(seed=seed)
-            from skills.executor import PhysicalExecutor
-            from skills.world import build_world
+            from gsr.skills.executor import PhysicalExecutor
+            from gsr.skills.world import build_world
 
             if self.world is not None:
                 self.world.close()
@@ -133,7 +133,7 @@ def _env_class() -> type:
 
         def render(self) -> np.ndarray:
             """The current RGB image from the env's camera."""
-            from skills.camera import render
+            from gsr.skills.camera import render
 
             return render(self.world, self._spec()).rgb
 

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import random
 
+from gsr.skills.assets import asset_category, make_asset
+
 from gsr.categories import is_a
 from gsr.scene_graph import SceneGraph
 from gsr.task_spec import Layout, PlacedObject, Region
-from skills.assets import asset_category, make_asset
 
 #: Fixture slots (x, y, yaw) on a 0.9 x 1.2 table: back row, then the back corners.
 FIXTURE_SLOTS: tuple[tuple[float, float], ...] = (

@@ -3,7 +3,7 @@
 ``run_step(world, step)`` dispatches on ``step.action`` (pick, place_on, place_in, stack, open, close,
 turn_on, turn_off, press, push), runs the skill inside a simulation-step budget (no skill can hang),
 and checks the step's own effect in the simulator before reporting success. Failures are typed
-(:class:`skills.result.Failure`).
+(:class:`gsr.skills.result.Failure`).
 """
 
 from __future__ import annotations
@@ -11,12 +11,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from gsr.skills.grasping import pick, place
+from gsr.skills.motion import Motion
+from gsr.skills.result import Failure, SkillError, SkillResult
+from gsr.skills.sim_graph import support_of
+from gsr.skills.world import World
+
 from gsr.step import Step
-from skills.grasping import pick, place
-from skills.motion import Motion
-from skills.result import Failure, SkillError, SkillResult
-from skills.sim_graph import support_of
-from skills.world import World
 
 DEFAULT_BUDGET = 15000  # simulation steps (62 s of simulated time) per skill
 
@@ -67,7 +68,7 @@ def _place(relation: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
 
 def _articulated(kind: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
     def run(world: World, m: Motion, args: tuple[str, ...]) -> dict:
-        from skills.articulated import operate
+        from gsr.skills.articulated import operate
 
         return operate(world, m, args[0], kind)
 
@@ -75,7 +76,7 @@ def _articulated(kind: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
 
 
 def _push(world: World, m: Motion, args: tuple[str, ...]) -> dict:
-    from skills.articulated import push
+    from gsr.skills.articulated import push
 
     return push(world, m, args[0], args[2]) or {}
 

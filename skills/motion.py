@@ -13,10 +13,9 @@ import math
 from collections.abc import Iterable, Sequence
 
 import numpy as np
-
-from skills.result import Failure, SkillError
-from skills.robot import ARM_FRONT, ARM_HOME, GRIPPER
-from skills.world import World
+from gsr.skills.result import Failure, SkillError
+from gsr.skills.robot import ARM_FRONT, ARM_HOME, GRIPPER
+from gsr.skills.world import World
 
 Pose = tuple[np.ndarray, tuple[float, float, float, float]]
 RESOLUTION = 0.01  # m between interpolated waypoints

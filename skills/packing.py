@@ -13,10 +13,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-from skills.asset_model import Interior
-from skills.sim_graph import support_of
-from skills.world import SimObject, World
+from gsr.skills.asset_model import Interior
+from gsr.skills.sim_graph import support_of
+from gsr.skills.world import SimObject, World
 
 GAP_CLOSING, GAP_ACROSS = 0.018, 0.005
 #: Half the Panda hand's footprint from the grasp point (m): along the closing axis, across it

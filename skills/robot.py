@@ -16,8 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-
-from skills.assets import cache_dir
+from gsr.skills.assets import cache_dir
 
 ARM_HOME = (0.0, -0.4, 0.0, -2.2, 0.0, 1.8, math.pi / 4)
 #: An IK seed for tilted (front) approaches.

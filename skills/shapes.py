@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from skills.urdf import RGBA, Shape, Vec, box
+from gsr.skills.urdf import RGBA, Shape, Vec, box
 
 #: Palette colour -> RGBA (the gsr.categories colour words).
 PALETTE: dict[str, RGBA] = {

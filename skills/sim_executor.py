@@ -1,7 +1,7 @@
 """The benchmark runner's executor seam, physically: ``reset`` builds the world, ``execute`` runs a step.
 
-``SimExecutor`` implements ``benchmarks.runner.Executor`` (``reset(task, domain) -> State``,
-``execute(step) -> Diagnosis``, ``graph() -> SceneGraph``) over :class:`skills.executor.PhysicalExecutor`:
+``SimExecutor`` implements ``gsr.benchmarks.runner.Executor`` (``reset(task, domain) -> State``,
+``execute(step) -> Diagnosis``, ``graph() -> SceneGraph``) over :class:`gsr.skills.executor.PhysicalExecutor`:
 a step is first checked on the *observed* state (an invalid step moves nothing), then executed by its
 meta-skill; a skill failure or a divergence between the expected and the observed graph comes back as
 a non-ok ``Diagnosis`` whose message says what happened, and ``graph()`` is always what the simulator
@@ -22,7 +22,7 @@ from gsr.step import Step
 from gsr.task_spec import TaskSpec
 
 if TYPE_CHECKING:
-    from skills.executor import PhysicalExecutor, StepOutcome
+    from gsr.skills.executor import PhysicalExecutor, StepOutcome
 
 
 class SimExecutor:
@@ -38,9 +38,10 @@ class SimExecutor:
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world (deterministic per ``seed``); the observed initial state."""
+        from gsr.skills.executor import PhysicalExecutor
+        from gsr.skills.world import build_world
+
         from gsr.facts import state_from_graph
-        from skills.executor import PhysicalExecutor
-        from skills.world import build_world
 
         self.close()
         self.domain = domain

@@ -13,15 +13,15 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from gsr.skills.assets import make_asset
 
 from gsr.categories import category_of, is_a
 from gsr.facts import node_affordances
 from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, Pose, SceneGraph, Vec3
 from gsr.task_spec import Layout
-from skills.assets import make_asset
 
 if TYPE_CHECKING:
-    from skills.world import World
+    from gsr.skills.world import World
 
 IN_RATIO = 0.5
 #: An object whose bottom is no more than this below a container's rim rests *on* the rim, not in it.

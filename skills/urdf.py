@@ -1,6 +1,6 @@
 """A small URDF writer: links made of boxes and cylinders, joined by fixed, prismatic or revolute joints.
 
-Procedural assets (``skills.assets``) describe each object as :class:`Link` objects; :func:`urdf_text`
+Procedural assets (``gsr.skills.assets``) describe each object as :class:`Link` objects; :func:`urdf_text`
 turns them into URDF text that PyBullet loads. Everything is primitives, so collision shapes are exact
 and loading is fast.
 """

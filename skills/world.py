@@ -12,12 +12,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from gsr.skills.asset_model import Articulation, AssetModel
+from gsr.skills.robot import Robot
 
 from gsr.errors import GSRError
 from gsr.scene_graph import SceneGraph
 from gsr.task_spec import Layout, PlacedObject, Region
-from skills.asset_model import Articulation, AssetModel
-from skills.robot import Robot
 
 SETTLE_STEPS = 120
 #: Joint friction that keeps articulated parts where they are left (N or N m).
@@ -222,13 +222,13 @@ _BUILD_NAMES = ("build_world", "resolve_part", "separate_footprints")
 
 
 def __getattr__(name: str) -> Any:
-    """Building lives in skills.build (which imports this module); re-exported lazily, so either module
+    """Building lives in gsr.skills.build (which imports this module); re-exported lazily, so either module
     can be imported first without a circular import."""
     if name in _BUILD_NAMES:
-        from skills import build
+        from gsr.skills import build
 
         return getattr(build, name)
-    raise AttributeError(f"module 'skills.world' has no attribute {name!r}")
+    raise AttributeError(f"module 'gsr.skills.world' has no attribute {name!r}")
 
 
 __all__ = [

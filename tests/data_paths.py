@@ -31,6 +31,6 @@ def has_shared(*parts: str) -> bool:
 
 def generated_gsr_bench_configs(per_cell: int = 4, seed: int = 0) -> list[dict]:
     """GSR-Bench-format configs from the project's own generator (all nine cells, ``per_cell`` each)."""
-    from benchmarks.suites.gsr_bench_gen import generate_configs
+    from gsr.benchmarks.suites.gsr_bench_gen import generate_configs
 
     return generate_configs(seed=seed, per_cell=per_cell)

@@ -13,10 +13,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from benchmarks.delivery.belief import Belief
-from benchmarks.delivery.parser import InstructionParser
-from benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
-from benchmarks.delivery.world import DeliveryWorld, Observation
+from gsr.benchmarks.delivery.belief import Belief
+from gsr.benchmarks.delivery.parser import InstructionParser
+from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
+from gsr.benchmarks.delivery.world import DeliveryWorld, Observation
+
 from gsr.building.catalog import OBJECTS
 from gsr.building.graph import building_graph
 from gsr.building.model import Building, Person, Place

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from benchmarks.delivery.reference import ObjectRef
-from benchmarks.delivery.world import Observation
+from gsr.benchmarks.delivery.reference import ObjectRef
+from gsr.benchmarks.delivery.world import Observation
+
 from gsr.building.graph import place_of_point, point_of_place
 from gsr.building.model import Place
 from gsr.scene_graph import Edge, Node, Pose, SceneGraph

@@ -1,6 +1,6 @@
 """Speed of the delivery stack: A* queries, people lookups, whole episodes (simulated vs real time).
 
-Run: ``.venv/bin/python -m benchmarks.delivery.bench [--episodes 200]``. Prints a Markdown table.
+Run: ``.venv/bin/python -m gsr.benchmarks.delivery.bench [--episodes 200]``. Prints a Markdown table.
 Times are CPU seconds of this process (``time.process_time``), so a busy machine does not skew them.
 """
 
@@ -10,8 +10,8 @@ import argparse
 import time
 
 import numpy as np
+from gsr.benchmarks.delivery.run import run_split
 
-from benchmarks.delivery.run import run_split
 from gsr.building.navigation import BuildingMap, astar
 from gsr.building.people import PeopleClock
 from gsr.building.shipped import load_shipped_building

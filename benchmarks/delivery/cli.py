@@ -21,7 +21,7 @@ def _err(message: str) -> int:
 
 def _building(path: Path | None) -> Building:
     """The shipped building, or a user's file checked against the building invariants."""
-    from benchmarks.delivery.run import checked_building
+    from gsr.benchmarks.delivery.run import checked_building
 
     return checked_building(path)
 
@@ -62,7 +62,7 @@ def describe(building: Building) -> str:
 
 def tasks_command(split: str, building_path: Path | None, limit: int | None, out: Path | None) -> int:
     """Generate a split's tasks; print them (id, instruction) or write JSON Lines."""
-    from benchmarks.delivery.tasks import generate_tasks, save_tasks
+    from gsr.benchmarks.delivery.tasks import generate_tasks, save_tasks
 
     try:
         building = _building(building_path)
@@ -92,9 +92,9 @@ def run_command(
     by_kind: bool = False,
 ) -> int:
     """Run the baseline on a split (or a tasks file) and print the PRS-style table or JSON summary."""
-    from benchmarks.delivery.metrics import breakdown, breakdown_table, summary_table
-    from benchmarks.delivery.run import run_split, run_tasks
-    from benchmarks.delivery.tasks import load_tasks
+    from gsr.benchmarks.delivery.metrics import breakdown, breakdown_table, summary_table
+    from gsr.benchmarks.delivery.run import run_split, run_tasks
+    from gsr.benchmarks.delivery.tasks import load_tasks
 
     try:
         building = _building(building_path)
@@ -200,10 +200,11 @@ def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> i
 
 def episode_command(task_id: str, building_path: Path | None, agent: str) -> int:
     """Run one task (``test-0004``) and print what the agent understood and did, second by second."""
-    from benchmarks.delivery.metrics import score_episode
-    from benchmarks.delivery.run import AGENTS, parser_for
-    from benchmarks.delivery.tasks import SPLITS, make_task
-    from benchmarks.delivery.world import DeliveryWorld
+    from gsr.benchmarks.delivery.metrics import score_episode
+    from gsr.benchmarks.delivery.run import AGENTS, parser_for
+    from gsr.benchmarks.delivery.tasks import SPLITS, make_task
+    from gsr.benchmarks.delivery.world import DeliveryWorld
+
     from gsr.building.navigation import BuildingMap
 
     split, _, number = task_id.partition("-")
@@ -213,7 +214,7 @@ def episode_command(task_id: str, building_path: Path | None, agent: str) -> int
         )
     if agent not in AGENTS:
         return _err(f"unknown agent {agent!r} (known: {', '.join(AGENTS)})")
-    from benchmarks.delivery.agent import BaselineAgent
+    from gsr.benchmarks.delivery.agent import BaselineAgent
 
     try:
         building = _building(building_path)

@@ -25,7 +25,7 @@ def register(app: typer.Typer) -> None:
         name: Annotated[str | None, typer.Option(help="Building name (default building-SEED).")] = None,
     ) -> None:
         """Generate a building from a seed, check its invariants and write it."""
-        from benchmarks.delivery.cli import generate_building_command
+        from gsr.benchmarks.delivery.cli import generate_building_command
 
         raise typer.Exit(generate_building_command(seed, out, floors, people, name))
 
@@ -39,7 +39,7 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path | None, typer.Option(help="Write JSON Lines here instead of printing.")] = None,
     ) -> None:
         """Generate the delivery tasks of a split (deterministic)."""
-        from benchmarks.delivery.cli import tasks_command
+        from gsr.benchmarks.delivery.cli import tasks_command
 
         raise typer.Exit(tasks_command(split, building, limit, out))
 
@@ -63,7 +63,7 @@ def register(app: typer.Typer) -> None:
         ] = False,
     ) -> None:
         """Run the baseline delivery agent and print Task SR, parsing, manipulation and human-search SR."""
-        from benchmarks.delivery.cli import run_command
+        from gsr.benchmarks.delivery.cli import run_command
 
         raise typer.Exit(run_command(split, building, tasks, limit, as_json, out, agent, by_kind))
 
@@ -89,7 +89,7 @@ def register(app: typer.Typer) -> None:
         ] = 0,
     ) -> None:
         """Run the PRS delivery benchmark in the offline PRS environment, scored by PRS's rules."""
-        from benchmarks.delivery.prs_cli import prs_command
+        from gsr.benchmarks.delivery.prs_cli import prs_command
 
         raise typer.Exit(prs_command(data, tasks, out, workers, captions, crossfit))
 
@@ -102,7 +102,7 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Show a person's published routine and their actual day under a world seed."""
-        from benchmarks.delivery.cli import schedule_command
+        from gsr.benchmarks.delivery.cli import schedule_command
 
         raise typer.Exit(schedule_command(person, seed, building))
 
@@ -116,7 +116,7 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Print a floor's occupancy grid with the people on it at a time of day."""
-        from benchmarks.delivery.cli import map_command
+        from gsr.benchmarks.delivery.cli import map_command
 
         raise typer.Exit(map_command(floor, at, seed, building))
 
@@ -129,6 +129,6 @@ def register(app: typer.Typer) -> None:
         agent: Annotated[str, typer.Option(help="baseline, or the no-routines ablation.")] = "baseline",
     ) -> None:
         """Run one delivery task and print the agent's timeline."""
-        from benchmarks.delivery.cli import episode_command
+        from gsr.benchmarks.delivery.cli import episode_command
 
         raise typer.Exit(episode_command(task, building, agent))

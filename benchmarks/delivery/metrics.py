@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
+from gsr.benchmarks.delivery.agent import AgentTrace
+from gsr.benchmarks.delivery.tasks import DeliveryTask
+from gsr.benchmarks.delivery.world import DeliveryWorld
 from pydantic import BaseModel, ConfigDict
-
-from benchmarks.delivery.agent import AgentTrace
-from benchmarks.delivery.tasks import DeliveryTask
-from benchmarks.delivery.world import DeliveryWorld
 
 
 class EpisodeResult(BaseModel):

@@ -11,10 +11,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from lark import Lark, Token, Tree
 from lark.exceptions import LarkError
 
-from benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from gsr.errors import GSRError
 from gsr.scene_graph import SceneGraph
 

@@ -12,9 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import ndimage
-
-from benchmarks.delivery.prs_env import (
+from gsr.benchmarks.delivery.prs_env import (
     REACH_M,
     SENSOR_RANGE_M,
     ActionError,
@@ -24,7 +22,7 @@ from benchmarks.delivery.prs_env import (
     SeenPerson,
     line_of_sight,
 )
-from benchmarks.delivery.prs_parse import (
+from gsr.benchmarks.delivery.prs_parse import (
     STOP,
     ParsedRequest,
     RequestParseError,
@@ -35,6 +33,8 @@ from benchmarks.delivery.prs_parse import (
     parse_request,
     words,
 )
+from scipy import ndimage
+
 from gsr.building.prs import Cell, Person, Room, Station
 from gsr.building.prs_graph import station_graph
 

@@ -32,7 +32,7 @@ def prs_command(
 
     ``crossfit`` K >= 2: the honest estimate on a task file that is also the calibration/caption source
     (each of K folds runs on a station calibrated, with captions built, from the other folds)."""
-    from benchmarks.delivery.prs_run import run_prs, run_prs_crossfit
+    from gsr.benchmarks.delivery.prs_run import run_prs, run_prs_crossfit
 
     if workers < 1 or crossfit < 0 or crossfit == 1:
         print("error: --workers must be >= 1 and --crossfit 0 (off) or >= 2", file=sys.stderr)

@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 from datetime import timedelta
 
 import numpy as np
+from gsr.benchmarks.delivery.prs_tasks import PlacedObject, PrsTask
 
-from benchmarks.delivery.prs_tasks import PlacedObject, PrsTask
 from gsr.building.navigation import astar, path_cells_length
 from gsr.building.prs import Cell, Station
 

@@ -5,7 +5,7 @@ PRS's ``evaluate(annotations, submission, phase)`` scores entries that carry the
 submission holds only the agent's side, so the check adds those fields from the task file, as PRS's
 server does, then runs ``evaluate`` and ``delivery_task_score`` and compares with ``prs_metrics``.
 
-Usage: ``python -m benchmarks.delivery.prs_eval_check EVAL_PY TASKS SUBMISSION``.
+Usage: ``python -m gsr.benchmarks.delivery.prs_eval_check EVAL_PY TASKS SUBMISSION``.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from benchmarks.delivery.prs_metrics import aggregate, score_entry
-from benchmarks.delivery.prs_tasks import PrsTruth
+from gsr.benchmarks.delivery.prs_metrics import aggregate, score_entry
+from gsr.benchmarks.delivery.prs_tasks import PrsTruth
 
 
 def _truth(t: dict) -> PrsTruth:
@@ -72,7 +72,10 @@ def compare(eval_py: Path, tasks_file: Path, submission: dict) -> dict:
 def main(argv: list[str]) -> int:
     """CLI: print both sets of numbers; exit 0 when they agree, 2 when not, 1 on bad input."""
     if len(argv) != 3:
-        print("usage: python -m benchmarks.delivery.prs_eval_check EVAL_PY TASKS SUBMISSION", file=sys.stderr)
+        print(
+            "usage: python -m gsr.benchmarks.delivery.prs_eval_check EVAL_PY TASKS SUBMISSION",
+            file=sys.stderr,
+        )
         return 1
     try:
         submission = json.loads(Path(argv[2]).read_text(encoding="utf-8"))

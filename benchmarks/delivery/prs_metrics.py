@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from datetime import datetime
 
-from benchmarks.delivery.prs_tasks import PrsTruth
+from gsr.benchmarks.delivery.prs_tasks import PrsTruth
 
 TIME_LIMIT_MIN = 10.0
 

@@ -2,7 +2,7 @@
 
 The source is a PRS data folder (default ``$GSR_SHARED_DATA/prs``); the tasks are its
 ``delivery_tasks_dev.json`` unless ``--tasks FILE`` names another PRS task file. Each episode runs the
-offline PRS environment and agent (``benchmarks.delivery.prs_run``); the document carries PRS's metrics
+offline PRS environment and agent (``gsr.benchmarks.delivery.prs_run``); the document carries PRS's metrics
 and the submission in PRS's result format (also written as ``prs_submission.json`` by
 ``gsr delivery prs``). The generated-building suite stays ``delivery``.
 """
@@ -14,9 +14,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
-from benchmarks.delivery.prs_metrics import aggregate
-from benchmarks.delivery.prs_run import ensure_state, run_one, task_ids
-from benchmarks.runner import EpisodeOptions
+from gsr.benchmarks.delivery.prs_metrics import aggregate
+from gsr.benchmarks.delivery.prs_run import ensure_state, run_one, task_ids
+from gsr.benchmarks.runner import EpisodeOptions
+
 from gsr.errors import GSRError
 from gsr.resources import shared_data_dir
 

@@ -6,11 +6,12 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from benchmarks.delivery.agent import AgentTrace, BaselineAgent
-from benchmarks.delivery.metrics import EpisodeResult, Summary, score_episode, summarize
-from benchmarks.delivery.parser import InstructionParser, lexicon_from_graph
-from benchmarks.delivery.tasks import DeliveryTask, generate_tasks
-from benchmarks.delivery.world import DeliveryWorld
+from gsr.benchmarks.delivery.agent import AgentTrace, BaselineAgent
+from gsr.benchmarks.delivery.metrics import EpisodeResult, Summary, score_episode, summarize
+from gsr.benchmarks.delivery.parser import InstructionParser, lexicon_from_graph
+from gsr.benchmarks.delivery.tasks import DeliveryTask, generate_tasks
+from gsr.benchmarks.delivery.world import DeliveryWorld
+
 from gsr.building.graph import building_graph
 from gsr.building.model import Building, load_building
 from gsr.building.navigation import BuildingMap

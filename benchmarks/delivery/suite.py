@@ -1,10 +1,10 @@
 """``gsr bench run delivery``: the delivery benchmark as an episode suite of the benchmark runner.
 
-Delivery episodes are not PDDL-step tasks, so the suite implements ``benchmarks.runner.EpisodeSuite``:
+Delivery episodes are not PDDL-step tasks, so the suite implements ``gsr.benchmarks.runner.EpisodeSuite``:
 it prepares one payload per task, the runner's pool (local processes or Ray, results in task order)
 runs :func:`delivery_job` on each, and the records become the PRS-style metrics (Task SR, parsing,
 manipulation and human-search SR, mean time) through the same code as ``gsr delivery run``
-(:func:`benchmarks.delivery.run.play`, :func:`benchmarks.delivery.metrics.summarize`).
+(:func:`gsr.benchmarks.delivery.run.play`, :func:`gsr.benchmarks.delivery.metrics.summarize`).
 
 Seeds: with ``--seed 0`` (the default) trial 0 replays each task's own day (its ``world_seed``), which
 gives the published figures; any other seed or trial re-draws the day (people's drift and errands,
@@ -20,8 +20,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from benchmarks.delivery.agent import AgentTrace, BaselineAgent
-from benchmarks.delivery.metrics import (
+from gsr.benchmarks.delivery.agent import AgentTrace, BaselineAgent
+from gsr.benchmarks.delivery.metrics import (
     EpisodeResult,
     Summary,
     breakdown_by,
@@ -30,9 +30,10 @@ from benchmarks.delivery.metrics import (
     summarize,
     summary_table,
 )
-from benchmarks.delivery.run import AGENTS, checked_building, make_agent, play
-from benchmarks.delivery.tasks import SPLITS, DeliveryTask, generate_tasks, load_tasks
-from benchmarks.runner import EpisodeOptions, episode_seed
+from gsr.benchmarks.delivery.run import AGENTS, checked_building, make_agent, play
+from gsr.benchmarks.delivery.tasks import SPLITS, DeliveryTask, generate_tasks, load_tasks
+from gsr.benchmarks.runner import EpisodeOptions, episode_seed
+
 from gsr.building.model import Building
 from gsr.building.navigation import BuildingMap
 from gsr.errors import GSRError

@@ -12,9 +12,9 @@ import json
 from pathlib import Path
 
 import numpy as np
+from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from pydantic import BaseModel, ConfigDict
 
-from benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from gsr.building.catalog import COMMON_NEEDS, ROLES
 from gsr.building.model import Building, Item, Person
 from gsr.building.navigation import BuildingMap

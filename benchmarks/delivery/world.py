@@ -17,8 +17,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gsr.benchmarks.delivery.tasks import DeliveryTask
 
-from benchmarks.delivery.tasks import DeliveryTask
 from gsr.building.catalog import OBJECTS
 from gsr.building.model import Building, Place
 from gsr.building.navigation import BuildingMap

@@ -4,7 +4,7 @@
 folder of BDDL task files), ``rlbench`` (100 generated RLBench-style tasks) and ``tasks`` (a folder or
 file of TaskSpec JSON/YAML, e.g. exported with ``gsr bench export``); ``delivery`` (in-building delivery)
 is an *episode suite*: it runs its own episodes on the runner's pool and scores them with its own
-metrics (``benchmarks.runner.EpisodeSuite``).
+metrics (``gsr.benchmarks.runner.EpisodeSuite``).
 """
 
 from __future__ import annotations
@@ -63,27 +63,27 @@ class Suite:
 
 
 def _gsr_bench(path: Path | None, seed: int) -> list[TaskSpec]:
-    from benchmarks.suites.gsr_bench import load_gsr_bench
+    from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
 
     assert path is not None
     return load_gsr_bench(path)
 
 
 def _gsr_bench_gen(path: Path | None, seed: int) -> list[TaskSpec]:
-    from benchmarks.suites.gsr_bench_gen import generate_gsr_bench
+    from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench
 
     return generate_gsr_bench(seed)
 
 
 def _libero(path: Path | None, seed: int) -> list[TaskSpec]:
-    from benchmarks.suites.libero_suite import load_libero
+    from gsr.benchmarks.suites.libero_suite import load_libero
 
     assert path is not None
     return load_libero(path)
 
 
 def _rlbench(path: Path | None, seed: int) -> list[TaskSpec]:
-    from benchmarks.suites.rlbench import generate_rlbench
+    from gsr.benchmarks.suites.rlbench import generate_rlbench
 
     return generate_rlbench(seed)
 
@@ -129,12 +129,12 @@ SUITES: dict[str, Suite] = {
         Suite(
             "delivery",
             "in-building delivery (PRS-style): train 2000 / val 200 / test 1000 tasks, shipped building",
-            episodes="benchmarks.delivery.suite:SUITE",
+            episodes="gsr.benchmarks.delivery.suite:SUITE",
         ),
         Suite(
             "prs",
             "the PRS delivery benchmark's own station, people and tasks (--source PRS data folder), PRS's rules",
-            episodes="benchmarks.delivery.prs_suite:SUITE",
+            episodes="gsr.benchmarks.delivery.prs_suite:SUITE",
         ),
     )
 }

@@ -28,7 +28,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from benchmarks.suites.gsr_bench_goals import goal_for_query
+from gsr.benchmarks.suites.gsr_bench_goals import goal_for_query
+
 from gsr.errors import GSRError
 from gsr.gsr_bench_format import graph_from_gsr_bench
 from gsr.scene_graph import SceneGraph

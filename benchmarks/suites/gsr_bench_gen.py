@@ -2,7 +2,7 @@
 
 Tasks are emitted as configs in the public GSR-Bench format (object lists with centimetre positions,
 scene-graph strings, ``task_query``) and imported with the same importer and query semantics as the
-real benchmark (:mod:`benchmarks.suites.gsr_bench`), so generated and published tasks mean the same.
+real benchmark (:mod:`gsr.benchmarks.suites.gsr_bench`), so generated and published tasks mean the same.
 
 Cell definitions (ours, following the published cell names; every task moves enough objects that an
 optimal plan needs more than 10 steps):
@@ -27,7 +27,8 @@ from __future__ import annotations
 import random
 from typing import Any
 
-from benchmarks.suites.gsr_bench import task_from_config
+from gsr.benchmarks.suites.gsr_bench import task_from_config
+
 from gsr.task_spec import TaskSpec
 
 SUITE = "gsr-bench-gen"

@@ -11,8 +11,8 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 
-from benchmarks.suites.builder import SceneBuilder
-from benchmarks.suites.rlbench_families import (
+from gsr.benchmarks.suites.builder import SceneBuilder
+from gsr.benchmarks.suites.rlbench_families import (
     close_box,
     close_drawer,
     close_microwave,
@@ -48,6 +48,7 @@ from benchmarks.suites.rlbench_families import (
     turn_tap,
     unstack_blocks,
 )
+
 from gsr.task_spec import TaskSpec, task_from_dict
 
 SUITE = "rlbench"

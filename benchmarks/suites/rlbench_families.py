@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import random
 
-from benchmarks.suites.builder import TABLE, SceneBuilder
+from gsr.benchmarks.suites.builder import TABLE, SceneBuilder
 
 COLORS = ("red", "blue", "green", "yellow", "purple", "orange")
 FOODS = ("milk", "butter", "ketchup", "popcorn", "cream_cheese", "tomato_sauce")

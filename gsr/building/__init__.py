@@ -1,6 +1,6 @@
 """Building-scale scene graphs: floors, rooms, receptacles, objects, people with schedules, navigation.
 
-Pure core logic over numpy and the ``SceneGraph`` types; the delivery benchmark (``benchmarks.delivery``)
+Pure core logic over numpy and the ``SceneGraph`` types; the delivery benchmark (``gsr.benchmarks.delivery``)
 builds on it. Names are re-exported lazily so ``import gsr.building`` stays cheap.
 """
 

@@ -26,6 +26,6 @@ def gsr_bench_file(published_gsr_bench_file: Path) -> Path:
 @pytest.fixture(scope="session")
 def gsr_bench_tasks(gsr_bench_file: Path) -> list:
     """All dev configs imported."""
-    from benchmarks.suites.gsr_bench import load_gsr_bench
+    from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
 
     return load_gsr_bench(gsr_bench_file)

@@ -10,7 +10,7 @@ import pytest
 pytest.importorskip("pybullet")
 pytest.importorskip("open3d")
 
-from benchmarks.demo import run_demo
+from gsr.benchmarks.demo import run_demo
 
 
 def test_demo_verifies_the_goal_and_writes_the_report(tmp_path: Path) -> None:

@@ -5,11 +5,11 @@ from __future__ import annotations
 from collections import Counter
 
 import pytest
+from gsr.benchmarks.runner import RunConfig, run_tasks
+from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell, generate_gsr_bench
+from gsr.benchmarks.suites.libero_suite import load_libero, task_from_bddl
+from gsr.benchmarks.suites.rlbench import CATEGORIES, generate_rlbench
 
-from benchmarks.runner import RunConfig, run_tasks
-from benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell, generate_gsr_bench
-from benchmarks.suites.libero_suite import load_libero, task_from_bddl
-from benchmarks.suites.rlbench import CATEGORIES, generate_rlbench
 from gsr.errors import GSRError
 from gsr.task_spec import task_json
 

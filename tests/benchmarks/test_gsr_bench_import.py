@@ -7,9 +7,9 @@ from collections import Counter
 
 import pytest
 import yaml
+from gsr.benchmarks.scoring import any_goal
+from gsr.benchmarks.suites.gsr_bench import load_configs, task_from_config, to_world
 
-from benchmarks.scoring import any_goal
-from benchmarks.suites.gsr_bench import load_configs, task_from_config, to_world
 from gsr.errors import GSRError
 from gsr.pddl.model import And, Atom
 from gsr.plan.api import plan_graph
@@ -146,7 +146,7 @@ def test_bad_configs_give_clear_errors(gsr_bench_file, mutate, message: str) -> 
 
 
 def test_bad_files(tmp_path) -> None:
-    from benchmarks.suites.gsr_bench import load_gsr_bench
+    from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
 
     bad = tmp_path / "bad.yaml"
     bad.write_text("configs: [\n")

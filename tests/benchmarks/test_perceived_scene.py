@@ -8,9 +8,9 @@ import pytest
 
 pytest.importorskip(
     "pybullet"
-)  # observable_view uses skills.executor.symbolic_view (skills imports pybullet)
+)  # observable_view uses gsr.skills.executor.symbolic_view (skills imports pybullet)
 
-from benchmarks.perceived_scene import (
+from gsr.benchmarks.perceived_scene import (
     contradicted_effects,
     observable_view,
     observed_ids,
@@ -18,6 +18,7 @@ from benchmarks.perceived_scene import (
     with_map_regions,
     with_unsensed_states,
 )
+
 from gsr.graph_diff import diff_graphs
 from gsr.scene_graph import Edge, Node, Pose, SceneGraph, Vec3
 
@@ -133,10 +134,11 @@ def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
 def test_perceived_scene_in_a_real_world(libero_dir) -> None:
     """Held from the gripper, regions from the map, a bowl in a closed drawer remembered."""
     pytest.importorskip("open3d")
-    from benchmarks.perceived_scene import PerceivedScene
-    from benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.benchmarks.perceived_scene import PerceivedScene
+    from gsr.benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.skills import build_world, run_step
+
     from gsr.step import Step
-    from skills import build_world, run_step
 
     task = task_from_bddl(
         libero_dir
@@ -170,10 +172,9 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
     """The microwave's door is no graph node: its own mask lets perception see it open or closed."""
     pytest.importorskip("open3d")
     import pybullet as p
-
-    from benchmarks.perceived_scene import PerceivedScene
-    from benchmarks.suites.libero_suite import task_from_bddl
-    from skills import build_world
+    from gsr.benchmarks.perceived_scene import PerceivedScene
+    from gsr.benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.skills import build_world
 
     task = task_from_bddl(
         libero_dir
@@ -196,7 +197,7 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
 
 
 def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
-    from benchmarks.perceived_scene import with_remembered_support
+    from gsr.benchmarks.perceived_scene import with_remembered_support
 
     # the cube was held; now nobody sees it (remembered from the last belief, grasp state and all)
     belief = _graph(

@@ -6,11 +6,11 @@ import json
 import sys
 
 import pytest
+from gsr.benchmarks.agents import make_agent
+from gsr.benchmarks.report import results_document, write_reports
+from gsr.benchmarks.runner import RunConfig, run_episode, run_tasks
+from gsr.benchmarks.suites.builder import SceneBuilder
 
-from benchmarks.agents import make_agent
-from benchmarks.report import results_document, write_reports
-from benchmarks.runner import RunConfig, run_episode, run_tasks
-from benchmarks.suites.builder import SceneBuilder
 from gsr.errors import GSRError
 from gsr.task_spec import TaskSpec
 from tests.benchmarks.scripted_agents import Scripted
@@ -166,9 +166,8 @@ def test_reasoner_agent_with_backends(task, domain) -> None:
 
 def test_frames_are_saved_and_linked_from_the_reports(task, tmp_path) -> None:
     import numpy as np
+    from gsr.benchmarks.runner import save_frames
     from PIL import Image
-
-    from benchmarks.runner import save_frames
 
     out = tmp_path / "out"
     rgb = [np.full((24, 32, 3), k * 60, dtype=np.uint8) for k in range(3)]
@@ -202,7 +201,7 @@ def test_perceive_needs_physical(task) -> None:
 
 @pytest.fixture()
 def libero_goal_tasks(libero_dir):
-    from benchmarks.suites import get_suite
+    from gsr.benchmarks.suites import get_suite
 
     return get_suite("libero").tasks(str(libero_dir / "libero_goal"), 0)
 

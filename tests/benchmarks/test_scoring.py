@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from benchmarks.scoring import score_task
-from benchmarks.suites.builder import SceneBuilder
+from gsr.benchmarks.scoring import score_task
+from gsr.benchmarks.suites.builder import SceneBuilder
+
 from gsr.facts import state_from_graph
 from gsr.task_spec import TaskSpec
 

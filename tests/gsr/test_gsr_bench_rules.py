@@ -112,7 +112,8 @@ def test_table_status_edge_round_trips() -> None:
 
 
 def test_the_executor_judges_moves_under_the_rules(graph) -> None:
-    from benchmarks.gsr_bench_executor import GSRBenchExecutor
+    from gsr.benchmarks.gsr_bench_executor import GSRBenchExecutor
+
     from gsr.diagnosis import ReasonKind
     from gsr.resources import load_builtin_domain
     from gsr.step import Step

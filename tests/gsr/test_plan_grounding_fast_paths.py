@@ -5,7 +5,8 @@ from __future__ import annotations
 import functools
 import random
 
-from benchmarks.bench_planner import long_tabletop_task
+from gsr.benchmarks.bench_planner import long_tabletop_task
+
 from gsr.facts import problem_from_graph
 from gsr.plan import plan
 from gsr.plan.ground import ObjectsByType, _bindings, _compile, ground_task

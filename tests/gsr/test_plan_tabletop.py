@@ -7,8 +7,8 @@ import itertools
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.bench_planner import long_tabletop_task, long_tabletop_tasks
 
-from benchmarks.bench_planner import long_tabletop_task, long_tabletop_tasks
 from gsr.facts import problem_from_graph
 from gsr.gsr_bench_format import graph_from_gsr_bench
 from gsr.pddl.model import And, Atom, Not

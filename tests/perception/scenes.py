@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
-
-from benchmarks.perception_render import render, table_camera
-from benchmarks.perception_scenes import Scene, SceneBuilder
-from perception.frame import Frame
-from skills.camera import CameraSpec
+from gsr.benchmarks.perception_render import render, table_camera
+from gsr.benchmarks.perception_scenes import Scene, SceneBuilder
+from gsr.perception.frame import Frame
+from gsr.skills.camera import CameraSpec
 
 FRONT = table_camera((-0.1, 0.0, 0.95))
 LEFT = table_camera((0.3, 0.7, 0.8))

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from gsr.perception.belief import update_belief
+
 from gsr.gsr_bench_format import graph_from_gsr_bench
-from perception.belief import update_belief
 
 CABINET = ["table", "cabinet_1", "cabinet_1/bottom_drawer({state})"]
 
@@ -53,9 +54,8 @@ def test_unexplained_disappearance_is_dropped() -> None:
 def _down_camera_frame(depth_value: float, size: int = 40):
     """A camera 1 m above the origin looking straight down; a constant depth image."""
     import numpy as np
-
-    from perception.camera import Camera
-    from perception.frame import Frame
+    from gsr.perception.camera import Camera
+    from gsr.perception.frame import Frame
 
     pose = np.diag([1.0, -1.0, -1.0, 1.0])
     pose[:3, 3] = (0.0, 0.0, 1.0)
@@ -73,7 +73,7 @@ def _boxed(graph, node_id: str, lo: tuple, hi: tuple):
 
 
 def test_object_hidden_behind_something_nearer_is_remembered() -> None:
-    from perception.belief import occluded
+    from gsr.perception.belief import occluded
 
     before = _g(["table", "red_cube1", "blue_cube1"], ["red_cube1(on)table", "blue_cube1(on)table"])
     before = _boxed(before, "red_cube1", (-0.02, -0.02, 0.0), (0.02, 0.02, 0.04))  # top 0.96 m away
@@ -94,8 +94,8 @@ def test_object_hidden_behind_something_nearer_is_remembered() -> None:
 
 
 def test_object_glimpsed_in_a_few_pixels_is_remembered() -> None:
-    from perception.belief import glimpsed
-    from perception.frame import InstanceLabel
+    from gsr.perception.belief import glimpsed
+    from gsr.perception.frame import InstanceLabel
 
     before = _g(["table", "red_cube1"], ["red_cube1(on)table"])
     after = _g(["table"], [])

@@ -6,9 +6,7 @@ import json
 
 import numpy as np
 import pytest
-
-from gsr.errors import GSRError
-from perception.camera import (
+from gsr.perception.camera import (
     Camera,
     camera_from_dict,
     camera_from_gl,
@@ -18,7 +16,9 @@ from perception.camera import (
     save_camera,
     split_gl_segmentation,
 )
-from perception.geometry import back_project
+from gsr.perception.geometry import back_project
+
+from gsr.errors import GSRError
 
 # Camera 1.5 m above the origin looking straight down; image "up" is world +x.
 DOWN = np.array([[0.0, -1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 1.5], [0, 0, 0, 1.0]])

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from perception.evaluate import score
-from perception.frame import Detector, Frame, InstanceLabel, frame_from_detector
-from perception.pipeline import perceive
+from gsr.perception.evaluate import score
+from gsr.perception.frame import Detector, Frame, InstanceLabel, frame_from_detector
+from gsr.perception.pipeline import perceive
 
 pytest.importorskip("pybullet")
 pytest.importorskip("open3d")
@@ -154,11 +153,11 @@ def test_lidded_box_state_from_its_top_surface_in_the_skills_world():
     import dataclasses
 
     import pybullet as pb
+    from gsr.benchmarks.perception_eval import with_graph_attributes
+    from gsr.skills.camera import default_views, render_frame
+    from gsr.skills.world import build_world
 
-    from benchmarks.perception_eval import with_graph_attributes
     from gsr.task_spec import Layout, PlacedObject
-    from skills.camera import default_views, render_frame
-    from skills.world import build_world
 
     layout = Layout(
         objects=(PlacedObject(id="red_lid_box", asset="box_with_lid", position=(-0.1, 0.1, 0.0)),)

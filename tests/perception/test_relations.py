@@ -6,10 +6,9 @@ import math
 
 import numpy as np
 import pytest
-
-from perception.frame import InstanceLabel
-from perception.geometry import Instance, fit_boxes
-from perception.relations import (
+from gsr.perception.frame import InstanceLabel
+from gsr.perception.geometry import Instance, fit_boxes
+from gsr.perception.relations import (
     RelationThresholds,
     descriptive_relations,
     footprint_gap,

@@ -6,7 +6,7 @@ import pytest
 
 pybullet = pytest.importorskip("pybullet")
 
-from skills.assets import BUILDERS, asset_category, asset_urdf_path, default_color, make_asset  # noqa: E402
+from gsr.skills.assets import BUILDERS, asset_category, asset_urdf_path, default_color, make_asset  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-
-from skills.camera import default_views, render, render_frame
+from gsr.skills.camera import default_views, render, render_frame
 
 
 def test_render_frame_labels_nodes(bowl_world) -> None:

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from gsr.skills.executor import PhysicalExecutor, execute_plan
 
 from gsr.step import Plan, Step
-from skills.executor import PhysicalExecutor, execute_plan
 
 
 def test_observed_divergence_stops_before_moving(bowl_world) -> None:
@@ -37,8 +37,9 @@ def test_executor_runs_a_plan_and_tracks_the_graph(bowl_world) -> None:
 
 @pytest.mark.physics
 def test_libero_goal_plans_execute(libero_dir) -> None:
+    from gsr.skills.world import build_world
+
     from gsr.plan.api import plan_graph
-    from skills.world import build_world
     from tests.skills.conftest import libero_goal_task
 
     task = libero_goal_task(
@@ -54,7 +55,7 @@ def test_libero_goal_plans_execute(libero_dir) -> None:
 
 @pytest.mark.physics
 def test_gym_env_episode(bowl_task) -> None:
-    from skills.gym_env import make_env
+    from gsr.skills.gym_env import make_env
 
     env = make_env(bowl_task, width=80, height=60)
     obs, info = env.reset(seed=0)
@@ -69,7 +70,8 @@ def test_gym_env_episode(bowl_task) -> None:
 
 @pytest.mark.physics
 def test_runner_physical_mode(libero_dir) -> None:
-    from benchmarks.runner import RunConfig, _episode_job
+    from gsr.benchmarks.runner import RunConfig, _episode_job
+
     from tests.skills.conftest import libero_goal_task
 
     task = libero_goal_task(libero_dir, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")

@@ -7,9 +7,10 @@ import pytest
 
 pytest.importorskip("pybullet")
 
+from gsr.skills.grasping import _footprints, _walls_near
+from gsr.skills.world import build_world
+
 from gsr.task_spec import Layout, PlacedObject
-from skills.grasping import _footprints, _walls_near
-from skills.world import build_world
 
 BOX = (0.17, 0.25, 0.085)
 

@@ -6,10 +6,10 @@ import math
 from types import SimpleNamespace
 
 import pytest
+from gsr.skills.assets import make_asset
+from gsr.skills.build import _lid_clear_yaw
 
 from gsr.task_spec import Layout, PlacedObject
-from skills.assets import make_asset
-from skills.build import _lid_clear_yaw
 
 BOX = (0.17, 0.25, 0.085)
 

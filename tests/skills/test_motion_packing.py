@@ -6,12 +6,12 @@ import re
 
 import numpy as np
 import pytest
+from gsr.skills.motion import MAX_JOINT_JUMP, Motion
+from gsr.skills.result import Failure, SkillError
 
 from gsr.scene_graph import Edge, Node, SceneGraph
 from gsr.step import Step
 from gsr.task_spec import TaskSpec
-from skills.motion import MAX_JOINT_JUMP, Motion
-from skills.result import Failure, SkillError
 
 
 def _segment(world) -> tuple:
@@ -89,8 +89,8 @@ def _fixtures_graph() -> SceneGraph:
 
 
 def test_generated_fixtures_do_not_overlap() -> None:
-    from skills.assets import make_asset
-    from skills.layout import TABLE, layout_from_graph
+    from gsr.skills.assets import make_asset
+    from gsr.skills.layout import TABLE, layout_from_graph
 
     placed = layout_from_graph(_fixtures_graph(), seed=0).objects
     rects = []
@@ -106,8 +106,7 @@ def test_generated_fixtures_do_not_overlap() -> None:
 
 def test_microwave_door_swings_out_towards_the_front() -> None:
     import pybullet as p
-
-    from skills.world import build_world
+    from gsr.skills.world import build_world
 
     task = TaskSpec(id="mw", suite="t", instructions=("mw",), initial=_fixtures_graph(), goal="(and)")
     with build_world(task, seed=0) as world:
@@ -123,8 +122,8 @@ def test_microwave_door_swings_out_towards_the_front() -> None:
 
 
 def test_gsr_bench_world_uses_the_benchmarks_own_sizes(shared_data) -> None:
-    from benchmarks.suites.gsr_bench import load_gsr_bench
-    from skills.world import build_world
+    from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
+    from gsr.skills.world import build_world
 
     task = load_gsr_bench(shared_data / "gsr_bench" / "saved_configs_dev.yaml", numbers=[1])[0]
     with build_world(task, seed=0) as world:
@@ -140,8 +139,8 @@ def test_gsr_bench_world_uses_the_benchmarks_own_sizes(shared_data) -> None:
 @pytest.mark.physics
 @pytest.mark.parametrize("seed", [0, 1])
 def test_microwave_door_open_and_close(seed: int) -> None:
-    from skills.library import run_step
-    from skills.world import build_world
+    from gsr.skills.library import run_step
+    from gsr.skills.world import build_world
 
     task = TaskSpec(id="mw", suite="t", instructions=("mw",), initial=_fixtures_graph(), goal="(and)")
     with build_world(task, seed=seed) as world:
@@ -156,11 +155,12 @@ def test_microwave_door_open_and_close(seed: int) -> None:
 
 @pytest.mark.physics
 def test_a_gsr_bench_simple_task_packs_all_cubes(shared_data) -> None:
-    from benchmarks.agents import make_agent
-    from benchmarks.runner import run_episode
-    from benchmarks.suites.gsr_bench_gen import generate_cell
+    from gsr.benchmarks.agents import make_agent
+    from gsr.benchmarks.runner import run_episode
+    from gsr.benchmarks.suites.gsr_bench_gen import generate_cell
+    from gsr.skills.sim_executor import SimExecutor
+
     from gsr.resources import load_builtin_domain
-    from skills.sim_executor import SimExecutor
 
     task = generate_cell("Semantic Object Disambiguation", "Simple", n=1, seed=0)[0]
     ex = SimExecutor(seed=0, frame_camera=None)

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from gsr.skills.library import run_step
+from gsr.skills.result import Failure
+from gsr.skills.sim_graph import support_of
 
 from gsr.step import Step
-from skills.library import run_step
-from skills.result import Failure
-from skills.sim_graph import support_of
 
 
 def test_pick_and_place_by_friction(bowl_world) -> None:
@@ -49,7 +49,8 @@ def test_place_without_holding_reports_it(bowl_world) -> None:
     ],
 )
 def test_articulated_and_push_skills(libero_dir, steps) -> None:
-    from skills.world import build_world
+    from gsr.skills.world import build_world
+
     from tests.skills.conftest import libero_goal_task
 
     name = "push_the_plate_to_the_front_of_the_stove"
@@ -60,7 +61,7 @@ def test_articulated_and_push_skills(libero_dir, steps) -> None:
 
 
 def test_debug_weld_is_off_by_default_and_explicit(bowl_task) -> None:
-    from skills.world import build_world
+    from gsr.skills.world import build_world
 
     with build_world(bowl_task, seed=0) as world:
         assert world.debug_weld is False

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gsr.skills.executor import symbolic_view
+from gsr.skills.sim_graph import graph_from_layout, scene_graph_from_sim
+from gsr.skills.world import build_world
 
 from gsr.graph_diff import diff_graphs
 from gsr.task_spec import Layout, PlacedObject
-from skills.executor import symbolic_view
-from skills.sim_graph import graph_from_layout, scene_graph_from_sim
-from skills.world import build_world
 
 
 def test_ground_truth_matches_the_task_graph(bowl_world, bowl_task) -> None:

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from gsr.benchmarks.delivery.parser import InstructionParser
+from gsr.benchmarks.delivery.run import parser_for
 
-from benchmarks.delivery.parser import InstructionParser
-from benchmarks.delivery.run import parser_for
 from gsr.building.model import Building
 from gsr.building.navigation import BuildingMap
 from gsr.building.shipped import load_shipped_building

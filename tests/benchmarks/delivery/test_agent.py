@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import pytest
-
-from benchmarks.delivery.metrics import EpisodeResult, summarize, summary_table
-from benchmarks.delivery.run import run_split
-from benchmarks.delivery.tasks import generate_tasks
+from gsr.benchmarks.delivery.metrics import EpisodeResult, summarize, summary_table
+from gsr.benchmarks.delivery.run import run_split
+from gsr.benchmarks.delivery.tasks import generate_tasks
 
 
 def test_baseline_on_a_subset(shipped) -> None:
@@ -32,7 +31,7 @@ def test_baseline_on_a_subset(shipped) -> None:
 
 
 def test_unparseable_instruction_fails_cleanly(shipped) -> None:
-    from benchmarks.delivery.run import run_tasks
+    from gsr.benchmarks.delivery.run import run_tasks
 
     task = generate_tasks(shipped, "val", limit=1)[0].model_copy(update={"instruction": "Sing a song."})
     out = run_tasks(shipped, [task])
@@ -58,7 +57,7 @@ def test_summary_numbers() -> None:
 
 
 def test_breakdown_groups_every_episode(shipped) -> None:
-    from benchmarks.delivery.metrics import breakdown, breakdown_table
+    from gsr.benchmarks.delivery.metrics import breakdown, breakdown_table
 
     out = run_split(shipped, "val", limit=12)
     rows = breakdown(out.tasks, out.results)

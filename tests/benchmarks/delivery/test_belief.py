@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from benchmarks.delivery.belief import Belief
-from benchmarks.delivery.reference import ObjectRef
-from benchmarks.delivery.world import Observation
+from gsr.benchmarks.delivery.belief import Belief
+from gsr.benchmarks.delivery.reference import ObjectRef
+from gsr.benchmarks.delivery.world import Observation
+
 from gsr.building.graph import building_graph
 
 

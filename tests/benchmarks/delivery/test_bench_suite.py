@@ -6,10 +6,10 @@ import json
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.cli import run
+from gsr.benchmarks.delivery.metrics import EpisodeResult
 from typer.testing import CliRunner
 
-from benchmarks.cli import run
-from benchmarks.delivery.metrics import EpisodeResult
 from gsr.cli import app
 from gsr.errors import GSRError
 

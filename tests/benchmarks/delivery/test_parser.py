@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from gsr.benchmarks.delivery.parser import lexicon_from_graph
+from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef
+from gsr.benchmarks.delivery.tasks import generate_tasks
 
-from benchmarks.delivery.parser import lexicon_from_graph
-from benchmarks.delivery.reference import ObjectRef, PersonRef
-from benchmarks.delivery.tasks import generate_tasks
 from gsr.building.graph import building_graph
 from gsr.errors import GSRError
 

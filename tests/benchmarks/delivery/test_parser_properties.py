@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef
+from gsr.benchmarks.delivery.run import parser_for
+from gsr.benchmarks.delivery.tasks import _TEMPLATES, _object_phrase, _person_phrase, _room_text
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from benchmarks.delivery.reference import ObjectRef, PersonRef
-from benchmarks.delivery.run import parser_for
-from benchmarks.delivery.tasks import _TEMPLATES, _object_phrase, _person_phrase, _room_text
 from gsr.building.catalog import RECEPTACLES
 from gsr.building.shipped import load_shipped_building
 

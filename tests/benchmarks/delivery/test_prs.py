@@ -7,13 +7,13 @@ from datetime import datetime
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.delivery.prs_cli import prs_command
+from gsr.benchmarks.delivery.prs_env import ActionError, PrsEnv
+from gsr.benchmarks.delivery.prs_metrics import aggregate, score_entry
+from gsr.benchmarks.delivery.prs_parse import RoomMatcher, label_score, parse_request, split_sentences
+from gsr.benchmarks.delivery.prs_run import run_prs
+from gsr.benchmarks.delivery.prs_tasks import PrsTruth, inventory, load_tasks
 
-from benchmarks.delivery.prs_cli import prs_command
-from benchmarks.delivery.prs_env import ActionError, PrsEnv
-from benchmarks.delivery.prs_metrics import aggregate, score_entry
-from benchmarks.delivery.prs_parse import RoomMatcher, label_score, parse_request, split_sentences
-from benchmarks.delivery.prs_run import run_prs
-from benchmarks.delivery.prs_tasks import PrsTruth, inventory, load_tasks
 from gsr.building.prs import load_station
 from gsr.building.prs_files import PrsDataError
 from tests.gsr.building.prs_synthetic import make_folder
@@ -149,7 +149,7 @@ def test_prs_dev_subset_matches_prs_eval(shared_data: Path, tmp_path: Path) -> N
     data = shared_data / "prs"
     if not (data / "eval.py").is_file():
         pytest.skip(f"PRS data not found at {data}")
-    from benchmarks.delivery.prs_eval_check import compare
+    from gsr.benchmarks.delivery.prs_eval_check import compare
 
     tasks = json.loads((data / "delivery_tasks_dev.json").read_text())
     subset = tmp_path / "subset.json"
@@ -161,7 +161,7 @@ def test_prs_dev_subset_matches_prs_eval(shared_data: Path, tmp_path: Path) -> N
 
 
 def test_bench_run_prs_suite(folder: Path, tmp_path: Path) -> None:
-    from benchmarks.cli import run, summary_text
+    from gsr.benchmarks.cli import run, summary_text
 
     doc = run("prs", source=str(folder), limit=10, out=str(tmp_path / "bench"))
     assert doc["suite"] == "prs" and len(doc["tasks"]) == 10
@@ -176,7 +176,7 @@ def test_bench_run_prs_suite(folder: Path, tmp_path: Path) -> None:
 
 
 def test_crossfit_calibrates_each_fold_on_the_others(folder: Path, tmp_path: Path) -> None:
-    from benchmarks.delivery.prs_run import run_prs_crossfit
+    from gsr.benchmarks.delivery.prs_run import run_prs_crossfit
 
     run = run_prs_crossfit(folder, folder / "delivery_tasks_dev.json", folds=2)
     assert run["summary"]["tasks"] == 40 and run["summary"]["captions"].startswith("crossfit")
@@ -247,7 +247,7 @@ class _Boundary:
 
 
 def test_agent_uses_only_the_simulator_boundary(folder: Path) -> None:
-    from benchmarks.delivery.prs_agent import PrsAgent
+    from gsr.benchmarks.delivery.prs_agent import PrsAgent
 
     st = load_station(folder)
     tasks = load_tasks(folder / "delivery_tasks_dev.json", st)
@@ -278,8 +278,8 @@ def test_prs_dev_acceptance(shared_data: Path) -> None:
     data = shared_data / "prs"
     if not (data / "eval.py").is_file():
         pytest.skip(f"PRS data not found at {data}")
-    from benchmarks.delivery.prs_eval_check import compare
-    from benchmarks.delivery.prs_run import run_prs_crossfit
+    from gsr.benchmarks.delivery.prs_eval_check import compare
+    from gsr.benchmarks.delivery.prs_run import run_prs_crossfit
 
     run = run_prs_crossfit(data, data / "delivery_tasks_dev.json", folds=2)
     assert run["summary"]["tasks"] == 324 and run["summary"]["Task SR"] >= 0.80

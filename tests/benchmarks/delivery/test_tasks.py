@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.delivery.agent import resolve_person
+from gsr.benchmarks.delivery.tasks import SPLITS, TIME_LIMIT, generate_tasks, load_tasks, save_tasks
 
-from benchmarks.delivery.agent import resolve_person
-from benchmarks.delivery.tasks import SPLITS, TIME_LIMIT, generate_tasks, load_tasks, save_tasks
 from gsr.errors import GSRError
 
 

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import pytest
-
-from benchmarks.delivery.tasks import generate_tasks
-from benchmarks.delivery.world import PICK_SECONDS, DeliveryWorld
+from gsr.benchmarks.delivery.tasks import generate_tasks
+from gsr.benchmarks.delivery.world import PICK_SECONDS, DeliveryWorld
 
 
 @pytest.fixture

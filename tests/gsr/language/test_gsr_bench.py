@@ -2,7 +2,7 @@
 
 Two independent judges of "reaches the benchmark goal": :func:`query_met`, written here from the
 benchmark's published query semantics (regular expressions over the query and node names, no
-gsr.language), and the benchmark importer's evaluation goal (benchmarks.suites.gsr_bench_goals).
+gsr.language), and the benchmark importer's evaluation goal (gsr.benchmarks.suites.gsr_bench_goals).
 """
 
 from __future__ import annotations
@@ -64,7 +64,7 @@ def query_met(query: str, initial: SceneGraph, final: SceneGraph) -> bool:
 def _importer_goals(config: dict):
     """The benchmark importer's initial graph and evaluation goals (formulas), or None when absent."""
     try:
-        from benchmarks.suites.gsr_bench import task_from_config
+        from gsr.benchmarks.suites.gsr_bench import task_from_config
     except ImportError:  # pragma: no cover - the importer is another package of this repo
         return None
     task = task_from_config(config)

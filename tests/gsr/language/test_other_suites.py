@@ -35,13 +35,13 @@ def _measure(tasks) -> tuple[Counter, list[str]]:
 
 
 def test_generated_gsr_bench_cells() -> None:
-    gen = pytest.importorskip("benchmarks.suites.gsr_bench_gen")
+    gen = pytest.importorskip("gsr.benchmarks.suites.gsr_bench_gen")
     counts, _ = _measure(gen.generate_gsr_bench(seed=0))
     assert counts["equivalent"] == 180, counts
 
 
 def test_rlbench_style_suite() -> None:
-    suites = pytest.importorskip("benchmarks.suites")
+    suites = pytest.importorskip("gsr.benchmarks.suites")
     tasks = suites.get_suite("rlbench").tasks()
     counts, differ = _measure(tasks)
     assert counts["equivalent"] >= 0.8 * len(tasks), counts

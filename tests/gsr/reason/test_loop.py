@@ -146,9 +146,10 @@ def test_json_answers_are_accepted(graph, domain, box_goal):
 
 def test_a_plan_proposer_is_asked_once_and_no_prompt_is_built(monkeypatch) -> None:
     """The grounder backend proposes Step objects: a long solve makes one planner call and no prompt."""
+    from gsr.benchmarks.suites import get_suite
+
     import gsr.plan.api as plan_api
     import gsr.reason.loop as loop
-    from benchmarks.suites import get_suite
 
     task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id.endswith("sod_simple_00"))
     calls = {"plan": 0, "prompt": 0}

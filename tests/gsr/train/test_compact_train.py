@@ -107,7 +107,7 @@ def test_save_is_atomic_and_refuses_a_non_empty_folder(tmp_path, domain) -> None
 
 
 def test_bench_training_recipe_needs_an_output_folder(capsys) -> None:
-    from benchmarks.bench_training import main
+    from gsr.benchmarks.bench_training import main
 
     with pytest.raises(SystemExit):
         main(["--recipe", "cpu"])
