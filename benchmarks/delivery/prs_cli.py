@@ -61,6 +61,10 @@ def prs_command(
         f"{s['Object Manipulation SR']:.3f} (exact object {s['grasp_exact']:.3f}), Human Search SR "
         f"{s['Human Search SR']:.3f}, Time Used {s['Time Used']:.2f} min; {s['wall_s']:.1f} s wall"
     )
+    print(
+        f"  (Task SR by the simulator rule; PRS's eval.py as published reports Task SR "
+        f"{s['Task SR (eval.py)']:.3f}: it never sets object_find)"
+    )
     for reason, n in sorted(s["failure_reasons"].items(), key=lambda kv: -kv[1]):
         print(f"  {n:4d}  {reason}")
     print(f"wrote {out / 'results.json'}, {out / 'prs_submission.json'}, {out / 'report.html'}")

@@ -3,7 +3,9 @@
 PRS's ``evaluate(annotations, submission, phase)`` scores entries that carry the evaluator's fields
 (``tar_object_name``, ``target_object_type``, ``npc_position``), as its simulator's result records do; our
 submission holds only the agent's side, so the check adds those fields from the task file, as PRS's
-server does, then runs ``evaluate`` and ``delivery_task_score`` and compares with ``prs_metrics``.
+server does, then runs ``evaluate`` and ``delivery_task_score`` and compares with ``prs_metrics``: every
+number ``eval.py`` reports (its Task SR, 0 for any submission as published, included) and the Task SR by
+the in-simulator scorer's rule.
 
 Usage: ``python -m gsr.benchmarks.delivery.prs_eval_check EVAL_PY TASKS SUBMISSION``.
 """
@@ -30,8 +32,15 @@ def _truth(t: dict) -> PrsTruth:
     )  # fmt: skip
 
 
+#: What ``eval.py`` reports.
+EVAL_KEYS = ("Task SR", "Object Manipulation SR", "Human Search SR", "Time Used")
+
+
 def compare(eval_py: Path, tasks_file: Path, submission: dict) -> dict:
-    """PRS's numbers and ours on a submission: ``{"prs": ..., "ours": ..., "equal": bool}``."""
+    """PRS's numbers and ours on a submission, side by side: ``eval.py``'s four aggregates (its Task SR
+    included, 0 as published) against ``aggregate``'s ``eval.py`` block, and the simulator rule's Task SR
+    (``delivery_task_score``'s parts: exact object, within 3 m, within 10 minutes) against our ``Task SR``;
+    ``equal`` when every pair is identical."""
     spec = importlib.util.spec_from_file_location("prs_eval", eval_py)
     if spec is None or spec.loader is None:
         raise ValueError(f"{eval_py}: cannot load")
@@ -60,11 +69,14 @@ def compare(eval_py: Path, tasks_file: Path, submission: dict) -> dict:
         for s in per_task
     ) / len(tasks)
     ours = aggregate([score_entry(e, _truth(tasks[tid])) for tid, e in submission.items()], len(tasks))
-    keys = ("Object Manipulation SR", "Human Search SR", "Time Used")
-    equal = all(abs(prs[k] - ours[k]) < 1e-12 for k in keys) and abs(prs_success - ours["Task SR"]) < 1e-12
+    # every number eval.py reports (its Task SR included) against ours, and the simulator rule's Task SR
+    equal = all(abs(prs[k] - ours["eval.py"][k]) < 1e-12 for k in EVAL_KEYS) and (
+        abs(prs_success - ours["Task SR"]) < 1e-12
+    )
     return {
-        "prs": dict(prs, **{"Task SR (all parts, simulator rule)": prs_success}),
-        "ours": {k: ours[k] for k in ("Task SR", *keys)},
+        "eval.py": {k: prs[k] for k in EVAL_KEYS},
+        "ours (eval.py rule)": ours["eval.py"],
+        "simulator rule Task SR": {"prs": prs_success, "ours": ours["Task SR"]},
         "equal": equal,
     }
 

@@ -122,10 +122,16 @@ class PrsSuite:
             "",
             f"PRS data {doc['data']}, tasks {doc['tasks_file']}, captions {doc['captions']}.",
             "",
-            "| Task SR | Object Manipulation SR | Human Search SR | Time Used (min) |",
-            "|---:|---:|---:|---:|",
-            f"| {m['Task SR']:.3f} | {m['Object Manipulation SR']:.3f} | {m['Human Search SR']:.3f} "
-            f"| {m['Time Used']:.2f} |",
+            "| scorer | Task SR | Object Manipulation SR | Human Search SR | Time Used (min) |",
+            "|---|---:|---:|---:|---:|",
+            f"| simulator rule | {m['Task SR']:.3f} | {m['Object Manipulation SR']:.3f} "
+            f"| {m['Human Search SR']:.3f} | {m['Time Used']:.2f} |",
+            f"| eval.py as published | {m['eval.py']['Task SR']:.3f} | "
+            f"{m['eval.py']['Object Manipulation SR']:.3f} | {m['eval.py']['Human Search SR']:.3f} "
+            f"| {m['eval.py']['Time Used']:.2f} |",
+            "",
+            "eval.py never sets object_find, so its Task SR is 0 for every submission; the simulator rule "
+            "counts a task with the exact object delivered within 3 m in 10 minutes.",
             "",
             "## Failures by reason",
             "",

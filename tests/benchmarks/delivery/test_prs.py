@@ -116,6 +116,11 @@ def test_scoring_rules() -> None:
     assert not late["success"]
     agg = aggregate([score_entry(entry("Cup_3", 1, 5), truth), late], annotated=4)
     assert agg["Task SR"] == 0.25 and agg["Object Manipulation SR"] == 0.25 and agg["Time Used"] == 2.5
+    # eval.py's own Task SR: int((grasp + object_find + deliver + human) / 4) with object_find never set
+    assert agg["Task SR (eval.py)"] == 0 and agg["eval.py"]["Task SR"] == 0
+    assert {k: agg["eval.py"][k] for k in ("Object Manipulation SR", "Human Search SR", "Time Used")} == {
+        "Object Manipulation SR": 0.25, "Human Search SR": 0.25, "Time Used": 2.5
+    }  # fmt: skip
 
 
 def test_bad_task_file_one_clear_error(folder: Path, tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
@@ -157,7 +162,11 @@ def test_prs_dev_subset_matches_prs_eval(shared_data: Path, tmp_path: Path) -> N
     run = run_prs(data, subset, captions="none")
     check = compare(data / "eval.py", subset, run["submission"])
     assert check["equal"], check
-    assert check["ours"]["Task SR"] >= 0.6
+    # eval.py as published: Task SR 0 (object_find is never set), reproduced exactly by our eval.py block
+    assert check["eval.py"]["Task SR"] == 0 == check["ours (eval.py rule)"]["Task SR"]
+    assert check["eval.py"] == check["ours (eval.py rule)"]
+    assert check["simulator rule Task SR"]["ours"] >= 0.6
+    assert run["summary"]["Task SR (eval.py)"] == 0 and run["summary"]["eval.py"] == check["eval.py"]
 
 
 def test_bench_run_prs_suite(folder: Path, tmp_path: Path) -> None:
@@ -285,3 +294,4 @@ def test_prs_dev_acceptance(shared_data: Path) -> None:
     assert run["summary"]["tasks"] == 324 and run["summary"]["Task SR"] >= 0.80
     check = compare(data / "eval.py", data / "delivery_tasks_dev.json", run["submission"])
     assert check["equal"], check
+    assert check["eval.py"]["Task SR"] == 0 and check["simulator rule Task SR"]["prs"] >= 0.80
