@@ -1,0 +1,413 @@
+"""Class-agnostic instance segmentation of one RGB-D frame with no simulator input.
+
+Steps (all on a strided pixel grid, vectorised numpy/scipy):
+
+1. **Back-projection** of every pixel with a depth return to world points (the camera pose gives gravity:
+   world +z is up), a 3x3 median of the depth first so that sensor noise does not make edges.
+2. **Support plane**: the dominant horizontal surface (the height histogram of pixels whose normal points
+   up), refined by a least-squares plane through its inliers. Pixels within ``plane_distance`` of it are
+   the support (the table); pixels below it are dropped.
+3. **Over-segmentation** of what stands above the plane: neighbouring pixels are linked unless a depth
+   discontinuity (a jump that the neighbouring depth steps do not explain, so slanted surfaces stay whole),
+   a chromaticity edge or a strong brightness edge separates them; connected components of the links.
+4. **Merging**: adjacent segments are merged when a merge scorer says they are one object — a learned
+   model (``gsr.perception.train``) when one is loaded, else a documented rule (similar colour and no depth
+   jump along most of the shared boundary).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from gsr.perception.camera import Camera
+
+from gsr.errors import GSRError
+
+
+@dataclass(frozen=True)
+class SegmentParams:
+    """Tunable constants of the geometric segmenter (see docs/perception.md, *Perception without oracle*)."""
+
+    stride: int = 2  # work on every n-th pixel (640x480 -> 320x240)
+    plane_distance: float = 0.008  # |height above the support plane| of support pixels (m)
+    horizontal: float = 0.9  # |normal z| of a pixel that may belong to a horizontal surface
+    depth_edge: float = 0.008  # a depth jump beyond this + depth_edge_rel * depth is an edge (m)
+    depth_edge_rel: float = 0.012
+    chroma_edge: float = 0.075  # L1 change of (r, g, b) / (r + g + b) between neighbours
+    intensity_edge: float = 0.9  # |log brightness ratio| between neighbours
+    dark: float = 40.0  # pixels darker than this (sum of r, g, b / 3) have no reliable chromaticity
+    min_pixels: int = 10  # segments with fewer strided pixels are dropped
+    max_depth: float = 10.0
+    merge_threshold: float = 0.5  # merge adjacent segments whose merge score exceeds this
+
+
+@dataclass
+class Segments:
+    """The segmentation of one frame on the strided grid, with what recognition needs."""
+
+    stride: int
+    shape: tuple[int, int]  # full-resolution (H, W)
+    labels: np.ndarray  # (h, w) int32: segment index, -1 = none
+    support: np.ndarray  # (h, w) bool: support-plane pixels
+    plane: np.ndarray | None  # (a, b, c, d), normal up; None when no horizontal plane was found
+    points: np.ndarray  # (h, w, 3) world points (NaN without depth)
+    rgb: np.ndarray  # (h, w, 3) uint8
+    normals: np.ndarray  # (h, w, 3) unit normals (world), NaN where unknown
+    height: np.ndarray  # (h, w) height above the plane (m), NaN without depth
+    camera_position: np.ndarray  # (3,) world position of the camera centre
+
+    @property
+    def count(self) -> int:
+        """Number of segments."""
+        return int(self.labels.max()) + 1 if self.labels.size and self.labels.max() >= 0 else 0
+
+    def full_mask(self, index: int) -> np.ndarray:
+        """The full-resolution boolean mask of one segment (nearest-neighbour upsampling)."""
+        return upsample(self.labels == index, self.stride, self.shape)
+
+    def full_support(self) -> np.ndarray:
+        """The full-resolution mask of the support plane."""
+        return upsample(self.support, self.stride, self.shape)
+
+
+def upsample(mask: np.ndarray, stride: int, shape: tuple[int, int]) -> np.ndarray:
+    """Nearest-neighbour upsampling of a strided mask to ``shape``."""
+    if stride == 1:
+        return mask.copy()
+    big = np.repeat(np.repeat(mask, stride, axis=0), stride, axis=1)
+    return big[: shape[0], : shape[1]]
+
+
+def check_inputs(rgb: np.ndarray, depth: np.ndarray, camera: Camera) -> tuple[np.ndarray, np.ndarray]:
+    """Validate one frame's arrays against the camera; one-line errors, NaN depth becomes 'no return'."""
+    if rgb is None or depth is None:
+        raise GSRError("detect: rgb and depth are both required")
+    rgb = np.asarray(rgb)
+    depth = np.asarray(depth)
+    if rgb.ndim != 3 or rgb.shape[2] != 3:
+        raise GSRError(f"detect: rgb must be HxWx3, got shape {rgb.shape}")
+    if depth.ndim != 2:
+        raise GSRError(f"detect: depth must be HxW, got shape {depth.shape}")
+    if rgb.shape[:2] != depth.shape or depth.shape != (camera.height, camera.width):
+        raise GSRError(
+            f"detect: rgb {rgb.shape[1]}x{rgb.shape[0]}, depth {depth.shape[1]}x{depth.shape[0]} and "
+            f"camera {camera.width}x{camera.height} must have the same size"
+        )
+    if not np.issubdtype(depth.dtype, np.floating):
+        raise GSRError(f"detect: depth must be float metres, got dtype {depth.dtype}")
+    if rgb.dtype != np.uint8:
+        if not np.issubdtype(rgb.dtype, np.number) or not np.all(np.isfinite(rgb)):
+            raise GSRError(f"detect: rgb must be uint8, got dtype {rgb.dtype}")
+        rgb = np.clip(rgb, 0, 255).astype(np.uint8)
+    depth = np.where(np.isfinite(depth) & (depth > 0), depth, 0.0).astype(np.float32)
+    return rgb, depth
+
+
+def _median3(z: np.ndarray) -> np.ndarray:
+    """3x3 median of depth, ignoring pixels without a return (they stay empty)."""
+    from scipy.ndimage import median_filter
+
+    filled = median_filter(z, size=3, mode="nearest")
+    return np.where(z > 0, np.where(filled > 0, filled, z), 0.0)
+
+
+def _world(z: np.ndarray, camera: Camera, stride: int) -> np.ndarray:
+    u = (np.arange(0, camera.width, stride, dtype=np.float64) - camera.cx) / camera.fx
+    v = (np.arange(0, camera.height, stride, dtype=np.float64) - camera.cy) / camera.fy
+    zz = np.where(z > 0, z, np.nan).astype(np.float64)
+    cam = np.stack((u[None, :] * zz, v[:, None] * zz, zz), axis=-1)
+    rot, t = camera.cam_to_world[:3, :3], camera.cam_to_world[:3, 3]
+    return cam @ rot.T + t
+
+
+def _normals(p: np.ndarray) -> np.ndarray:
+    """Unit normals from central differences of the point grid (NaN at borders and holes)."""
+    dx = np.full_like(p, np.nan)
+    dy = np.full_like(p, np.nan)
+    dx[:, 1:-1] = p[:, 2:] - p[:, :-2]
+    dy[1:-1] = p[2:] - p[:-2]
+    n = np.cross(dx, dy)
+    norm = np.linalg.norm(n, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return n / norm
+
+
+def fit_support_plane(
+    points: np.ndarray, normals: np.ndarray, camera_position: np.ndarray, params: SegmentParams
+) -> np.ndarray | None:
+    """The dominant horizontal plane ``(a, b, c, d)`` (normal up) of a point grid, or None."""
+    pts = points.reshape(-1, 3)
+    nz = np.abs(normals[..., 2]).reshape(-1)
+    ok = np.isfinite(pts[:, 2]) & (np.nan_to_num(nz) > params.horizontal)
+    z = pts[ok, 2]
+    if z.size < 50:
+        return None
+    # weight each pixel by the world area it covers (squared range), so the plane with the largest
+    # surface wins rather than the one nearest the camera (a cabinet top seen from close by)
+    rng2 = np.sum((pts[ok] - camera_position) ** 2, axis=1)
+    lo, hi = float(z.min()), float(z.max())
+    bins = max(1, int(np.ceil((hi - lo) / 0.005)))
+    hist, edges = np.histogram(z, bins=bins, range=(lo, lo + bins * 0.005), weights=rng2)
+    # smooth over neighbouring bins so a slightly tilted plane is one peak
+    smooth = hist + np.concatenate(([0], hist[:-1])) + np.concatenate((hist[1:], [0]))
+    k = int(np.argmax(smooth))
+    h0 = (edges[k] + edges[k + 1]) / 2.0
+    near = ok & (np.abs(pts[:, 2] - h0) < 0.015)
+    sel = pts[near]
+    if len(sel) < 30:
+        return None
+    if len(sel) > 5000:
+        sel = sel[np.random.default_rng(0).choice(len(sel), 5000, replace=False)]
+    # z = a x + b y + c, robust: two rounds, dropping residuals beyond 3 plane distances
+    for _ in range(2):
+        a_mat = np.column_stack((sel[:, 0], sel[:, 1], np.ones(len(sel))))
+        coef, *_ = np.linalg.lstsq(a_mat, sel[:, 2], rcond=None)
+        res = np.abs(a_mat @ coef - sel[:, 2])
+        keep = res < 3 * params.plane_distance
+        if keep.sum() < 30:
+            break
+        sel = sel[keep]
+    a, b, c = coef
+    plane = np.array([-a, -b, 1.0, -c])
+    plane /= np.linalg.norm(plane[:3])
+    return plane
+
+
+def _links(
+    z: np.ndarray, rgb: np.ndarray, active: np.ndarray, params: SegmentParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Right and down neighbour links among active pixels: (kept_right, kept_down, jump_right, jump_down).
+
+    ``kept`` means no edge separates the pair; ``jump`` marks a depth discontinuity (used by merging)."""
+    f = rgb.astype(np.float32)
+    s = f.sum(axis=-1) + 1e-3
+    chroma = f / s[..., None]
+    bright = np.log(s / 3.0 + 1.0)
+    dark = s / 3.0 < params.dark
+    out = []
+    for axis in (1, 0):
+        d = np.diff(z, axis=axis)
+        n = d.shape[axis]
+        # the neighbouring steps along the same line: a slanted plane has equal steps, a jump does not
+        prev = np.take(d, np.r_[0, np.arange(n - 1)], axis=axis)
+        nxt = np.take(d, np.r_[np.arange(1, n), n - 1], axis=axis)
+        zmid = np.take(z, np.arange(n), axis=axis)
+        thr = params.depth_edge + params.depth_edge_rel * zmid
+        jump = (np.abs(d) > thr) & (np.abs(d - prev) > thr) & (np.abs(d - nxt) > thr)
+        jump |= np.abs(d) > 4 * thr  # a large step is a jump even on a steep slope
+        dc = np.abs(np.diff(chroma, axis=axis)).sum(axis=-1)
+        either_dark = np.take(dark, np.arange(n), axis=axis) | np.take(dark, np.arange(1, n + 1), axis=axis)
+        color = (dc > params.chroma_edge) & ~either_dark
+        color |= np.abs(np.diff(bright, axis=axis)) > params.intensity_edge
+        both = np.take(active, np.arange(n), axis=axis) & np.take(active, np.arange(1, n + 1), axis=axis)
+        out.append((both & ~jump & ~color, both & jump))
+    (kr, jr), (kd, jd) = out
+    return kr, kd, jr, jd
+
+
+def _components(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.ndarray:
+    """Connected components of the kept links; -1 for inactive pixels."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    h, w = active.shape
+    idx = np.arange(h * w).reshape(h, w)
+    a = np.concatenate((idx[:, :-1][kr], idx[:-1, :][kd]))
+    b = np.concatenate((idx[:, 1:][kr], idx[1:, :][kd]))
+    graph = coo_matrix((np.ones(a.size, np.int8), (a, b)), shape=(h * w, h * w))
+    _, comp = connected_components(graph, directed=False)
+    comp = comp.reshape(h, w)
+    comp = np.where(active, comp, -1)
+    return comp
+
+
+def _relabel(labels: np.ndarray, min_pixels: int) -> np.ndarray:
+    """Consecutive ids 0..n-1 for segments with at least ``min_pixels`` pixels, -1 elsewhere."""
+    flat = labels.reshape(-1)
+    valid = flat >= 0
+    _, inv, counts = np.unique(flat[valid], return_inverse=True, return_counts=True)
+    keep = counts >= min_pixels
+    new_id = np.where(keep, np.cumsum(keep) - 1, -1)
+    out = np.full(flat.shape, -1, dtype=np.int32)
+    out[valid] = new_id[inv]
+    return out.reshape(labels.shape)
+
+
+#: A merge scorer: pair features (n, PAIR_FEATURES) -> probability that each pair is one object.
+MergeScorer = Callable[[np.ndarray], np.ndarray]
+
+PAIR_FEATURE_NAMES = (
+    "chroma_diff",
+    "bright_diff",
+    "jump_share",
+    "boundary_over_smaller",
+    "log_size_small",
+    "log_size_large",
+    "height_gap",
+    "normal_dot",
+    "top_diff",
+    "centroid_dist",
+    "mean_step",
+)
+
+
+def pair_features(seg: Segments, jr: np.ndarray, jd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Adjacent segment pairs ``(n, 2)`` and their features ``(n, len(PAIR_FEATURE_NAMES))``."""
+    lab = seg.labels
+    n = seg.count
+    if n < 2:
+        return np.zeros((0, 2), np.int64), np.zeros((0, len(PAIR_FEATURE_NAMES)))
+    a = np.concatenate((lab[:, :-1].ravel(), lab[:-1, :].ravel()))
+    b = np.concatenate((lab[:, 1:].ravel(), lab[1:, :].ravel()))
+    za = np.concatenate((seg.points[:, :-1, 2].ravel(), seg.points[:-1, :, 2].ravel()))
+    zb = np.concatenate((seg.points[:, 1:, 2].ravel(), seg.points[1:, :, 2].ravel()))
+    jump = np.concatenate((jr.ravel(), jd.ravel()))
+    cross = (a >= 0) & (b >= 0) & (a != b)
+    if not cross.any():
+        return np.zeros((0, 2), np.int64), np.zeros((0, len(PAIR_FEATURE_NAMES)))
+    lo, hi = np.minimum(a[cross], b[cross]), np.maximum(a[cross], b[cross])
+    key = lo.astype(np.int64) * n + hi
+    uniq, inv = np.unique(key, return_inverse=True)
+    links = np.bincount(inv).astype(np.float64)
+    jumps = np.bincount(inv, weights=jump[cross].astype(np.float64))
+    step = np.bincount(inv, weights=np.nan_to_num(np.abs(za[cross] - zb[cross])))
+    pairs = np.column_stack((uniq // n, uniq % n))
+    st = segment_stats(seg)
+    i, j = pairs[:, 0], pairs[:, 1]
+    size = st["size"]
+    small, large = np.minimum(size[i], size[j]), np.maximum(size[i], size[j])
+    feats = np.column_stack(
+        (
+            np.abs(st["chroma"][i] - st["chroma"][j]).sum(axis=1),
+            np.abs(st["bright"][i] - st["bright"][j]),
+            jumps / links,
+            links / np.sqrt(small),
+            np.log(small),
+            np.log(large),
+            np.abs(st["bottom"][i] - st["bottom"][j]),
+            np.abs((st["normal"][i] * st["normal"][j]).sum(axis=1)),
+            np.abs(st["top"][i] - st["top"][j]),
+            np.linalg.norm(st["centroid"][i] - st["centroid"][j], axis=1),
+            step / links,
+        )
+    )
+    return pairs, np.nan_to_num(feats)
+
+
+def segment_stats(seg: Segments) -> dict[str, np.ndarray]:
+    """Per-segment size, mean chromaticity, brightness, mean normal, bottom/top height, centroid."""
+    n = seg.count
+    lab = seg.labels.reshape(-1)
+    m = lab >= 0
+    ids = lab[m]
+    size = np.bincount(ids, minlength=n).astype(np.float64)
+    f = seg.rgb.reshape(-1, 3)[m].astype(np.float64)
+    s = f.sum(axis=1) + 1e-3
+    chroma = np.column_stack([np.bincount(ids, f[:, k] / s, n) for k in range(3)]) / size[:, None]
+    bright = np.bincount(ids, np.log(s / 3.0 + 1.0), n) / size
+    nrm = np.nan_to_num(seg.normals.reshape(-1, 3)[m])
+    normal = np.column_stack([np.bincount(ids, nrm[:, k], n) for k in range(3)])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True) + 1e-9
+    pts = seg.points.reshape(-1, 3)[m]
+    centroid = np.column_stack([np.bincount(ids, np.nan_to_num(pts[:, k]), n) for k in range(3)])
+    centroid /= size[:, None]
+    hgt = np.nan_to_num(seg.height.reshape(-1)[m])
+    bottom = np.full(n, np.inf)
+    top = np.full(n, -np.inf)
+    np.minimum.at(bottom, ids, hgt)
+    np.maximum.at(top, ids, hgt)
+    return {
+        "size": size,
+        "chroma": chroma,
+        "bright": bright,
+        "normal": normal,
+        "centroid": centroid,
+        "bottom": bottom,
+        "top": top,
+    }
+
+
+def rule_merge_score(feats: np.ndarray) -> np.ndarray:
+    """The rule used without a trained model: one object when colour matches and depth is continuous."""
+    chroma, bright, jump_share = feats[:, 0], feats[:, 1], feats[:, 2]
+    same = (chroma < 0.06) & (bright < 0.5) & (jump_share < 0.5)
+    return same.astype(np.float64)
+
+
+def _merge(seg: Segments, pairs: np.ndarray, score: np.ndarray, threshold: float) -> None:
+    """Union the pairs scored above ``threshold`` and relabel the segments consecutively."""
+    n = seg.count
+    parent = np.arange(n)
+
+    def find(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for (i, j), s in zip(pairs.tolist(), score.tolist(), strict=True):
+        if s > threshold:
+            ri, rj = find(i), find(j)
+            if ri != rj:
+                parent[max(ri, rj)] = min(ri, rj)
+    roots = np.array([find(i) for i in range(n)])
+    _, new = np.unique(roots, return_inverse=True)
+    lab = seg.labels
+    seg.labels = np.where(lab >= 0, new[np.maximum(lab, 0)], -1).astype(np.int32)
+
+
+def segment(
+    rgb: np.ndarray,
+    depth: np.ndarray,
+    camera: Camera,
+    params: SegmentParams | None = None,
+    merge_scorer: MergeScorer | None = None,
+    merge: bool = True,
+) -> tuple[Segments, tuple[np.ndarray, np.ndarray]]:
+    """Segment one frame; returns the segments and the over-segmentation's (pairs, features) before merging.
+
+    ``merge_scorer`` maps pair features to merge probabilities (a trained model); None uses
+    :func:`rule_merge_score`. With ``merge=False`` the over-segmentation is returned unmerged (training).
+    """
+    params = params or SegmentParams()
+    rgb, depth = check_inputs(rgb, depth, camera)
+    s = params.stride
+    z = depth[::s, ::s].astype(np.float64)
+    z = np.where(z < params.max_depth, z, 0.0)
+    z = _median3(z)
+    small_rgb = rgb[::s, ::s]
+    points = _world(z, camera, s)
+    normals = _normals(points)
+    plane = fit_support_plane(points, normals, camera.position, params)
+    valid = z > 0
+    if plane is not None:
+        with np.errstate(invalid="ignore"):
+            height = points @ plane[:3] + plane[3]
+        height = np.where(valid, height, np.nan)
+        support = valid & (np.abs(np.nan_to_num(height, nan=1e9)) <= params.plane_distance)
+        active = valid & (np.nan_to_num(height, nan=-1.0) > params.plane_distance)
+    else:
+        height = np.where(valid, points[..., 2] - np.nanmin(np.where(valid, points[..., 2], np.inf)), np.nan)
+        support = np.zeros_like(valid)
+        active = valid
+    kr, kd, jr, jd = _links(z, small_rgb, active, params)
+    labels = _relabel(_components(active, kr, kd), params.min_pixels)
+    seg = Segments(
+        stride=s,
+        shape=(camera.height, camera.width),
+        labels=labels,
+        support=support,
+        plane=plane,
+        points=points,
+        rgb=small_rgb,
+        normals=normals,
+        height=height,
+        camera_position=camera.position,
+    )
+    pairs, feats = pair_features(seg, jr, jd)
+    if merge and len(pairs):
+        score = merge_scorer(feats) if merge_scorer is not None else rule_merge_score(feats)
+        _merge(seg, pairs, np.asarray(score, dtype=np.float64), params.merge_threshold)
+    return seg, (pairs, feats)
