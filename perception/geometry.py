@@ -104,6 +104,8 @@ def _clouds(
     rot, t = frame.camera.cam_to_world[:3, :3], frame.camera.cam_to_world[:3, 3]
     world = cam @ rot.T + t
     ids = masks[valid]
+    if ids.size == 0:
+        return {}  # nothing segmented has a depth return (an empty scene, a blank depth image)
     rgb = frame.rgb[::s, ::s][valid]
     order = np.argsort(ids, kind="stable")
     ids, world, rgb = ids[order], world[order], rgb[order]
@@ -182,7 +184,9 @@ def build_instances(frames: list[Frame], params: GeometryParams) -> tuple[list[I
     for inst in unlabeled:
         if _finish(inst, params):
             anonymous.append(inst)
-    out.extend(fuse_anonymous(anonymous, params))
+    from gsr.perception.track import fuse_views  # 3D overlap across cameras, category vote
+
+    out.extend(fuse_views(anonymous, params))
     kps = [k for k in keypoints.values() if _finish(k, params)]
     return out, kps
 

@@ -1,0 +1,346 @@
+"""Association without the simulator's ids: across cameras (3D overlap), parts to parents, and across time.
+
+Three jobs, all on geometry that perception measured itself:
+
+* :func:`fuse_views` merges one object's detections from several cameras into one instance: two
+  detections from *different* cameras are the same object when their clouds overlap in 3D (shared 1 cm
+  voxels) or, for the same category, their centres lie within half the object's width (a cube's top
+  seen by one camera and its side by another share few voxels). Detections of one camera are never
+  merged (the detector already told them apart). The fused category is the score-weighted vote of the
+  views (``unknown`` only when no view named a category), and so is the colour.
+* :func:`assign_parts` gives every part detection (a drawer, a door, a cabinet top) the object it belongs
+  to: the non-part object whose box contains most of the part's box. Its node id becomes
+  ``<parent>/<category>_<k>`` and its ``parent`` that object, so drawer levels, openings and the
+  grounder's "the bottom drawer of the cabinet" work as with labelled masks.
+* :class:`Tracker` keeps node ids stable between observations: a node of a new observation takes the id
+  of the previous belief's node it matches — first by place (same category, centres close), then, for
+  what moved, by appearance (same category and colour, similar size); a part keeps its id through its
+  parent and its level. Unmatched nodes get fresh ids, never one issued before.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+from gsr.perception.geometry import GeometryParams, Instance, clean_points, fit_boxes, number_anonymous
+
+from gsr.categories import is_part_category
+from gsr.scene_graph import Edge, Node, SceneGraph
+
+#: Category a detector gives to an object it cannot name (open set).
+UNKNOWN = "unknown"
+#: Voxel edge (m) of the 3D-overlap test between two views' clouds.
+OVERLAP_VOXEL = 0.01
+#: Share of the smaller cloud's voxels (after one voxel of dilation) that must be shared to merge.
+MERGE_OVERLAP = 0.3
+_VIEW_KEY = re.compile(r"_f(\d+)m-?\d+$")
+
+
+def view_of(inst: Instance) -> int:
+    """The camera index an unfused instance came from (its provisional key ``<cat>_f<view>m<mask>``)."""
+    m = _VIEW_KEY.search(inst.key)
+    return int(m.group(1)) if m else -1
+
+
+def _voxels(points: np.ndarray, dilate: bool) -> set[tuple[int, int, int]]:
+    cells = np.unique(np.floor(points / OVERLAP_VOXEL).astype(np.int64), axis=0)
+    if not dilate:
+        return set(map(tuple, cells.tolist()))
+    shifts = np.array([[dx, dy, dz] for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)])
+    grown = np.unique((cells[:, None, :] + shifts[None, :, :]).reshape(-1, 3), axis=0)
+    return set(map(tuple, grown.tolist()))
+
+
+def cloud_overlap(a: Instance, b: Instance) -> float:
+    """Share of the smaller cloud's voxels that lie in (one voxel around) the other cloud, in [0, 1]."""
+    small, large = (a, b) if len(a.points) <= len(b.points) else (b, a)
+    mine = _voxels(small.points, dilate=False)
+    if not mine:
+        return 0.0
+    return len(mine & _voxels(large.points, dilate=True)) / len(mine)
+
+
+def _compatible(a: Instance, b: Instance) -> bool:
+    """Parts never merge with objects; otherwise any categories may (the vote settles the name)."""
+    return is_part_category(a.label.category) == is_part_category(b.label.category)
+
+
+def _near_same(a: Instance, b: Instance) -> bool:
+    """Same category, overlapping heights and centres within half the object's width (+1 cm)."""
+    if a.label.category != b.label.category:
+        return False
+    z_overlap = min(a.aabb_max[2], b.aabb_max[2]) - max(a.aabb_min[2], b.aabb_min[2])
+    reach = 0.5 * max(float(a.size[:2].max()), float(b.size[:2].max())) + 0.01
+    return z_overlap > 0 and float(np.linalg.norm(a.center[:2] - b.center[:2])) <= reach
+
+
+def _box_contains_share(inner: Instance, outer: Instance) -> float:
+    """Share of the inner instance's box volume inside the outer one's box (both axis-aligned)."""
+    lo, hi = np.maximum(inner.aabb_min, outer.aabb_min), np.minimum(inner.aabb_max, outer.aabb_max)
+    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+    vol = float(np.prod(np.maximum(inner.aabb_max - inner.aabb_min, 1e-3)))
+    return inter / vol
+
+
+def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instance]:
+    """Merge detections of one object seen by several cameras (see the module docstring); numbered keys."""
+    n = len(instances)
+    root = list(range(n))
+
+    def find(i: int) -> int:
+        while root[i] != i:
+            root[i] = root[root[i]]
+            i = root[i]
+        return i
+
+    views = [view_of(i) for i in instances]
+    for i in range(n):
+        for j in range(i + 1, n):
+            a, b = instances[i], instances[j]
+            if views[i] == views[j] or not _compatible(a, b) or find(i) == find(j):
+                continue
+            if _box_contains_share(a, b) == 0.0 and _box_contains_share(b, a) == 0.0 and not _near_same(a, b):
+                continue  # disjoint boxes: nothing to merge (cheap test before the voxel overlap)
+            if _near_same(a, b) or cloud_overlap(a, b) >= MERGE_OVERLAP:
+                # one camera's detections stay apart even through a third view
+                members_i = {views[k] for k in range(n) if find(k) == find(i)}
+                members_j = {views[k] for k in range(n) if find(k) == find(j)}
+                if not members_i & members_j:
+                    root[find(j)] = find(i)
+    groups: dict[int, list[Instance]] = {}
+    for i in range(n):
+        groups.setdefault(find(i), []).append(instances[i])
+    fused = [_merge_group(g, params) for g in groups.values()]
+    fused = [f for f in fused if f is not None]
+    number_anonymous(fused)
+    return fused
+
+
+def _vote(group: list[Instance], key: str) -> str | None:
+    weights: dict[str, float] = {}
+    for inst in group:
+        value = inst.label.category if key == "category" else inst.label.color
+        if value is None:
+            continue
+        score = inst.label.attributes.get("confidence", 1.0)
+        w = (float(score) if isinstance(score, int | float) else 1.0) * len(inst.points)
+        weights[value] = weights.get(value, 0.0) + w
+    if key == "category" and len(weights) > 1:
+        weights.pop(UNKNOWN, None)  # a view that named the object beats one that could not
+    return max(sorted(weights), key=lambda v: weights[v]) if weights else None
+
+
+def _merge_group(group: list[Instance], params: GeometryParams) -> Instance | None:
+    if len(group) == 1:
+        return group[0]
+    base = group[0]
+    category = _vote(group, "category") or base.label.category
+    color = _vote(group, "color")
+    scores = [
+        float(s)
+        for s in (g.label.attributes.get("confidence") for g in group)
+        if isinstance(s, int | float) and not isinstance(s, bool)
+    ]
+    attrs = dict(base.label.attributes)
+    if scores:
+        attrs["confidence"] = round(max(scores), 3)
+    label = dataclasses.replace(base.label, category=category, color=color, attributes=attrs)
+    points = np.concatenate([g.points for g in group])
+    rgb = np.concatenate([g.rgb for g in group])
+    points, rgb = clean_points(points, rgb, params)
+    if len(points) < params.min_points:
+        return None
+    inst = Instance(base.key, label, points, rgb, views=sum(g.views for g in group))
+    fit_boxes(inst)
+    return inst
+
+
+#: A part belongs to the object whose box holds at least this share of the part's box (grown 2 cm).
+PART_IN_PARENT = 0.5
+_PART_MARGIN = 0.02
+
+
+def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "floor")) -> None:
+    """Give anonymous part instances their parent object and ``<parent>/<category>_<k>`` keys (in place)."""
+    ground = frozenset(grounds)
+    objects = [
+        i
+        for i in instances
+        if not is_part_category(i.label.category)
+        and i.label.category not in ground
+        and i.label.category != UNKNOWN
+    ]
+    counts: dict[tuple[str, str], int] = {}
+    for part in instances:
+        if part.label.id is not None or part.label.parent is not None:
+            continue
+        if not is_part_category(part.label.category):
+            continue
+        best, share = None, PART_IN_PARENT
+        for obj in objects:
+            grown = dataclasses.replace(
+                obj, aabb_min=obj.aabb_min - _PART_MARGIN, aabb_max=obj.aabb_max + _PART_MARGIN
+            )
+            s = _box_contains_share(part, grown)
+            if s > share or (best is not None and s == share and obj.size.prod() > best.size.prod()):
+                best, share = obj, s
+        if best is None:
+            continue
+        k = counts[(best.key, part.label.category)] = counts.get((best.key, part.label.category), 0) + 1
+        part.label = dataclasses.replace(part.label, parent=best.key)
+        part.key = f"{best.key}/{part.label.category}_{k}"
+
+
+# ------------------------------------------------------------------ identities across time
+
+
+def rename_graph(graph: SceneGraph, mapping: Mapping[str, str]) -> SceneGraph:
+    """The graph with node ids (and parents, edge ends) renamed by ``mapping``; unmapped ids stay."""
+    if not mapping or all(k == v for k, v in mapping.items()):
+        return graph
+
+    def r(x: str | None) -> str | None:
+        return None if x is None else mapping.get(x, x)
+
+    nodes = tuple(
+        sorted(
+            (n.model_copy(update={"id": r(n.id), "parent": r(n.parent)}) for n in graph.nodes),
+            key=lambda n: n.id,
+        )
+    )
+    edges = tuple(
+        sorted(
+            {Edge(source=r(e.source), relation=e.relation, target=r(e.target)) for e in graph.edges},  # type: ignore[arg-type]
+            key=Edge.key,
+        )
+    )
+    return graph.model_copy(update={"nodes": nodes, "edges": edges})
+
+
+def _center(n: Node) -> np.ndarray | None:
+    if n.bbox is not None:
+        lo, hi = n.bbox.min, n.bbox.max
+        return np.array([(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2])
+    if n.pose is not None:
+        p = n.pose.position
+        return np.array([p.x, p.y, p.z])
+    return None
+
+
+def _size(n: Node) -> np.ndarray:
+    a = n.attributes
+    vals = [a.get("size_x"), a.get("size_y"), a.get("size_z")]
+    return np.array([float(v) if isinstance(v, int | float) else 0.0 for v in vals])
+
+
+def _same_kind(a: Node, b: Node) -> bool:
+    return a.category == b.category or UNKNOWN in (a.category, b.category)
+
+
+#: Centres closer than this (m, plus half the larger footprint) are the same object staying in place.
+TRACK_REACH = 0.03
+#: Sizes within this ratio (each of x/y sorted, and z) count as similar for re-identification after a move.
+SIZE_RATIO = 1.6
+
+
+def _place_cost(new: Node, old: Node) -> float | None:
+    c1, c2 = _center(new), _center(old)
+    if c1 is None or c2 is None or not _same_kind(new, old):
+        return None
+    reach = 0.5 * float(max(_size(new)[:2].max(), _size(old)[:2].max())) + TRACK_REACH
+    d = float(np.linalg.norm(c1 - c2))
+    return d if d <= reach else None
+
+
+def _look_cost(new: Node, old: Node) -> float | None:
+    if new.category != old.category or new.category == UNKNOWN:
+        return None
+    if new.attributes.get("color") != old.attributes.get("color"):
+        return None
+    s1, s2 = _size(new), _size(old)
+    if s1.any() and s2.any():
+        a = np.concatenate([np.sort(s1[:2]), s1[2:]]) + 0.01
+        b = np.concatenate([np.sort(s2[:2]), s2[2:]]) + 0.01
+        ratio = np.maximum(a / b, b / a)
+        if float(ratio.max()) > SIZE_RATIO:
+            return None
+        return float(np.abs(np.log(ratio)).sum())
+    return 1.0
+
+
+def _assign(pairs: dict[tuple[str, str], float]) -> dict[str, str]:
+    """Minimum-cost one-to-one assignment over the allowed (new, old) pairs."""
+    if not pairs:
+        return {}
+    from scipy.optimize import linear_sum_assignment
+
+    news = sorted({a for a, _ in pairs})
+    olds = sorted({b for _, b in pairs})
+    big = 1e6
+    cost = np.full((len(news), len(olds)), big)
+    for (a, b), c in pairs.items():
+        cost[news.index(a), olds.index(b)] = c
+    rows, cols = linear_sum_assignment(cost)
+    return {news[r]: olds[c] for r, c in zip(rows, cols, strict=True) if cost[r, c] < big}
+
+
+class Tracker:
+    """Stable node ids across observations (see the module docstring)."""
+
+    def __init__(self) -> None:
+        self.issued: set[str] = set()
+
+    def assign(self, observed: SceneGraph, previous: SceneGraph | None) -> SceneGraph:
+        """``observed`` with each node renamed to the id of the previous node it matches, or a fresh id."""
+        prev = [n for n in (previous.nodes if previous is not None else ()) if not n.attributes.get("map")]
+        new = [n for n in observed.nodes if not n.attributes.get("map")]
+        mapping: dict[str, str] = {}
+        # objects (and grounds) first: by place, then by appearance for what moved
+        new_obj = [n for n in new if n.parent is None]
+        old_obj = [n for n in prev if n.parent is None]
+        for cost in (_place_cost, _look_cost):
+            free_old = [o for o in old_obj if o.id not in mapping.values()]
+            pairs = {
+                (n.id, o.id): c
+                for n in new_obj
+                if n.id not in mapping
+                for o in free_old
+                if (c := cost(n, o)) is not None
+            }
+            mapping.update(_assign(pairs))
+        # parts: same (renamed) parent and category, then the same level, else the nearest
+        parts_new = [n for n in new if n.parent is not None]
+        old_parts = [n for n in prev if n.parent is not None]
+        pairs = {}
+        for n in parts_new:
+            parent = mapping.get(n.parent or "")
+            for o in old_parts:
+                if o.parent != parent or o.category != n.category:
+                    continue
+                c1, c2 = _center(n), _center(o)
+                d = float(np.linalg.norm(c1 - c2)) if c1 is not None and c2 is not None else 1.0
+                same_level = n.attributes.get("level") == o.attributes.get("level")
+                pairs[(n.id, o.id)] = d + (0.0 if same_level else 10.0)
+        mapping.update(_assign(pairs))
+        # fresh ids for the rest (objects before parts, so a part follows its parent's new id)
+        taken = set(mapping.values())
+        for n in sorted(new, key=lambda n: (n.parent is not None, n.id)):
+            if n.id in mapping:
+                continue
+            parent = mapping.get(n.parent or "", n.parent)
+            stem = n.id.rsplit("/", 1)[-1]
+            stem = _NUMBERED.sub("", stem) or n.category
+            prefix = f"{parent}/" if parent is not None else ""
+            k = 1
+            while f"{prefix}{stem}_{k}" in self.issued | taken:
+                k += 1
+            mapping[n.id] = f"{prefix}{stem}_{k}"
+            taken.add(mapping[n.id])
+        self.issued |= set(mapping.values())
+        return rename_graph(observed, mapping)
+
+
+_NUMBERED = re.compile(r"_\d+$")
