@@ -101,6 +101,7 @@ def run(
     split: str | None = None,
     physical: bool = False,
     perceive: bool = False,
+    oracle_masks: bool = False,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
     from gsr.benchmarks.report import results_document, write_reports
@@ -120,6 +121,7 @@ def run(
                 ("--reference", reference is not None),
                 ("--physical", physical),
                 ("--perceive", perceive),
+                ("--oracle-masks", oracle_masks),
             )
             if given
         ]
@@ -133,6 +135,8 @@ def run(
     task_list = load_suite_tasks(suite, source, tasks, seed, limit)
     if perceive and not physical:
         raise GSRError("--perceive needs --physical (perception observes the simulated world)")
+    if oracle_masks and not perceive:
+        raise GSRError("--oracle-masks needs --perceive (it chooses where perception's masks come from)")
     frames_dir = str(Path(out) / "frames") if out and physical else None  # a few RGB frames per episode
     config = RunConfig(
         agent,
@@ -144,6 +148,7 @@ def run(
         physical,
         perceive=perceive,
         frames_dir=frames_dir,
+        oracle_masks=oracle_masks,
     )
     progress = _Progress(len(task_list) * trials)
     try:

@@ -29,6 +29,13 @@ def register(app: typer.Typer) -> None:
             ),
         ] = True,
         ground_truth: Annotated[bool, typer.Option("--ground-truth", help="Same as --no-perceive.")] = False,
+        oracle_masks: Annotated[
+            bool,
+            typer.Option(
+                "--oracle-masks",
+                help="Perceive from the simulator's labelled masks and ids (the earlier path) instead of the detector.",
+            ),
+        ] = False,
         symbolic: Annotated[
             bool, typer.Option("--symbolic", help="Symbolic only: parse, plan, check (no simulator needed).")
         ] = False,
@@ -44,7 +51,11 @@ def register(app: typer.Typer) -> None:
             raise fail(
                 f"the physical demo needs the 'sim' and 'vision' extras ({exc}); try --symbolic"
             ) from None
-        raise typer.Exit(run_physical(out, task, seed=seed, use_perception=perceive and not ground_truth))
+        raise typer.Exit(
+            run_physical(
+                out, task, seed=seed, use_perception=perceive and not ground_truth, oracle_masks=oracle_masks
+            )
+        )
 
     @app.command("perceive-eval")
     def perceive_eval_cmd(
@@ -128,7 +139,17 @@ def register(app: typer.Typer) -> None:
         perceive: Annotated[
             bool,
             typer.Option(
-                "--perceive", help="With --physical: the agent sees perceived graphs (cameras), not truth."
+                "--perceive",
+                help="With --physical: the agent sees perceived graphs (cameras + detector, no simulator "
+                "masks or ids), not truth.",
+            ),
+        ] = False,
+        oracle_masks: Annotated[
+            bool,
+            typer.Option(
+                "--oracle-masks",
+                help="With --perceive: segment with the simulator's labelled masks (the earlier path) "
+                "instead of the detector.",
             ),
         ] = False,
     ) -> None:
@@ -154,6 +175,7 @@ def register(app: typer.Typer) -> None:
             split=split,
             physical=physical,
             perceive=perceive,
+            oracle_masks=oracle_masks,
         )
         typer.echo(json.dumps(doc, indent=2) if as_json else summary_text(doc))
         raise typer.Exit(0 if doc["success_rate"] == 1.0 else 1)

@@ -2,7 +2,8 @@
 
 The LIBERO kitchen scene "put the black bowl in the bottom drawer of the cabinet and close it" is built in
 PyBullet from its BDDL file; RGB-D from four cameras (instance masks from the simulator's segmentation
-buffer) is perceived into a scene graph; the instruction is grounded into a goal over that graph; the
+buffer only with ``--oracle-masks``; by default a detector segments and names the objects and perception
+makes its own node ids) is perceived into a scene graph; the instruction is grounded into a goal over that graph; the
 reasoner produces state-transition steps, each validated by the checker; the meta-skills execute them on the
 simulated Panda, one at a time; the scene is perceived again and the goal is verified on the new graph.
 It lives in ``benchmarks`` because it uses every layer (skills, perception, gsr).
@@ -42,6 +43,7 @@ def run_demo(
     use_perception: bool = True,
     backend: str = "grounder",
     mode: str = "goal",
+    oracle_masks: bool = False,
 ) -> int:
     """Run the physical demo; writes ``out`` and returns the exit code (0 only when the goal is verified)."""
     from gsr.benchmarks.perceived_scene import PerceivedScene, contradicted_effects
@@ -56,6 +58,7 @@ def run_demo(
     from gsr.reason import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
+    from gsr.step import Step
 
     path = task_path or default_task_path()
     if not path.is_file():
@@ -70,7 +73,7 @@ def run_demo(
     try:
         views = default_views(world)
         # cameras + perception, the known map, the gripper and object permanence (shared with the runner)
-        scene = PerceivedScene(world)
+        scene = PerceivedScene(world, oracle_masks=oracle_masks)
 
         def observe(label: str) -> Any:
             picture = dataclasses.replace(
@@ -78,6 +81,12 @@ def run_demo(
             )  # larger, for the report only
             rec.images[f"rgb_{label}"] = render(world, picture).rgb
             return scene.observe() if use_perception else scene_graph_from_sim(world)
+
+        def in_world(step: Any) -> Any:
+            """The step on the bodies its perceived nodes are (the arm reaches where perception saw them)."""
+            if not use_perception:
+                return step
+            return Step(step.action, tuple(scene.world_id(a) for a in step.args))
 
         def summary(g: Any) -> str:
             return f"{len(g.nodes)} nodes, {len(g.edges)} edges"
@@ -110,7 +119,7 @@ def run_demo(
             result = _stage(
                 rec,
                 f"execute {checked.step}",
-                lambda s=checked.step: run_step(world, s),
+                lambda s=checked.step: run_step(world, in_world(s)),
                 lambda r: "ok" if r.ok else f"{r.failure}: {r.message}",
             )
             belief = observe("after")  # closed loop: what the sensors show now (merged into the belief)
@@ -132,6 +141,8 @@ def run_demo(
             ("re-perceived scene graph", 0.0, f"{len(after.nodes)} nodes, {len(after.edges)} edges")
         )
         truth = scene_graph_from_sim(world)
+        if use_perception:  # the goal names perceived nodes: read the truth in those ids
+            truth = scene.in_perceived_ids(truth)
         perceived_ok = goal_holds(domain, goal, state_from_graph(after, domain))
         truth_ok = goal_holds(domain, goal, state_from_graph(truth, domain))
         rec.verified = executed_all and perceived_ok

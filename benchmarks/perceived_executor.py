@@ -41,6 +41,15 @@ class PerceivingPhysicalExecutor(PhysicalExecutor):
             self.frames.append(self.scene.last_rgb)  # the perceived front view: no second rendering
         return graph
 
+    def _act(self, step: Any) -> Any:
+        """Run the skill on the bodies the step's perceived nodes are (:meth:`PerceivedScene.world_id`)."""
+        from gsr.skills.library import run_step
+
+        from gsr.step import Step
+
+        acted = Step(step.action, tuple(self.scene.world_id(a) for a in step.args))
+        return run_step(self.world, acted, self.budget)
+
     def _divergence(self, expected: Any) -> Any:
         """Compare only facts about nodes seen now *and* expected, and only what sensors confirm.
 
@@ -62,11 +71,13 @@ class RunnerSimExecutor(SimExecutor):
         perceive: bool = False,
         frames: int = 0,
         views: tuple[str, ...] = VIEWS,
+        oracle_masks: bool = False,
     ) -> None:
         # frames > 0: keep the first view's RGB after every step; SimExecutor.frames samples `frames` of them
         super().__init__(seed=seed, frame_camera=views[0] if frames else None, max_frames=max(frames, 1))
         self.perceive = perceive
         self.views = views
+        self.oracle_masks = oracle_masks  # perceive from the simulator's labelled masks (the earlier path)
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world; the observed initial state (perceived when ``perceive``)."""
@@ -80,7 +91,7 @@ class RunnerSimExecutor(SimExecutor):
         self.domain = domain
         world = build_world(task, seed=self.seed)
         try:
-            scene = PerceivedScene(world, self.views)
+            scene = PerceivedScene(world, self.views, oracle_masks=self.oracle_masks)
             self.ex = PerceivingPhysicalExecutor(
                 world, domain, scene, keep_frames=self.frame_camera is not None
             )
@@ -100,8 +111,12 @@ class RunnerSimExecutor(SimExecutor):
         return state_from_graph(scene_graph_from_sim(self.ex.world), self.domain)
 
     def belief_state(self) -> State:
-        """The agent's final observed state (perceived or ground truth)."""
+        """The agent's final observed state (perceived or ground truth), in the world's node ids (perceived
+        nodes renamed to the bodies they are) so that the task's goal can be checked on it."""
         from gsr.facts import state_from_graph
 
         assert self.ex is not None and self.domain is not None, "call reset() first"
-        return state_from_graph(self.ex.graph, self.domain)
+        graph = self.ex.graph
+        if isinstance(self.ex, PerceivingPhysicalExecutor):
+            graph = self.ex.scene.in_world_ids(graph)
+        return state_from_graph(graph, self.domain)

@@ -46,10 +46,21 @@ UNSENSED_STATES = frozenset({"on", "off"})
 
 
 class PerceivedScene:
-    """Scene graphs of one world from its cameras, the known map and the gripper; keeps the belief."""
+    """Scene graphs of one world from its cameras, the known map and the gripper; keeps the belief.
+
+    By default perception sees RGB-D and the cameras only: a detector (:func:`gsr.perception.detect.load_detector`)
+    segments and names the objects, node ids are perception's own (kept across observations by a
+    :class:`gsr.perception.track.Tracker`), and :attr:`binding` says which simulated body each perceived
+    node is, for the skills to act on (:func:`bind_to_world`). ``oracle_masks=True`` is the earlier path:
+    the simulator's segmentation with the task graph's ids and labels stands in for the detector."""
 
     def __init__(
-        self, world: World, views: Sequence[str] = VIEWS, params: PerceptionParams | None = None
+        self,
+        world: World,
+        views: Sequence[str] = VIEWS,
+        params: PerceptionParams | None = None,
+        oracle_masks: bool = False,
+        detector: Any = None,
     ) -> None:
         from gsr.skills.camera import default_views
 
@@ -60,13 +71,26 @@ class PerceivedScene:
         self.world = world
         self.specs = [specs[v] for v in views]
         self.params = params
+        self.oracle_masks = oracle_masks
+        self.detector = detector
+        if not oracle_masks and detector is None:
+            from gsr.perception.detect import load_detector
+
+            self.detector = load_detector()
+        self.tracker = None if oracle_masks else _tracker()
+        #: perceived node id -> the world's node id of the body it is (identity with oracle masks)
+        self.binding: dict[str, str] = {}
         self.belief: SceneGraph | None = None
         self.last_rgb: np.ndarray | None = None  # the first view's RGB of the latest observation
         self.observations = 0
 
     def frames(self) -> list[Frame]:
-        """Render RGB-D + instance masks from every camera now (with the doors that are no graph part)."""
-        return [frame_with_doors(self.world, spec) for spec in self.specs]
+        """Render every camera now: the detector's frames (no ids), or the simulator's labelled masks."""
+        if self.oracle_masks:
+            return [frame_with_doors(self.world, spec) for spec in self.specs]
+        from gsr.perception.rgbd import detect_frames
+
+        return detect_frames([self_filtered_view(self.world, spec) for spec in self.specs], self.detector)
 
     def observe(self, expected: SceneGraph | None = None) -> SceneGraph:
         """Perceive the world now and merge it into the belief; the new belief.
@@ -78,15 +102,81 @@ class PerceivedScene:
 
         frames = self.frames()
         self.last_rgb = frames[0].rgb
-        observed = without_helper_parts(perceive(frames, self.params), self.world)
-        observed = with_map_regions(observed, self.world)
-        held = held_objects(self.world)
-        observed = with_held(observed, held, self.belief, self.world.graph)
+        observed = perceive(frames, self.params)
+        if self.oracle_masks:
+            observed = without_helper_parts(observed, self.world)
+            held = held_objects(self.world)
+        else:
+            assert self.tracker is not None
+            observed = self.tracker.assign(observed, self.belief)
+            self.binding = {**self.binding, **bind_to_world(observed, self.world)}
+            to_perceived = {w: p for p, w in self.binding.items()}
+            held = {to_perceived[w] for w in held_objects(self.world) if w in to_perceived}
+        observed = with_map_regions(observed, self.world, table_only=not self.oracle_masks)
+        observed = with_held(observed, held, self.belief, None if not self.oracle_masks else self.world.graph)
         prior = expected if expected is not None else self.belief
         belief = with_unsensed_states(update_belief(self.belief, observed, frames), prior)
         self.belief = with_remembered_support(belief, held, prior)
         self.observations += 1
         return self.belief
+
+    def world_id(self, node_id: str) -> str:
+        """The world's node id of a perceived node (for the skills), or the id itself when unbound."""
+        return node_id if self.oracle_masks else self.binding.get(node_id, node_id)
+
+    def in_world_ids(self, graph: SceneGraph) -> SceneGraph:
+        """A perceived graph in the world's ids (for scoring against the task's goal)."""
+        if self.oracle_masks:
+            return graph
+        from gsr.perception.track import rename_graph
+
+        mapping = {
+            n.id: self.binding.get(n.id, f"unbound_{n.id}")
+            for n in graph.nodes
+            if not n.attributes.get("map")
+        }
+        return rename_graph(graph, mapping)
+
+    def in_perceived_ids(self, graph: SceneGraph) -> SceneGraph:
+        """A world graph (the simulator's truth) in the perceived ids (to check a perceived goal on it)."""
+        if self.oracle_masks:
+            return graph
+        from gsr.perception.track import rename_graph
+
+        back = {w: p for p, w in self.binding.items()}
+        regions = set(self.world.regions)
+        mapping = {n.id: back.get(n.id, f"unseen_{n.id}") for n in graph.nodes if n.id not in regions}
+        return rename_graph(graph, mapping)
+
+
+def _tracker() -> Any:
+    from gsr.perception.track import Tracker
+
+    return Tracker()
+
+
+def self_filtered_view(world: World, spec: CameraSpec) -> Any:
+    """One camera's RGB-D with the robot's own body removed (depth 0 there), as a robot filters itself
+    out of its sensor data with its own model at its joint state; nothing else of the simulator's
+    segmentation is used."""
+    from gsr.perception.rgbd import View
+    from gsr.skills.camera import render
+
+    img = render(world, spec)
+    depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
+    return View(img.rgb, depth, img.camera)
+
+
+def bind_to_world(graph: SceneGraph, world: World) -> dict[str, str]:
+    """Which simulated body (world node id) each perceived node is: the one its box overlaps most.
+
+    This is the simulator's stand-in for a robot reaching to the place perception reported: the skills
+    act on bodies, so a perceived ``bowl_1`` must be resolved to the body at its place. It reads the
+    bodies' boxes only, after perception, and never feeds anything back into the perceived graph."""
+    from gsr.perception.match import match_nodes
+    from gsr.skills.sim_graph import scene_graph_from_sim
+
+    return match_nodes(graph, scene_graph_from_sim(world))
 
 
 def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
@@ -145,24 +235,38 @@ def held_objects(world: World) -> set[str]:
     }
 
 
-def with_map_regions(graph: SceneGraph, world: World) -> SceneGraph:
-    """Add the table's named regions (map nodes) and move objects on the table onto the region they are in."""
-    regions = [nid for nid in sorted(world.regions) if world.graph.has_node(nid)]
+def with_map_regions(graph: SceneGraph, world: World, table_only: bool = False) -> SceneGraph:
+    """Add the table's named regions (map nodes) and move objects on the table onto the region they are in.
+
+    ``table_only`` (perception without the simulator's ids): only regions of the table itself come from
+    the map — a drawer or a cabinet top that LIBERO also names as a region is perceived, not given — and
+    the table is whichever ground (``table``/``floor``) perception found."""
+    regions = [
+        nid
+        for nid in sorted(world.regions)
+        if world.graph.has_node(nid) and not (table_only and (nid in world.parts or nid in world.objects))
+    ]
     if not regions:
         return graph
+    grounds = {world.table_id} | (
+        {n.id for n in graph.nodes if n.category in ("table", "floor")} if table_only else set()
+    )
+    ground = next((n.id for n in graph.nodes if n.category in ("table", "floor")), None)
     ids = {n.id for n in graph.nodes}
-    added = [
-        world.graph.node(nid).model_copy(
-            update={"attributes": {**world.graph.node(nid).attributes, "map": True}}
-        )
-        for nid in regions
-        if nid not in ids
-    ]
+    added = []
+    for nid in regions:
+        if nid in ids:
+            continue
+        node = world.graph.node(nid)
+        update: dict[str, Any] = {"attributes": {**node.attributes, "map": True}}
+        if table_only and node.parent == world.table_id and ground is not None:
+            update["parent"] = ground  # the region belongs to the table perception found
+        added.append(node.model_copy(update=update))
     nodes = graph.node_map()
     edges = []
     for e in graph.edges:
         node = nodes.get(e.source)
-        if e.relation == "on" and e.target == world.table_id and node is not None and node.pose is not None:
+        if e.relation == "on" and e.target in grounds and node is not None and node.pose is not None:
             p = node.pose.position
             region = next((r for r in regions if _inside(world.regions[r].bounds, p.x, p.y)), None)
             if region is not None:

@@ -98,8 +98,13 @@ def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> 
         scene.close()
 
 
-def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
-    """Frames and ``scene_graph_from_sim`` truth of a random GSR-Bench-style task in the skills world."""
+def skills_scene(
+    scene_seed: int, cameras: int, width: int, height: int, self_filter: bool = False
+) -> tuple[list[Frame], Any]:
+    """Frames and ``scene_graph_from_sim`` truth of a random GSR-Bench-style task in the skills world.
+
+    ``self_filter``: the robot's own pixels get no depth (a robot removes itself from its sensor data with
+    its model at its joint state), as the no-oracle protocol and the demo do."""
     import random
 
     from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
@@ -113,9 +118,8 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
     try:
         views = default_views(world)
         names = [SKILLS_VIEWS[i % len(SKILLS_VIEWS)] for i in range(cameras)]
-        frames = [
-            render_frame(world, dataclasses.replace(views[n], width=width, height=height)) for n in names
-        ]
+        specs = [dataclasses.replace(views[n], width=width, height=height) for n in names]
+        frames = [_robot_free_frame(world, s) if self_filter else render_frame(world, s) for s in specs]
         frames = [with_graph_attributes(f, world.graph) for f in frames]
         truth = scene_graph_from_sim(world)
         # add the true openings (joint travel from closed) so opening errors can be measured
@@ -131,6 +135,16 @@ def skills_scene(scene_seed: int, cameras: int, width: int, height: int) -> tupl
         return frames, truth.with_nodes(extra.values())
     finally:
         world.close()
+
+
+def _robot_free_frame(world: Any, spec: Any) -> Frame:
+    """``render_frame`` with no depth on the robot's own pixels (one rendering)."""
+    from gsr.skills.camera import labelled_masks, render
+
+    img = render(world, spec)
+    masks, labels = labelled_masks(world, img)
+    depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
+    return Frame(rgb=img.rgb, depth=depth, masks=masks, camera=img.camera, labels=labels)
 
 
 def with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
@@ -280,12 +294,17 @@ def evaluate_no_oracle(
         from gsr.perception.detect import load_detector
 
         detector = load_detector()
-    make_scene = skills_scene if world == "skills" else procedural_scene
     relations = ("on", "in") if world == "skills" else SCORED_RELATIONS
     if scenes < 1:
         raise ValueError("scenes must be >= 1")
     if cameras < 1:
         raise ValueError("cameras must be >= 1")
+
+    def make_scene(s: int, c: int, w: int, h: int) -> tuple[list[Frame], Any]:
+        if world == "skills":
+            return skills_scene(s, c, w, h, self_filter=True)
+        return procedural_scene(s, c, w, h)
+
     score, seen = Score(), Score()
     nodes, seen_nodes = NodeScore(), NodeScore()
     timing = Timing()

@@ -273,6 +273,7 @@ class RunConfig:
     perceive: bool = False  # physical: the agent observes perceived graphs (cameras), not ground truth
     frames_dir: str | None = None  # physical: save a few RGB frames per episode here (PNG)
     frames: int = 3  # how many: first, evenly spaced, last
+    oracle_masks: bool = False  # perceive: from the simulator's labelled masks instead of the detector
 
 
 def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
@@ -287,7 +288,12 @@ def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> di
         from gsr.benchmarks.perceived_executor import RunnerSimExecutor
 
         frames = config.frames if config.frames_dir else 0
-        executor = RunnerSimExecutor(episode_seed(config.seed, task.id, trial), config.perceive, frames)
+        executor = RunnerSimExecutor(
+            episode_seed(config.seed, task.id, trial),
+            config.perceive,
+            frames,
+            oracle_masks=config.oracle_masks,
+        )
     try:
         result = run_episode(
             task, agent, domain, config.seed, trial, config.max_steps, config.retries, executor

@@ -142,6 +142,10 @@ class PhysicalExecutor:
         """What the observed graph contradicts of the expected one (symbolic facts only)."""
         return diff_graphs(symbolic_view(expected), symbolic_view(self.graph))
 
+    def _act(self, step: Step) -> SkillResult:
+        """Run the step's skill in the world (a perceiving subclass first resolves its node ids to bodies)."""
+        return run_step(self.world, step, self.budget)
+
     def step(self, step: Step, index: int = 1) -> StepOutcome:
         """Execute one step: check it on the observed graph, run the skill, observe, compare."""
         from gsr.transition import StepRejected, apply_step
@@ -157,7 +161,7 @@ class PhysicalExecutor:
                 None,
                 f"step {index} {name} is invalid in the {self.observed_word} state: {exc}",
             )
-        result = run_step(self.world, step, self.budget)
+        result = self._act(step)
         self.graph = self._observe(expected)
         diff = self._divergence(expected)
         why = ""
