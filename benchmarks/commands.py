@@ -81,6 +81,32 @@ def register(app: typer.Typer) -> None:
         report = evaluate(scenes, seed, depth_noise, mask_erosion, cameras, world=world)
         typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
 
+    @app.command("perceive-train")
+    def perceive_train_cmd(
+        out: Annotated[Path, typer.Option(help="Folder for model.npz, model.json and MODEL_CARD.md.")],
+        scenes: Annotated[int, typer.Option(help="Random simulator scenes to render for training.")] = 150,
+        views: Annotated[int, typer.Option(help="Camera poses per scene.")] = 6,
+        heldout_scenes: Annotated[
+            int, typer.Option(help="Held-out scenes for the model card (0: none).")
+        ] = 20,
+        seed: Annotated[int, typer.Option(help="Seed of the scene, camera and training streams.")] = 0,
+        threads: Annotated[int, typer.Option(help="Torch threads.")] = 1,
+    ) -> None:
+        """Train the no-oracle detector (merge + recognition MLPs) on rendered scenes; CPU only."""
+        if scenes < 2 or views < 1 or heldout_scenes < 0 or threads < 1:
+            raise fail("--scenes must be >= 2, --views and --threads >= 1, --heldout-scenes >= 0")
+        from gsr.benchmarks.perception_train_data import run_training
+
+        from gsr.errors import GSRError
+
+        try:
+            meta = run_training(
+                str(out), scenes, views, heldout_scenes, seed, threads, log=lambda m: typer.echo(m, err=True)
+            )
+        except GSRError as exc:
+            raise fail(str(exc)) from None
+        typer.echo(f"wrote {out}: {len(meta['categories'])} categories, validation {meta['validation']}")
+
     bench_app = typer.Typer(
         help="Benchmark suites: list them, run an agent on one (reports), export tasks.", no_args_is_help=True
     )
