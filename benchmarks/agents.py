@@ -114,8 +114,11 @@ class GrounderAgent(_PlanningAgent):
 
 
 class ReasonerAgent:
-    """The LLM reasoner (:func:`gsr.reason.solve`: propose, check, repair) as an agent.
+    """The LLM reasoner (:class:`gsr.reason.Reasoner`: propose, check, repair) as a closed-loop agent.
 
+    ``reset`` solves once from the initial graph; ``act`` follows those checked steps while the graph
+    it is shown is the one they predict, and plans again from the shown graph (towards the same goal)
+    when it is not (a skill failed, perception saw something else) or when the last step was rejected.
     ``backend`` is a gsr.reason backend spec (``grounder``, ``transformers:PATH``, ``openai:MODEL``), a
     ``package.module:attr`` naming your own backend object or ``prompt text -> answer`` function, or such
     an object itself. The reasoner's rejected answers count as proposed-but-invalid steps.
@@ -132,34 +135,53 @@ class ReasonerAgent:
         max_steps: int = 200,
         planner_timeout: float = 30.0,
     ) -> None:
+        from gsr.reason import SolveOptions
+
         self.backend = _backend(backend)
-        self.options = {
-            "mode": mode,
-            "max_repairs": int(max_repairs),
-            "constrained": bool(constrained),
-            "max_steps": int(max_steps),
-            "planner_timeout": float(planner_timeout),
-        }
-        self.queue: deque[Step] = deque()
+        self.options = SolveOptions(
+            mode=mode,
+            max_repairs=int(max_repairs),
+            constrained=bool(constrained),
+            max_steps=int(max_steps),
+            planner_timeout=float(planner_timeout),
+        )
+        self.reasoner: Any = None
         self.believed_goal: Formula | None = None
-        self.rejected_proposals = 0
         self.status = ""
 
-    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
-        """Run the reasoner on the initial graph and instruction; its checked steps are replayed."""
-        from gsr.reason import solve
+    @property
+    def rejected_proposals(self) -> int:
+        """Answers the reasoner rejected inside its solves this episode (they never reach the runner)."""
+        return self.reasoner.rejections if self.reasoner is not None else 0
 
-        result = solve(task.initial, task.instruction, backend=self.backend, domain=domain, **self.options)
-        self.queue = deque(s.step for s in result.steps)
+    @property
+    def replans(self) -> int:
+        """How often this episode planned again from the shown graph."""
+        return self.reasoner.replans if self.reasoner is not None else 0
+
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
+        """Run the reasoner on the initial graph and instruction; its checked steps are the plan."""
+        from gsr.reason import Reasoner
+
+        self.reasoner = Reasoner(self.backend, domain, self.options)
+        result = self.reasoner.reset(task.initial, task.instruction)
         self.believed_goal = result.goal.formula if result.goal is not None else None
-        self.rejected_proposals = result.rejections
-        self.status = result.status
-        if not result.steps and result.status not in ("solved",):
+        self.status = str(result.status)
+        if not result.steps and not result.success:
             raise AgentFailure(f"reasoner {result.status}: {result.message}")
 
     def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
-        """The reasoner's next checked step (None when it stopped)."""
-        return self.queue.popleft() if self.queue else None
+        """The next checked step for ``graph`` (None when the reasoner has nothing left to do)."""
+        if self.reasoner is None:
+            raise AgentFailure("the reasoner agent was not reset")
+        replans = self.reasoner.replans
+        step = self.reasoner.step(graph, feedback)
+        if self.reasoner.replans != replans:
+            last = self.reasoner.last
+            self.status = str(last.status)
+            if step is None and not last.success:
+                raise AgentFailure(f"reasoner {last.status} after re-planning: {last.message}")
+        return step
 
 
 def _backend(spec: Any) -> Any:

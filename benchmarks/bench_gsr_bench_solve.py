@@ -44,7 +44,7 @@ def _solve_in_process(scene: Path, query: str) -> tuple[int, str, str]:
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
-            rc = solve_command(scene, query, "grounder", "steps", False, fmt="gsr-bench")
+            rc = solve_command(scene, query, fmt="gsr-bench")
         except GSRError as exc:
             print(f"error: {exc}", file=sys.stderr)
             rc = 1

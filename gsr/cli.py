@@ -174,24 +174,23 @@ def solve_cmd(
 ) -> None:
     """Reason from a scene to an instruction and print the checked plan: exit 0 with a plan, 1 when none was found."""
     from gsr.reason.cli import solve_command
+    from gsr.reason.options import SolveOptions
 
     if (instruction is None) == (instruction_arg is None):
         raise _fail("give the instruction once: as an argument or with --instruction")
+    options = SolveOptions(mode=mode, max_steps=max_steps, max_repairs=repairs, constrained=constrained)
     raise typer.Exit(
         solve_command(
             scene,
             instruction or instruction_arg or "",
-            backend,
-            mode,
-            as_json,
-            goal,
-            domain,
-            max_steps,
-            repairs,
-            constrained,
-            transcript,
-            base_url,
-            fmt,
+            options,
+            backend=backend,
+            goal=goal,
+            domain_file=domain,
+            base_url=base_url,
+            fmt=fmt,
+            as_json=as_json,
+            transcript=transcript,
         )
     )
 

@@ -7,7 +7,8 @@ from gsr.reason.applicable import applicable_steps
 from gsr.reason.backend import Backend, BackendError, FunctionBackend, Query, as_backend, make_backend
 from gsr.reason.examples import annotate_steps, builtin_example
 from gsr.reason.goal_text import GoalRejected, parse_goal_answer
-from gsr.reason.loop import MODES, solve
+from gsr.reason.loop import LoopState, SolveLoop
+from gsr.reason.options import MODES, SolveOptions, Status
 from gsr.reason.prompt import (
     DONE,
     Example,
@@ -19,7 +20,8 @@ from gsr.reason.prompt import (
     predicate_text,
     scene_text,
 )
-from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
+from gsr.reason.reasoner import Reasoner, solve
+from gsr.reason.result import STATUSES, Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.reason.step_format import (
     STEP_GRAMMAR,
     format_step,
@@ -33,6 +35,7 @@ from gsr.reason.step_format import (
 __all__ = [
     "DONE",
     "MODES",
+    "STATUSES",
     "STEP_GRAMMAR",
     "Attempt",
     "Backend",
@@ -42,9 +45,14 @@ __all__ = [
     "Exchange",
     "FunctionBackend",
     "GoalRejected",
+    "LoopState",
     "Prompt",
     "Query",
     "ReasonResult",
+    "Reasoner",
+    "SolveLoop",
+    "SolveOptions",
+    "Status",
     "action_text",
     "annotate_steps",
     "applicable_steps",

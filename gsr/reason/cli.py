@@ -13,6 +13,7 @@ from pathlib import Path
 
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain
+from gsr.reason.options import SolveOptions
 from gsr.reason.result import ReasonResult
 
 FORMATS = ("text", "json", "pddl", "gsr-bench")
@@ -60,42 +61,38 @@ def render(result: ReasonResult) -> str:
 def solve_command(
     scene: Path,
     instruction: str,
-    backend: str,
-    mode: str,
-    as_json: bool,
+    options: SolveOptions | None = None,
+    *,
+    backend: str = "grounder",
     goal: str | None = None,
     domain_file: Path | None = None,
-    max_steps: int = 40,
-    repairs: int = 3,
-    constrained: bool = False,
-    transcript: bool = False,
     base_url: str | None = None,
     fmt: str = "text",
+    as_json: bool = False,
+    transcript: bool = False,
 ) -> int:
-    """Run the reasoner on a scene file; print the checked plan in ``fmt``; return the exit code."""
+    """Run the reasoner on a scene file; print the checked plan in ``fmt``; return the exit code.
+
+    ``options`` are the loop's settings (mode, step and repair limits, constrained decoding);
+    ``backend`` is a backend spec, ``base_url`` its OpenAI-compatible server, ``goal`` a PDDL goal that
+    replaces the instruction's; ``as_json`` prints the result as JSON whatever ``fmt`` (which still
+    decides the rules a ``gsr-bench`` plan is made under); ``transcript`` adds every prompt and reply
+    to JSON output.
+    """
     from gsr.io import load_scene
     from gsr.reason.backend import make_backend
-    from gsr.reason.loop import solve
+    from gsr.reason.reasoner import solve
 
     if fmt not in FORMATS:
         raise GSRError(f"unknown --format {fmt!r}: choose one of {', '.join(FORMATS)}")
+    options = options or SolveOptions()
     domain = _domain(domain_file)
     graph = load_scene(scene)
     if fmt == "gsr-bench":  # the plan is for GSR-Bench: plan under its rules (see gsr.gsr_bench_rules)
         graph = graph.model_copy(update={"metadata": {**graph.metadata, "rules": "gsr-bench"}})
-    options = {"base_url": base_url} if base_url and backend.startswith("openai:") else {}
-    model = make_backend(backend, **options)
-    result = solve(
-        graph,
-        instruction,
-        model,
-        mode=mode,
-        domain=domain,
-        goal=_goal(goal, domain, graph),
-        max_steps=max_steps,
-        max_repairs=repairs,
-        constrained=constrained,
-    )
+    settings = {"base_url": base_url} if base_url and backend.startswith("openai:") else {}
+    model = make_backend(backend, **settings)
+    result = solve(graph, instruction, model, domain=domain, goal=_goal(goal, domain, graph), options=options)
     if as_json or fmt == "json":
         print(json.dumps(result.to_dict(transcript=transcript), indent=2))
     elif fmt == "text" or not result.success:

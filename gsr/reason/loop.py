@@ -7,41 +7,67 @@ goal:   the model answers a PDDL goal (checked against the domain and scene, rep
         the planner sequences it and every planned step is checked and applied.
 hybrid: as steps, but when the model is stuck (no valid step after the repairs, or it revisits a
         state) the planner takes over from the current graph.
+
+A backend that proposes ``Step`` sequences (:class:`~gsr.reason.backend.PlanProposer`, the embedded
+grounder) is asked once for a plan whose steps are checked in order; it is asked again only after a
+rejection. One :class:`SolveLoop` is one run; its :class:`LoopState` holds what the run carries from
+step to step. :mod:`gsr.reason.reasoner` holds the entry points (``solve`` and the closed-loop
+``Reasoner``).
 """
 
 from __future__ import annotations
 
 import time
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Domain
-from gsr.reason.backend import Backend, BackendError, GoalUnreachable, PlanProposer, Query, as_backend
-from gsr.reason.prompt import DONE, Example, Prompt, build_goal_prompt, build_prompt
+from gsr.reason.backend import Backend, BackendError, GoalUnreachable, PlanProposer, Query
+from gsr.reason.options import MODES, SolveOptions, Status
+from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt
 from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
-MODES = ("steps", "goal", "hybrid")
+__all__ = ["FORMAT_REMINDER", "MODES", "LoopState", "SolveLoop"]
+
 FORMAT_REMINDER = "answer one step line such as (pick red_cube1 table) +(holding red_cube1) -(hand_empty) -(on red_cube1 table)"
 
 
-class _Run:
-    """State of one solve call (kept out of the public API)."""
+@dataclass
+class LoopState:
+    """What one run carries from step to step: the current graph, the result being built, how often
+    each state was visited, the proposer's remaining plan and the answers rejected for the next step."""
+
+    graph: SceneGraph
+    result: ReasonResult
+    seen: Counter[frozenset] = field(default_factory=Counter)  # visits of each state (atoms)
+    pending: list[Step] = field(default_factory=list)  # a PlanProposer's steps not yet checked
+    rejected: list[Attempt] = field(default_factory=list)  # answers rejected for the step now sought
+
+
+class SolveLoop:
+    """One solve: the backend, domain, instruction and options it runs with, and its :class:`LoopState`."""
 
     def __init__(
-        self, backend: Backend, domain: Domain, graph: SceneGraph, instruction: str, options: dict
+        self, backend: Backend, domain: Domain, graph: SceneGraph, instruction: str, options: SolveOptions
     ) -> None:
         self.backend = backend
         self.domain = domain
-        self.graph = graph
         self.instruction = instruction
-        self.o = options
-        self.result = ReasonResult(
-            instruction, options["mode"], getattr(backend, "name", type(backend).__name__)
-        )
-        self.seen: Counter[frozenset] = Counter()  # visits of each state (atoms) in this episode
+        self.options = options
+        name = getattr(backend, "name", type(backend).__name__)
+        self.state = LoopState(graph, ReasonResult(instruction, options.mode, name))
+
+    @property
+    def graph(self) -> SceneGraph:
+        return self.state.graph
+
+    @property
+    def result(self) -> ReasonResult:
+        return self.state.result
 
     # ---------------------------------------------------------------- model calls
 
@@ -56,7 +82,7 @@ class _Run:
 
         state = state_from_graph(self.graph, self.domain)
         steps = applicable_steps(self.domain, self.graph)
-        visits = [self.seen[check_step(self.domain, state, s).next_state.atoms] for s in steps]
+        visits = [self.state.seen[check_step(self.domain, state, s).next_state.atoms] for s in steps]
         least = min(visits, default=0)
         allowed = tuple(format_step(s) for s, v in zip(steps, visits, strict=True) if v == least)
         if goal is None:  # with no goal to verify, the model must be able to say it is done
@@ -72,7 +98,7 @@ class _Run:
         rejected: Sequence[str] = (),
     ) -> str:
         """One backend call, recorded in the transcript; a backend crash becomes BackendError."""
-        allowed = self.allowed_steps(goal) if kind == "step" and self.o["constrained"] else None
+        allowed = self.allowed_steps(goal) if kind == "step" and self.options.constrained else None
         query = Query(
             kind,
             prompt,
@@ -104,12 +130,11 @@ class _Run:
         from gsr.plan.api import plan_graph
         from gsr.reason.goal_text import GoalRejected, parse_goal_answer
 
+        o = self.options
         state = state_from_graph(self.graph, self.domain)
         rejected: list[tuple[str, str]] = []
-        for _ in range(1 + self.o["max_repairs"]):
-            prompt = build_goal_prompt(
-                self.graph, self.domain, self.instruction, self.o["examples"], rejected
-            )
+        for _ in range(1 + o.max_repairs):
+            prompt = build_goal_prompt(self.graph, self.domain, self.instruction, o.examples, rejected)
             reply = self.ask("goal", prompt, None, ())
             try:
                 goal = parse_goal_answer(reply, self.domain, state, self.instruction)
@@ -117,10 +142,8 @@ class _Run:
                 self.result.goal_attempts.append(Attempt(reply, error=str(exc)))
                 rejected.append((reply, str(exc)))
                 continue
-            if self.o["mode"] == "goal":  # the planner must be able to reach it
-                found = plan_graph(
-                    self.domain, self.graph, goal, self.o["planner"], self.o["planner_timeout"]
-                )
+            if o.mode == "goal":  # the planner must be able to reach it
+                found = plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
                 if not found.solved:
                     why = f"the planner cannot reach this goal ({found.status}): {found.message}"
                     self.result.goal_attempts.append(Attempt(reply, error=why))
@@ -135,7 +158,7 @@ class _Run:
         if goal is not None:
             self.result.goal_source = "given"
             return goal
-        if self.o["mode"] != "goal" or self.result.backend == "grounder":
+        if self.options.mode != "goal" or self.result.backend == "grounder":
             try:
                 from gsr.language import ground
 
@@ -164,7 +187,7 @@ class _Run:
         from gsr.facts import graph_with_state
 
         self.result.steps.append(CheckedStep(step, diagnosis, source, tuple(rejected)))
-        self.graph = graph_with_state(self.graph, diagnosis.next_state)
+        self.state.graph = graph_with_state(self.graph, diagnosis.next_state)
 
     def judge(self, reply: str, goal: Goal | None) -> tuple[Attempt, bool]:
         """Parse and check one step answer: (attempt, the model claims it is done)."""
@@ -184,7 +207,7 @@ class _Run:
             reasons, hints = explain_goal(self.domain, goal, state)
             why = "; ".join(r.detail for r in reasons[:3]) + "".join(f"; hint: {h}" for h in hints[:2])
             return Attempt(reply, step, error=f"the goal does not hold yet: {why}"), False
-        if self.o["require_effects"] and not step.claims_effects:
+        if self.options.require_effects and not step.claims_effects:
             return Attempt(reply, step, error=f"the step claims no effects; {FORMAT_REMINDER}"), False
         return Attempt(reply, step, check_step(self.domain, state, step)), False
 
@@ -194,20 +217,23 @@ class _Run:
         from gsr.facts import state_from_graph
         from gsr.plan.api import plan_graph
 
+        o = self.options
         self.result.planner_takeovers += 1
         if goal is None:
-            self.finish("stuck", f"{why}; no goal is known, so the planner cannot take over")
+            self.finish(Status.STUCK, f"{why}; no goal is known, so the planner cannot take over")
             return
-        found = plan_graph(self.domain, self.graph, goal, self.o["planner"], self.o["planner_timeout"])
+        found = plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
         if not found.solved or found.plan is None:
-            self.finish("unsolvable", f"{why}; the planner found no plan ({found.status}): {found.message}")
+            self.finish(
+                Status.UNSOLVABLE, f"{why}; the planner found no plan ({found.status}): {found.message}"
+            )
             return
         for step in found.plan.steps:
-            if len(self.result.steps) >= self.o["max_steps"]:
+            if len(self.result.steps) >= o.max_steps:
                 break
             diagnosis = check_step(self.domain, state_from_graph(self.graph, self.domain), step)
             if not diagnosis.ok:  # cannot happen with a sound planner: report rather than execute
-                self.finish("unsolvable", f"planner step rejected by the checker: {diagnosis.message}")
+                self.finish(Status.UNSOLVABLE, f"planner step rejected by the checker: {diagnosis.message}")
                 return
             self.accept(step, diagnosis, "planner", ())
 
@@ -219,72 +245,69 @@ class _Run:
         from gsr.facts import state_from_graph
         from gsr.reason.examples import claimed_effects
 
-        pending: list[Step] = []
-        rejected: list[Attempt] = []
-        while len(self.result.steps) < self.o["max_steps"]:
+        s = self.state
+        while len(self.result.steps) < self.options.max_steps:
             if self.goal_holds(goal):
-                self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+                self.finish(Status.SOLVED, f"goal reached after {len(self.result.steps)} step(s)")
                 return
-            if not pending:
-                if len(rejected) > self.o["max_repairs"]:
-                    self.result.unrepaired.append(tuple(rejected))
-                    last = rejected[-1]
+            if not s.pending:
+                if len(s.rejected) > self.options.max_repairs:
+                    self.result.unrepaired.append(tuple(s.rejected))
+                    last = s.rejected[-1]
                     why = last.error or (last.diagnosis.message if last.diagnosis else "rejected")
-                    self.finish("stuck", f"no valid step after {len(rejected)} proposal(s): {why}")
+                    self.finish(Status.STUCK, f"no valid step after {len(s.rejected)} proposal(s): {why}")
                     return
-                pending = proposer.propose_plan(self.domain, self.graph, goal)
-                if not pending:  # the proposer sees the goal as reached, the checker does not
-                    rejected.append(Attempt("(done)", error="the proposer ended before the goal holds"))
+                s.pending = proposer.propose_plan(self.domain, self.graph, goal)
+                if not s.pending:  # the proposer sees the goal as reached, the checker does not
+                    s.rejected.append(Attempt("(done)", error="the proposer ended before the goal holds"))
                     continue
-            step = pending.pop(0)
+            step = s.pending.pop(0)
             state = state_from_graph(self.graph, self.domain)
             diagnosis = check_step(self.domain, state, step)
             if not diagnosis.ok:
-                rejected.append(Attempt(str(step), step, diagnosis))
-                pending = []
+                s.rejected.append(Attempt(str(step), step, diagnosis))
+                s.pending = []
                 continue
             # recorded with the change it makes, as a model's step line would claim it
-            self.accept(claimed_effects(diagnosis, state), diagnosis, "model", rejected)
-            rejected = []
-        if self.goal_holds(goal):
-            self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
-        else:
-            self.finish("step_limit", f"goal not reached within {self.o['max_steps']} step(s)")
+            self.accept(claimed_effects(diagnosis, state), diagnosis, "model", s.rejected)
+            s.rejected = []
+        self.finish_at_limit(goal)
 
     def run_steps(self, goal: Goal | None) -> None:
         """The propose-check-repair loop."""
         from gsr.facts import state_from_graph
 
-        if isinstance(self.backend, PlanProposer) and goal is not None and not self.o["constrained"]:
+        o = self.options
+        if isinstance(self.backend, PlanProposer) and goal is not None and not o.constrained:
             self.run_proposed(self.backend, goal)
             return
-        seen = self.seen
+        seen = self.state.seen
         seen[state_from_graph(self.graph, self.domain).atoms] += 1
-        while len(self.result.steps) < self.o["max_steps"]:
+        while len(self.result.steps) < o.max_steps:
             if self.goal_holds(goal):
-                self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
+                self.finish(Status.SOLVED, f"goal reached after {len(self.result.steps)} step(s)")
                 return
-            rejected: list[Attempt] = []
+            rejected = self.state.rejected = []
             accepted = False
-            for _ in range(1 + self.o["max_repairs"]):
+            for _ in range(1 + o.max_repairs):
                 history = [s.step for s in self.result.steps]
                 feedback = [(a.reply, a.error or str(a.diagnosis)) for a in rejected]
-                shown_goal = goal if self.o["show_goal"] else None
+                shown_goal = goal if o.show_goal else None
                 prompt = build_prompt(
                     self.graph,
                     self.domain,
                     self.instruction,
-                    self.o["examples"],
+                    o.examples,
                     history,
                     feedback,
                     shown_goal,
-                    self.o["prompt_actions"],
+                    o.prompt_actions,
                 )
                 reply = self.ask("step", prompt, goal, history, [a.reply for a in rejected])
                 attempt, done = self.judge(reply, goal)
                 if done:
                     self.finish(
-                        "done_unverified", "the model says the instruction is done (no goal to verify)"
+                        Status.DONE_UNVERIFIED, "the model says the instruction is done (no goal to verify)"
                     )
                     return
                 if attempt.ok:
@@ -296,89 +319,57 @@ class _Run:
             if not accepted:
                 self.result.unrepaired.append(tuple(rejected))
                 why = f"no valid step after {len(rejected)} answer(s)"
-                if self.o["mode"] == "hybrid":
+                if o.mode == "hybrid":
                     self.planner_takeover(goal, why)
                     break
-                self.finish("stuck", f"{why}: {rejected[-1].error or rejected[-1].diagnosis.message}")
+                self.finish(Status.STUCK, f"{why}: {rejected[-1].error or rejected[-1].diagnosis.message}")
                 return
             atoms = state_from_graph(self.graph, self.domain).atoms
-            if atoms in seen and self.o["mode"] == "hybrid":
+            if atoms in seen and o.mode == "hybrid":
                 self.planner_takeover(goal, "the model returned to an earlier state")
                 break
             seen[atoms] += 1
-        if self.result.status in ("stuck", "unsolvable"):
+        if self.result.status in (Status.STUCK, Status.UNSOLVABLE):
             return
-        if self.goal_holds(goal):
-            self.finish("solved", f"goal reached after {len(self.result.steps)} step(s)")
-        else:
-            self.finish("step_limit", f"goal not reached within {self.o['max_steps']} step(s)")
+        self.finish_at_limit(goal)
 
-    def finish(self, status: str, message: str) -> None:
+    def run_goal_mode(self, goal: Goal | None) -> None:
+        """Goal mode: the planner sequences the model's (or the given) goal; every step is checked."""
+        if goal is None:
+            n = len(self.result.goal_attempts)
+            self.finish(Status.NO_GOAL, f"no acceptable goal after {n} answer(s)")
+            return
+        self.planner_takeover(goal, "goal mode")
+        self.result.planner_takeovers = 0  # sequencing is the mode itself, not a takeover
+        if self.result.status != Status.UNSOLVABLE:
+            ok = self.goal_holds(goal)
+            self.finish(Status.SOLVED if ok else Status.STEP_LIMIT, "goal reached" if ok else "step limit")
+
+    def finish_at_limit(self, goal: Goal | None) -> None:
+        """The end of the step budget: solved when the goal holds, else the step limit."""
+        if self.goal_holds(goal):
+            self.finish(Status.SOLVED, f"goal reached after {len(self.result.steps)} step(s)")
+        else:
+            self.finish(Status.STEP_LIMIT, f"goal not reached within {self.options.max_steps} step(s)")
+
+    def finish(self, status: Status, message: str) -> None:
         self.result.status = status
         self.result.message = message
 
-
-def solve(
-    graph: SceneGraph,
-    instruction: str,
-    backend: Backend | Callable[[str], str] | str = "grounder",
-    mode: str = "steps",
-    domain: Domain | None = None,
-    goal: Goal | None = None,
-    examples: Sequence[Example] | None = None,
-    max_steps: int = 40,
-    max_repairs: int = 3,
-    constrained: bool = False,
-    require_effects: bool = False,
-    show_goal: bool = True,
-    prompt_actions: str = "pddl",
-    planner: str = "lazy-ff",
-    planner_timeout: float = 30.0,
-) -> ReasonResult:
-    """Reach ``instruction`` from ``graph`` with checked steps; see the module docstring for the modes.
-
-    Never raises for bad model output (it is diagnosed, repaired or reported in the result); raises
-    GSRError only for bad arguments (unknown mode or backend spec).
-    """
-    from gsr.resources import load_builtin_domain
-
-    if mode not in MODES:
-        raise GSRError(f"unknown mode {mode!r}: choose one of {', '.join(MODES)}")
-    if max_steps < 0 or max_repairs < 0:
-        raise GSRError("max_steps and max_repairs must be >= 0")
-    domain = domain or load_builtin_domain()
-    options = {
-        "mode": mode,
-        "examples": examples,
-        "max_steps": max_steps,
-        "max_repairs": max_repairs,
-        "constrained": constrained,
-        "require_effects": require_effects,
-        "show_goal": show_goal,
-        "prompt_actions": prompt_actions,
-        "planner": planner,
-        "planner_timeout": planner_timeout,
-    }
-    run = _Run(as_backend(backend), domain, graph, instruction, options)
-    start = time.perf_counter()
-    try:
-        found = run.resolve_goal(goal)
-        run.result.goal = found
-        if mode == "goal":
-            if found is None:
-                run.finish("no_goal", f"no acceptable goal after {len(run.result.goal_attempts)} answer(s)")
+    def run(self, goal: Goal | None) -> ReasonResult:
+        """Resolve the goal, run the mode's loop; backend failures end the run with their status."""
+        start = time.perf_counter()
+        try:
+            found = self.resolve_goal(goal)
+            self.result.goal = found
+            if self.options.mode == "goal":
+                self.run_goal_mode(found)
             else:
-                run.planner_takeover(found, "goal mode")
-                run.result.planner_takeovers = 0  # sequencing is the mode itself, not a takeover
-                if run.result.status not in ("unsolvable",):
-                    ok = run.goal_holds(found)
-                    run.finish("solved" if ok else "step_limit", "goal reached" if ok else "step limit")
-        else:
-            run.run_steps(found)
-    except GoalUnreachable as exc:
-        run.finish("unsolvable", str(exc))
-    except BackendError as exc:
-        run.finish("backend_error", str(exc))
-    run.result.final_graph = run.graph
-    run.result.seconds = time.perf_counter() - start
-    return run.result
+                self.run_steps(found)
+        except GoalUnreachable as exc:
+            self.finish(Status.UNSOLVABLE, str(exc))
+        except BackendError as exc:
+            self.finish(Status.BACKEND_ERROR, str(exc))
+        self.result.final_graph = self.graph
+        self.result.seconds = time.perf_counter() - start
+        return self.result

@@ -38,7 +38,7 @@ def run_cases(
 ) -> list[dict]:
     """One row per case: status, success, bench_goal, counts and seconds (``echo``: print each row as JSON)."""
     from gsr.facts import state_from_graph
-    from gsr.reason.loop import solve
+    from gsr.reason.reasoner import solve
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
     from gsr.step import Goal

@@ -6,20 +6,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gsr.diagnosis import Diagnosis, formula_text
+from gsr.reason.options import Status
 from gsr.reason.prompt import Prompt
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Plan, Step
 
-#: Run outcomes; only ``solved`` is a success.
-STATUSES = (
-    "solved",  # the goal holds after the checked steps
-    "done_unverified",  # the model said (done) and no goal was known to verify it
-    "step_limit",  # max_steps checked steps without reaching the goal
-    "stuck",  # no valid step after the allowed repairs (steps mode)
-    "no_goal",  # goal mode: no acceptable goal after the allowed repairs
-    "unsolvable",  # the planner could not reach the goal (goal or hybrid mode)
-    "backend_error",  # the backend failed (unreachable server, grounder could not ground)
-)
+#: Run outcomes as strings (the members of :class:`Status`); only ``solved`` is a success.
+STATUSES = tuple(s.value for s in Status)
 
 
 @dataclass(frozen=True)
@@ -107,7 +100,7 @@ class ReasonResult:
     steps: list[CheckedStep] = field(default_factory=list)
     goal_attempts: list[Attempt] = field(default_factory=list)
     transcript: list[Exchange] = field(default_factory=list)
-    status: str = "step_limit"
+    status: Status = Status.STEP_LIMIT
     message: str = ""
     final_graph: SceneGraph | None = None
     planner_takeovers: int = 0
@@ -118,7 +111,7 @@ class ReasonResult:
     @property
     def success(self) -> bool:
         """True when the goal is known and holds after the checked steps."""
-        return self.status == "solved"
+        return self.status == Status.SOLVED
 
     @property
     def plan(self) -> Plan:
@@ -151,7 +144,7 @@ class ReasonResult:
             "instruction": self.instruction,
             "mode": self.mode,
             "backend": self.backend,
-            "status": self.status,
+            "status": str(self.status),
             "success": self.success,
             "message": self.message,
             "goal": None if self.goal is None else formula_text(self.goal.formula),

@@ -232,3 +232,28 @@ def test_physical_run_from_perception(libero_goal_tasks) -> None:
     # the goal also holds in what the agent perceived: the region from the map, the stove's power
     # state carried from its own turn_on (no camera shows it)
     assert all(r.perceived_success for r in results)
+
+
+def test_reasoner_agent_is_closed_loop_on_the_graph_it_is_shown(task, domain) -> None:
+    """A skill that reports success but leaves the world unchanged: the reasoner sees the graph and re-plans."""
+    from gsr.benchmarks.runner import SymbolicExecutor
+
+    class SlippingExecutor(SymbolicExecutor):
+        """The first pick 'succeeds' but the object slips: the state does not change."""
+
+        slipped = False
+
+        def execute(self, step):
+            diagnosis = super().execute(step)
+            if diagnosis.ok and step.action == "pick" and not self.slipped:
+                self.slipped, self.state = True, diagnosis.transition[0]
+            return diagnosis
+
+    right = task.model_copy(update={"goal": "(in red_cube box)", "goal_alternatives": ()})
+    agent = make_agent("reasoner", {"backend": "grounder"})
+    result = run_episode(right, agent, domain, executor=SlippingExecutor())
+    assert result.success, result.reason
+    assert agent.replans == 1 and sum(s.startswith("(pick") for s in result.plan) == 2
+    # the same world with a faithful executor: the plan is followed, no re-plan
+    agent = make_agent("reasoner", {"backend": "grounder"})
+    assert run_episode(right, agent, domain).success and agent.replans == 0
