@@ -27,7 +27,7 @@ $(VENV)/.installed-demo: pyproject.toml | $(PY)
 
 # the test environment includes Ray (`dist`) so the Ray backends of the runner and the generator are tested
 $(VENV)/.installed-test: pyproject.toml Makefile | $(PY)
-	$(PIP) install -e '.[dev,sim,vision,serve,llm,dist]'
+	$(PIP) install -e '.[dev,sim,vision,serve,llm,dist,fast]'
 	@touch $@ $(VENV)/.installed-demo
 
 demo: sysdeps $(VENV)/.installed-demo

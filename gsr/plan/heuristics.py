@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from heapq import heappop, heappush
 
+from gsr.plan import relax_jit
 from gsr.plan.task import Task
 
 INF = float("inf")
@@ -172,6 +173,10 @@ class Relaxation:
         # The last h_add result: plan()'s reachability check and the search's first evaluation are
         # both of the initial state. Callers only read the returned lists.
         self._last: tuple[int, tuple[list[float], list[int]]] | None = None
+        # Large tasks: the same h_add and relaxed plans compiled by numba when it is installed.
+        self._jit = None
+        if self.integral and relax_jit.wanted(sum(self.npre)):
+            self._jit = relax_jit.CompiledRelaxation(self)
 
     def _facts(self, state: int) -> list[int]:
         """The facts true in ``state``: its atoms, the always-true fact and the true complements."""
@@ -201,6 +206,15 @@ class Relaxation:
         last = self._last
         if last is not None and last[0] == state:
             return last[1]
+        if self._jit is not None:
+            jit = self._jit
+            jit.hadd(state)
+            found = (
+                [INF if c >= relax_jit.UNREACHED else c for c in jit.cost.tolist()],
+                jit.sup.tolist(),
+            )
+            self._last = (state, found)
+            return found
         found = self._hadd_buckets(state) if self.integral else self._hadd_heap(state)
         self._last = (state, found)
         return found
@@ -371,6 +385,16 @@ class Relaxation:
 
     def ff(self, state: int) -> tuple[float, list[int]]:
         """FF heuristic (relaxed plan from h_add supporters) and the preferred operators it suggests."""
+        task = self.task
+        pre_mask, neg_mask = task.pre_mask, task.neg_mask
+        jit = self._jit
+        if jit is not None:
+            jit.hadd(state)
+            if jit.cost[self.goal_fact] >= relax_jit.UNREACHED:
+                return INF, []
+            plan = jit.relaxed_plan()
+            h = len(plan) if self.unit else sum(task.ops[o].cost for o in plan)
+            return h, [o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
         cost, sup = self.hadd(state)
         if cost[self.goal_fact] == INF:
             return INF, []
@@ -388,8 +412,6 @@ class Relaxation:
                 if g not in seen:
                     seen.add(g)
                     stack.append(g)
-        task = self.task
-        pre_mask, neg_mask = task.pre_mask, task.neg_mask
         h = len(ops) if self.unit else sum(task.ops[o].cost for o in ops)
         preferred = [o for o in ops if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
         return h, preferred

@@ -1,0 +1,138 @@
+"""Compiled h_add / h_FF for large tasks (numba, optional).
+
+The pure-Python bucket h_add in ``gsr.plan.heuristics`` costs ~10-20 ms per state on tasks with
+tens of thousands of unary operators (IPC transport, tidybot), which is most of the search time.
+This module runs the same computation over flat integer arrays (CSR layout) compiled by numba,
+when numba is installed (``pip install numba``, optional extra ``fast``); without it, or on small
+tasks where the Python path is already fast (the tabletop domain), nothing changes.
+
+Same results as the Python path: the kernel counts a state's facts from scratch in the same order
+(atoms ascending, the always-true fact, then the true complement facts), and its priority queue
+pops facts by (cost, insertion order), which is the bucket queue's FIFO order within a cost, so
+every fact's cost and best supporter equal ``Relaxation._hadd_buckets``'s (tested).
+"""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from gsr.plan.heuristics import Relaxation
+
+# Unary-operator edges (sum of precondition counts) from which the compiled path is used; below it
+# the Python h_add is fast enough and numba's import (~0.3 s) would dominate. Environment variable
+# GSR_PLAN_JIT: "0" never, "1" always (when numba is installed), unset: by size.
+MIN_EDGES = 20_000
+UNREACHED = np.int64(1) << np.int64(62)
+
+_kernels = None  # (hadd, ff) once compiled; False when numba is unavailable
+
+
+def wanted(edges: int) -> bool:
+    """Whether a relaxation with ``edges`` precondition edges should use the compiled path."""
+    flag = os.environ.get("GSR_PLAN_JIT", "")
+    if flag == "0" or (flag != "1" and edges < MIN_EDGES):
+        return False
+    return kernels() is not None
+
+
+def kernels():
+    """The compiled (hadd, ff) functions, or None when numba is not installed."""
+    global _kernels
+    if _kernels is None:
+        try:
+            from gsr.plan import relax_kernels
+        except ImportError:
+            _kernels = False
+        else:
+            _kernels = (relax_kernels.hadd, relax_kernels.relaxed_plan)
+    return _kernels or None
+
+
+def _csr(rows: list[tuple[int, ...]] | list[list[int]]) -> tuple[np.ndarray, np.ndarray]:
+    ptr = np.zeros(len(rows) + 1, dtype=np.int64)
+    ptr[1:] = np.cumsum([len(r) for r in rows])
+    idx = np.fromiter((x for r in rows for x in r), dtype=np.int64, count=int(ptr[-1]))
+    return ptr, idx
+
+
+class CompiledRelaxation:
+    """Flat arrays of one Relaxation and reusable work buffers for the compiled kernels."""
+
+    def __init__(self, relax: Relaxation) -> None:
+        self.hadd_kernel, self.plan_kernel = kernels()
+        n_facts, n_unary = relax.n_facts, len(relax.pre)
+        self.n_atoms = len(relax.task.atoms)
+        self.n_bytes = (self.n_atoms + 7) // 8 + 1
+        self.true_fact, self.goal = relax.true_fact, relax.goal_fact
+        self.stop = relax.goal_stop
+        comp = sorted(relax.comp.items())
+        self.comp_atom = np.array([a for a, _ in comp], dtype=np.int64)
+        self.comp_fact = np.array([c for _, c in comp], dtype=np.int64)
+        self.pre_of_ptr, self.pre_of_idx = _csr(relax.pre_of)
+        self.add_ptr, self.add_idx = _csr(relax.add)
+        self.pre_ptr, self.pre_idx = _csr(relax.pre)
+        self.npre = np.array(relax.npre, dtype=np.int64)
+        self.ucost = np.array(relax.cost, dtype=np.int64)
+        self.owner = np.array(relax.owner, dtype=np.int64)
+        self.cost = np.empty(n_facts, dtype=np.int64)
+        self.sup = np.empty(n_facts, dtype=np.int64)
+        self.acc = np.empty(n_unary, dtype=np.int64)
+        self.unsat = np.empty(n_unary, dtype=np.int64)
+        self.first = np.empty(n_facts + 1, dtype=np.int64)
+        pushes = int(self.add_ptr[-1]) + n_facts + 1  # each push lowers a fact's cost via one edge
+        self.hk = np.empty(pushes, dtype=np.int64)
+        self.hc = np.empty(pushes, dtype=np.int64)
+        self.hf = np.empty(pushes, dtype=np.int64)
+        self.seen = np.zeros(n_facts, dtype=np.int64)
+        self.mark = np.zeros(len(relax.task.ops), dtype=np.int64)
+        self.stack = np.empty(n_facts + 1, dtype=np.int64)
+        self.out = np.empty(len(relax.task.ops) + 1, dtype=np.int64)
+        self.stamp = 0
+
+    def hadd(self, state: int) -> None:
+        """Fill ``self.cost`` and ``self.sup`` for ``state`` (UNREACHED for unreached facts)."""
+        raw = np.frombuffer(state.to_bytes(self.n_bytes, "little"), dtype=np.uint8)
+        self.hadd_kernel(
+            raw,
+            self.n_atoms,
+            self.true_fact,
+            self.comp_atom,
+            self.comp_fact,
+            self.pre_of_ptr,
+            self.pre_of_idx,
+            self.add_ptr,
+            self.add_idx,
+            self.npre,
+            self.ucost,
+            self.goal,
+            self.stop,
+            self.cost,
+            self.sup,
+            self.acc,
+            self.unsat,
+            self.first,
+            self.hk,
+            self.hc,
+            self.hf,
+        )
+
+    def relaxed_plan(self) -> list[int]:
+        """The operators of the relaxed plan from the last ``hadd`` (the goal must be reached)."""
+        self.stamp += 1
+        n = self.plan_kernel(
+            self.goal,
+            self.sup,
+            self.pre_ptr,
+            self.pre_idx,
+            self.owner,
+            self.seen,
+            self.mark,
+            self.stamp,
+            self.stack,
+            self.out,
+        )
+        return self.out[:n].tolist()

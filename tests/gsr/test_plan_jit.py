@@ -1,0 +1,94 @@
+"""The compiled h_add / h_FF (gsr.plan.relax_jit, numba) equals the pure-Python relaxation."""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+
+import pytest
+from gsr.benchmarks.bench_planner import long_tabletop_task
+
+from gsr.facts import problem_from_graph
+from gsr.pddl.parser import load_domain, load_problem
+from gsr.plan import plan, relax_jit
+from gsr.plan.ground import ground_task
+from gsr.plan.heuristics import INF, Relaxation
+from gsr.resources import load_builtin_domain
+from gsr.validate import validate_plan
+
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "pddl"
+
+pytest.importorskip("numba", reason="numba not installed (optional extra 'fast'): compiled path not tested")
+
+
+def _walk(task, steps: int, seed: int) -> list[int]:
+    rng = random.Random(seed)
+    states, state = [], task.init
+    for _ in range(steps):
+        states.append(state)
+        ops = list(task.applicable(state))
+        if not ops:
+            break
+        state = task.apply(state, rng.choice(ops))
+    return states
+
+
+def _tasks():
+    yield ground_task(
+        load_domain(FIXTURES / "blocks" / "domain.pddl"),
+        load_problem(FIXTURES / "blocks" / "probBLOCKS-9-2.pddl"),
+    )
+    # ADL: negative preconditions (complement facts), conditional effects
+    yield ground_task(
+        load_domain(FIXTURES / "miconic-simpleadl" / "domain.pddl"),
+        load_problem(FIXTURES / "miconic-simpleadl" / "s4-0.pddl"),
+    )
+    name, graph, goal, _ = long_tabletop_task(3)
+    domain = load_builtin_domain("tabletop")
+    yield ground_task(domain, problem_from_graph(graph, goal, name=name, domain=domain))
+
+
+@pytest.mark.parametrize("unit", [True, False])
+def test_compiled_hadd_and_ff_equal_the_python_path(monkeypatch: pytest.MonkeyPatch, unit: bool) -> None:
+    for task in _tasks():
+        monkeypatch.setenv("GSR_PLAN_JIT", "0")
+        python = Relaxation(task, unit=unit)
+        monkeypatch.setenv("GSR_PLAN_JIT", "1")
+        compiled = Relaxation(task, unit=unit)
+        assert python._jit is None and compiled._jit is not None
+        states = _walk(task, 40, seed=1)
+        assert len(states) > 10
+        for state in states:
+            cost, sup = python._hadd_buckets(state)
+            jit = compiled._jit
+            jit.hadd(state)
+            got = [INF if c >= relax_jit.UNREACHED else c for c in jit.cost.tolist()]
+            # Both stop once the goal is settled; every fact's cost and best supporter agree.
+            assert got == cost
+            assert jit.sup.tolist() == sup
+            h_py, pref_py = python.ff(state)
+            h_jit, pref_jit = compiled.ff(state)
+            assert h_py == h_jit
+            assert sorted(pref_py) == sorted(pref_jit)
+        assert compiled.hadd(task.init) == python.hadd(task.init)
+
+
+def test_compiled_path_plans_the_same(monkeypatch: pytest.MonkeyPatch) -> None:
+    domain = load_domain(FIXTURES / "gripper" / "domain.pddl")
+    problem = load_problem(FIXTURES / "gripper" / "prob06.pddl")
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    expected = plan(domain, problem, timeout=60)
+    monkeypatch.setenv("GSR_PLAN_JIT", "1")
+    got = plan(domain, problem, timeout=60)
+    assert got.status == expected.status == "solved"
+    assert got.plan == expected.plan and got.expanded == expected.expanded
+    assert validate_plan(domain, problem, got.plan).valid
+
+
+def test_unreachable_goal_is_infinite(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("GSR_PLAN_JIT", "1")
+    task = next(_tasks())
+    relax = Relaxation(task, unit=True)
+    # a state with no atoms at all: nothing is applicable, the goal is unreachable
+    assert relax.ff(0) == (INF, [])
+    assert relax.hadd(0)[0][relax.goal_fact] == INF
