@@ -3,7 +3,7 @@
 Every procedural asset (``gsr.skills.assets``) has its base frame at the bottom centre, its front facing
 local -x (towards a robot that looks along +x) and is described in that frame. Parts are named
 generically (``drawer_0`` is the bottom drawer, ``top_side``, ``lid``, ``knob``, ``door``, ``button``,
-``switch``, ``burner``, ``compartment_0``); the world maps scene-graph part nodes onto them.
+``switch``, ``burner``, ``compartment_front``); the world maps scene-graph part nodes onto them.
 """
 
 from __future__ import annotations

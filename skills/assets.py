@@ -123,18 +123,35 @@ def make_tray(size: Vec | None, rgba: RGBA) -> AssetModel:
 
 
 def make_caddy(size: Vec | None, rgba: RGBA) -> AssetModel:
-    """A desk caddy with a divider: compartment_0 (front, -x) and compartment_1 (back)."""
-    sx, sy, sz = scale(size, (0.2, 0.14, 0.08))
-    shapes = [*open_box(sx, sy, sz, rgba), box((0, 0, sz * 0.4), (T, sy - 2 * T, sz * 0.8), rgba)]
-    half = (sx - 3 * T) / 2
+    """A desk caddy with four compartments: ``left`` (+y) and ``right`` (-y) bins along the whole depth,
+    the middle split into ``front`` (-x, towards the robot) and ``back``.
+
+    Every compartment holds a standing book (3 x 13 x 10 cm) with its long side along the compartment's
+    long side: the side bins are 16.8 cm deep, the middle cells 15 cm wide (LIBERO's study scenes put
+    a book into each of the four).
+    """
+    sx, sy, sz = scale(size, (0.184, 0.332, 0.08))
+    side = (sy - 4 * T) * 0.25  # width of a side bin; the middle column gets the rest
+    mid = sy - 4 * T - 2 * side
+    y_div = mid / 2 + T / 2  # the two long dividers, at +-y_div
+    shapes = [
+        *open_box(sx, sy, sz, rgba),
+        box((0, y_div, sz * 0.45), (sx - 2 * T, T, sz * 0.9), rgba),
+        box((0, -y_div, sz * 0.45), (sx - 2 * T, T, sz * 0.9), rgba),
+        box((0, 0, sz * 0.45), (T, mid, sz * 0.9), rgba),
+    ]
+    depth, cell = sx - 2 * T, (sx - 3 * T) / 2
+    y_side = y_div + T / 2 + side / 2
     return AssetModel(
         "caddy",
         [Link("base", tuple(shapes), 0.3)],
         grasps=[GraspSite("base", (-sx / 2 + T / 2, 0, sz - 0.012), 0.0, width=T)],
         interiors={
             "": Interior("base", (0, 0, sz * 0.75), (sx - 2 * T, sy - 2 * T, sz * 1.5)),
-            "compartment_0": Interior("base", (-sx / 4, 0, sz * 0.75), (half, sy - 2 * T, sz * 1.5)),
-            "compartment_1": Interior("base", (sx / 4, 0, sz * 0.75), (half, sy - 2 * T, sz * 1.5)),
+            "compartment_front": Interior("base", (-(cell + T) / 2, 0, sz * 0.75), (cell, mid, sz * 1.5)),
+            "compartment_back": Interior("base", ((cell + T) / 2, 0, sz * 0.75), (cell, mid, sz * 1.5)),
+            "compartment_left": Interior("base", (0, y_side, sz * 0.75), (depth, side, sz * 1.5)),
+            "compartment_right": Interior("base", (0, -y_side, sz * 0.75), (depth, side, sz * 1.5)),
         },
         extent=(sx, sy, sz),
     )

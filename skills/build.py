@@ -46,11 +46,12 @@ def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
     if is_a(cat, "cabinet_top"):
         return "top_side" if "top_side" in model.part_links else ""
     if is_a(cat, "compartment"):
-        return (
-            "compartment_1"
-            if "back" in name
-            else ("compartment_0" if "compartment_0" in model.interiors else "")
-        )
+        # by the side its name gives (``back_compartment`` -> ``compartment_back``), else the front one
+        compartments = [k for k in model.interiors if k.startswith("compartment_")]
+        words = set(name.replace("-", "_").split("_"))
+        named = [k for k in compartments if k.removeprefix("compartment_") in words]
+        fallback = "compartment_front" if "compartment_front" in compartments else ""
+        return named[0] if named else fallback
     if is_a(cat, "door"):
         return model.open_part or ""
     if is_a(cat, "button") or is_a(cat, "switch"):

@@ -295,6 +295,14 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         hi = np.array([min(thi[0] - 0.05, ee[0] + 0.25), min(thi[1] - 0.05, ee[1] + 0.25), thi[2]])
         return _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True)
     lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
+    if world.objects[loc.object_id].model.fixed:
+        # a fixture's top (stove, rack, cabinet top): a level spot that supports the whole footprint,
+        # at the height the surface really has there (not the top of a knob or a rail)
+        from gsr.skills.surfaces import surface_spot
+
+        spot = surface_spot(world, obj, loc.body, lo, hi, links={loc.link} if loc.part else None)
+        if spot is not None:
+            return spot
     return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
 
 

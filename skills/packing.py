@@ -2,9 +2,9 @@
 
 A box may stand at any yaw and so may the cubes going into it. Reasoning with world-aligned boxes
 wastes most of the floor, so the spot is chosen in the container's frame, with the held object turned
-(the wrist rotates by ``delta``, at most 45 degrees) to line up with the container's walls. Along the
-fingers' closing axis the fingers need their measured reach beside the object; across it half a
-centimetre.
+(the wrist rotates by ``delta``, at most 45 degrees, or up to 135 when only the other way round fits)
+to line up with the container's walls. Along the fingers' closing axis the fingers need their
+measured reach beside the object; across it half a centimetre.
 When the floor is full the object goes on the lowest neighbour: a second layer.
 """
 
@@ -54,6 +54,19 @@ def finger_reach(world: World) -> float:
     return world.robot.finger_width() / 2 + FINGER_OUTER
 
 
+def fitting_turn(
+    extent: tuple[float, float, float], rel: float, delta: float, half_room: tuple[float, float]
+) -> float:
+    """The wrist turn that lines the object up with the walls *and* fits it in: ``delta`` (the
+    smallest turn) when the object's footprint fits the room that way round, else the quarter turn
+    more or less that does (a 13 cm book into a long narrow compartment), else ``delta``."""
+    for d in sorted((delta, delta + math.pi / 2, delta - math.pi / 2), key=abs):
+        held = _half(extent, rel + d)
+        if held[0] + GAP_ACROSS <= half_room[0] and held[1] + GAP_ACROSS <= half_room[1]:
+            return d
+    return delta
+
+
 def packed_spot(
     world: World, obj: SimObject, target: str, closing_yaw: float
 ) -> tuple[np.ndarray, float] | None:
@@ -73,6 +86,7 @@ def packed_spot(
     # turn the held object (by the wrist) so its sides run along the container's walls
     rel = world.yaw_of(obj.body) - yaw
     delta = -(((rel + math.pi / 4) % (math.pi / 2)) - math.pi / 4)
+    delta = fitting_turn(obj.model.extent, rel, delta, (hu, hv))
     held = _half(obj.model.extent, rel + delta)
     e1 = closing_yaw + delta - yaw  # closing axis in the container frame
     along = abs(math.cos(e1)) * held[0] + abs(math.sin(e1)) * held[1]

@@ -1,0 +1,139 @@
+"""Object geometry and placement that LIBERO's scenes need: caddy compartments by name, level spots on
+fixture tops (not on a stove's knob, not against a pot already there), objects turned to fit."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pybullet")
+
+from gsr.benchmarks.suites.libero_suite import task_from_bddl
+from gsr.skills.assets import make_asset, make_book
+from gsr.skills.build import resolve_part
+from gsr.skills.packing import HAND_HALF, fitting_turn
+from gsr.skills.surfaces import surface_spot
+from gsr.skills.world import build_world
+
+from gsr.scene_graph import Edge, Node, SceneGraph
+from gsr.task_spec import Layout, PlacedObject
+
+BOOK = (0.03, 0.13, 0.1)
+
+
+def _half(extent: tuple[float, float, float], yaw: float) -> np.ndarray:
+    c, s = abs(math.cos(yaw)), abs(math.sin(yaw))
+    return np.array([c * extent[0] + s * extent[1], s * extent[0] + c * extent[1]]) / 2
+
+
+def test_caddy_compartments_resolve_by_their_side_and_each_holds_a_standing_book() -> None:
+    caddy = make_asset("desk_caddy")
+    graph = SceneGraph(
+        nodes=(
+            Node(id="desk_caddy_1", category="caddy"),
+            *(
+                Node(id=f"desk_caddy_1/{side}_compartment", category="compartment", parent="desk_caddy_1")
+                for side in ("front", "back", "left", "right")
+            ),
+        ),
+        edges=(),
+    )
+    seen = set()
+    for side in ("front", "back", "left", "right"):
+        part = resolve_part(caddy, graph, f"desk_caddy_1/{side}_compartment")
+        assert part == f"compartment_{side}"
+        seen.add(part)
+        room = np.array(caddy.interiors[part].size[:2]) / 2
+        turn = fitting_turn(BOOK, 0.0, 0.0, (float(room[0]), float(room[1])))
+        assert np.all(_half(BOOK, turn) < room), side  # the book fits one way round
+    assert len(seen) == 4
+    # the four compartments do not overlap each other
+    boxes = [caddy.interiors[p] for p in sorted(seen)]
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1 :]:
+            apart = [abs(a.center[k] - b.center[k]) >= (a.size[k] + b.size[k]) / 2 - 1e-9 for k in (0, 1)]
+            assert any(apart)
+
+
+def test_fitting_turn_keeps_the_smallest_turn_when_it_fits_and_turns_a_quarter_when_not() -> None:
+    assert fitting_turn(BOOK, 0.0, 0.0, (0.05, 0.075)) == 0.0  # long side along the long room
+    turned = fitting_turn(BOOK, 0.0, 0.0, (0.084, 0.0375))  # long room along x: a quarter turn
+    assert abs(abs(turned) - math.pi / 2) < 1e-9
+    assert fitting_turn(BOOK, 0.0, 0.1, (0.01, 0.01)) == 0.1  # fits nowhere: the smallest turn
+
+
+def _stove_scene(pot_on_stove: bool) -> Layout:
+    objects = [
+        PlacedObject(id="flat_stove_1", asset="flat_stove", position=(0.1, 0.0, 0.0), fixed=True),
+        PlacedObject(id="moka_pot_2", asset="moka_pot", position=(-0.15, 0.3, 0.0)),
+    ]
+    if pot_on_stove:
+        objects.append(
+            PlacedObject(id="moka_pot_1", asset="moka_pot", position=(0.1, 0.0, 0.0), on="flat_stove_1")
+        )
+    return Layout(objects=tuple(objects), table_size=(0.9, 1.2))
+
+
+@pytest.mark.parametrize("pot_on_stove", [False, True])
+def test_surface_spot_is_level_on_the_plate_clear_of_the_knob_and_of_a_pot_there(pot_on_stove: bool) -> None:
+    graph = SceneGraph(
+        nodes=(
+            Node(id="table", category="table"),
+            Node(id="flat_stove_1", category="stove", attributes={"fixture": True}),
+            Node(id="moka_pot_1", category="moka_pot"),
+            Node(id="moka_pot_2", category="moka_pot"),
+        ),
+        edges=(Edge(source="moka_pot_1", relation="on", target="flat_stove_1"),),
+    )
+    with build_world(_stove_scene(pot_on_stove), seed=0, graph=graph) as w:
+        stove, pot = w.objects["flat_stove_1"], w.objects["moka_pot_2"]
+        lo, hi = w.body_aabb(stove.body)
+        spot = surface_spot(w, pot, stove.body, lo, hi)
+        assert spot is not None
+        plate_top = w.layout.table_height + stove.model.extent[2]
+        assert spot[2] == pytest.approx(plate_top, abs=0.003)  # the plate, not the knob 4 cm higher
+        assert hi[2] > plate_top + 0.02
+        # the pot's footprint lies on the stove, away from the knob
+        knob = w.to_world(stove.body, stove.links["knob"], (0, 0, 0))
+        assert float(np.linalg.norm(spot[:2] - knob[:2])) > 0.03 + 0.022
+        assert lo[0] + 0.03 <= spot[0] <= hi[0] - 0.03 and lo[1] + 0.03 <= spot[1] <= hi[1] - 0.03
+        if pot_on_stove:
+            other = w.objects["moka_pot_1"]
+            olo, ohi = w.body_aabb(other.body)
+            centre = (olo[:2] + ohi[:2]) / 2
+            # not on the pot, and with the hand's half length (11 cm) or its half width beside it
+            gap = float(np.linalg.norm(spot[:2] - centre))
+            assert gap > 0.06
+            assert gap > HAND_HALF[1] + 0.03
+
+
+def test_book_asset_is_the_standing_book_the_caddy_is_sized_for() -> None:
+    assert make_book(None, (0, 0, 0, 1)).extent == BOOK
+
+
+@pytest.mark.physics
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "suite,name",
+    [
+        ("libero_10", "KITCHEN_SCENE8_put_both_moka_pots_on_the_stove"),
+        ("libero_10", "STUDY_SCENE1_pick_up_the_book_and_place_it_in_the_back_compartment_of_the_caddy"),
+    ],
+)
+def test_libero_task_runs_physically(libero_dir: Path, suite: str, name: str) -> None:
+    from gsr.benchmarks.agents import make_agent
+    from gsr.benchmarks.runner import run_episode
+    from gsr.skills.sim_executor import SimExecutor
+
+    from gsr.resources import load_builtin_domain
+
+    task = task_from_bddl(libero_dir / suite / f"{name}.bddl")
+    ex = SimExecutor(seed=0, frame_camera=None)
+    try:
+        result = run_episode(task, make_agent("planner", {}), load_builtin_domain("tabletop"), executor=ex)
+    finally:
+        ex.close()
+    assert result.success, result.reason
