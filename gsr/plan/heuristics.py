@@ -11,6 +11,7 @@ compiled into complement facts (see Relaxation), which keeps h_max and LM-cut ad
 from __future__ import annotations
 
 from heapq import heappop, heappush
+from time import perf_counter
 
 from gsr.plan import relax_jit
 from gsr.plan.task import Task
@@ -173,10 +174,14 @@ class Relaxation:
         # The last h_add result: plan()'s reachability check and the search's first evaluation are
         # both of the initial state. Callers only read the returned lists.
         self._last: tuple[int, tuple[list[float], list[int]]] | None = None
-        # Large tasks: the same h_add and relaxed plans compiled by numba when it is installed.
+        # Large tasks: the same h_add and relaxed plans compiled by numba when it is installed, from
+        # the start on large relaxations, or once h_FF has taken JIT_AFTER seconds in Python (small
+        # searches, the tabletop ones among them, never pay numba's import).
         self._jit = None
-        if self.integral and relax_jit.wanted(sum(self.npre)):
-            self._jit = relax_jit.CompiledRelaxation(self)
+        self._py_time = 0.0
+        self._jit_open = self.integral and relax_jit.allowed()
+        if self._jit_open and relax_jit.wanted(sum(self.npre)):
+            self._use_jit()
 
     def _facts(self, state: int) -> list[int]:
         """The facts true in ``state``: its atoms, the always-true fact and the true complements."""
@@ -200,6 +205,11 @@ class Relaxation:
         heap.append((0, self.true_fact))
         heap += [(0, c) for bit, c in self.comp_pairs if not state & bit]
         return heap
+
+    def _use_jit(self) -> None:
+        self._jit_open = False
+        if relax_jit.kernels() is not None:
+            self._jit = relax_jit.CompiledRelaxation(self)
 
     def hadd(self, state: int) -> tuple[list[float], list[int]]:
         """h_add costs of all facts (stopping once G is settled) and each fact's best supporter."""
@@ -395,6 +405,19 @@ class Relaxation:
             plan = jit.relaxed_plan()
             h = len(plan) if self.unit else sum(task.ops[o].cost for o in plan)
             return h, [o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
+        if self._jit_open:
+            if self._py_time > relax_jit.JIT_AFTER:
+                self._use_jit()
+                return self.ff(state)
+            start = perf_counter()
+            found = self._ff_python(state)
+            self._py_time += perf_counter() - start
+            return found
+        return self._ff_python(state)
+
+    def _ff_python(self, state: int) -> tuple[float, list[int]]:
+        task = self.task
+        pre_mask, neg_mask = task.pre_mask, task.neg_mask
         cost, sup = self.hadd(state)
         if cost[self.goal_fact] == INF:
             return INF, []

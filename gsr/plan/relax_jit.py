@@ -26,17 +26,21 @@ if TYPE_CHECKING:
 # the Python h_add is fast enough and numba's import (~0.3 s) would dominate. Environment variable
 # GSR_PLAN_JIT: "0" never, "1" always (when numba is installed), unset: by size.
 MIN_EDGES = 20_000
+# Seconds of h_FF in Python after which a smaller relaxation switches to the compiled path.
+JIT_AFTER = 0.5
 UNREACHED = np.int64(1) << np.int64(62)
 
 _kernels = None  # (hadd, ff) once compiled; False when numba is unavailable
 
 
+def allowed() -> bool:
+    """False when GSR_PLAN_JIT=0 forbids the compiled path."""
+    return os.environ.get("GSR_PLAN_JIT", "") != "0"
+
+
 def wanted(edges: int) -> bool:
-    """Whether a relaxation with ``edges`` precondition edges should use the compiled path."""
-    flag = os.environ.get("GSR_PLAN_JIT", "")
-    if flag == "0" or (flag != "1" and edges < MIN_EDGES):
-        return False
-    return kernels() is not None
+    """Whether a relaxation with ``edges`` precondition edges should be compiled from the start."""
+    return allowed() and (os.environ.get("GSR_PLAN_JIT", "") == "1" or edges >= MIN_EDGES)
 
 
 def kernels():

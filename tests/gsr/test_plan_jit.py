@@ -92,3 +92,21 @@ def test_unreachable_goal_is_infinite(monkeypatch: pytest.MonkeyPatch) -> None:
     # a state with no atoms at all: nothing is applicable, the goal is unreachable
     assert relax.ff(0) == (INF, [])
     assert relax.hadd(0)[0][relax.goal_fact] == INF
+
+
+def test_python_relaxation_switches_to_the_compiled_path_after_jit_after_seconds(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
+    monkeypatch.setattr(relax_jit, "JIT_AFTER", 0.0)
+    task = next(_tasks())  # blocks: below MIN_EDGES, so it starts in Python
+    relax = Relaxation(task, unit=True)
+    assert relax._jit is None
+    states = _walk(task, 5, seed=2)
+    first = relax.ff(states[0])  # Python, and its time passes JIT_AFTER
+    assert relax._jit is None
+    assert relax.ff(states[1]) is not None and relax._jit is not None
+    again = relax.ff(states[0])
+    assert again[0] == first[0] and sorted(again[1]) == sorted(first[1])
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    assert Relaxation(task, unit=True)._jit_open is False
