@@ -34,7 +34,8 @@ from gsr.perception.recognize import (
     rule_category,
     size_word,
 )
-from gsr.perception.segment import SegmentParams, Segments, segment
+from gsr.perception.recognize_parts import Part, split_drawer_fronts
+from gsr.perception.segment import SegmentParams, Segments, segment, upsample
 
 from gsr.errors import GSRError
 
@@ -55,6 +56,9 @@ class Detection:
     color: str | None = None  # palette word (gsr.categories.COLORS) or None
     size: str | None = None  # 'small' / 'medium' / 'large' or None
     attributes: dict[str, Any] = field(default_factory=dict)
+    # attributes always hold "category_source" ('model', 'rule' or 'support_plane'), "pixel_color" (the
+    # rule colour of the pixels) and "extent" (major, minor horizontal extent and height, m); a part
+    # (a drawer) holds "parent_index": the index of its parent's detection in the same list.
 
 
 @runtime_checkable
@@ -184,7 +188,7 @@ class RGBDDetector:
 
 
 def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
-    """Turn a segmentation into detections (recognising each segment)."""
+    """Turn a segmentation into detections: recognise each segment, then give drawers their fronts."""
     out: list[Detection] = []
     if seg.plane is not None and seg.support.any():
         out.append(
@@ -198,19 +202,13 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
     if seg.count == 0:
         return out
     feats = all_features(seg)
-    if model is not None:
+    parts: list[Part] = []
+    if model is None:
+        for i in range(seg.count):
+            parts.append(Part(seg.labels == i, rule_category(feats[i]), 0.0, pixel_color(feats[i]), i))
+    else:
         cat_p, col_p = model.classify(feats)
-    for i in range(seg.count):
-        f = feats[i]
-        extent = f[2] * f[3] * max(f[4], 0.005)
-        attrs: dict[str, Any] = {
-            "pixel_color": pixel_color(f),
-            "extent": [round(float(f[2]), 4), round(float(f[3]), 4), round(float(f[4]), 4)],
-        }
-        if model is None:
-            category, score, color = rule_category(f), 0.0, attrs["pixel_color"]
-            attrs["category_source"] = "rule"
-        else:
+        for i in range(seg.count):
             k = int(np.argmax(cat_p[i]))
             category, score = model.categories[k], float(cat_p[i, k])
             if category == NONE:
@@ -218,18 +216,29 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             if score < model.unknown_threshold:
                 category = UNKNOWN
             c = model.colors[int(np.argmax(col_p[i]))]
-            color = None if c == NONE else c
-            if category == UNKNOWN:
-                color = attrs["pixel_color"]
-            attrs["category_source"] = "model"
-            attrs["color_score"] = round(float(col_p[i].max()), 4)
-        ref = model.reference_volume.get(category) if model is not None else None
+            color = pixel_color(feats[i]) if category == UNKNOWN else (None if c == NONE else c)
+            parts.append(Part(seg.labels == i, category, score, color, i))
+        parts = split_drawer_fronts(seg, parts)
+    first = len(out)
+    for part in parts:
+        f = feats[part.feature_index]
+        extent = f[2] * f[3] * max(f[4], 0.005)
+        attrs: dict[str, Any] = {
+            "pixel_color": pixel_color(f),
+            "extent": [round(float(f[2]), 4), round(float(f[3]), 4), round(float(f[4]), 4)],
+            "category_source": "rule" if model is None else "model",
+        }
+        if model is not None:
+            attrs["color_score"] = round(float(col_p[part.feature_index].max()), 4)
+        if part.parent is not None:
+            attrs["parent_index"] = first + part.parent
+        ref = model.reference_volume.get(part.category) if model is not None else None
         out.append(
             Detection(
-                mask=seg.full_mask(i),
-                category=category,
-                score=round(score, 4),
-                color=color,
+                mask=upsample(part.mask, seg.stride, seg.shape),
+                category=part.category,
+                score=round(part.score, 4),
+                color=part.color,
                 size=size_word(float(extent), ref),
                 attributes=attrs,
             )

@@ -60,19 +60,22 @@ def _hsv(f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def segment_features(seg: Segments, index: int) -> np.ndarray:
     """The feature vector (``FEATURE_NAMES``) of one segment."""
-    m = seg.labels == index
-    pts = seg.points[m]
+    rows, cols = np.nonzero(seg.labels == index)
+    return _features(seg, rows, cols)
+
+
+def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    pts = seg.points[rows, cols]
     ok = np.all(np.isfinite(pts), axis=1)
     pts = pts[ok]
-    hgt = seg.height[m][ok]
-    nrm = np.nan_to_num(seg.normals[m][ok])
-    rgb = seg.rgb[m][ok].astype(np.float64) / 255.0
+    hgt = seg.height[rows, cols][ok]
+    nrm = np.nan_to_num(seg.normals[rows, cols][ok])
+    rgb = seg.rgb[rows, cols][ok].astype(np.float64) / 255.0
     out = np.zeros(N_FEATURES)
     if len(pts) < 3:
         return out
     n = len(pts)
     h, w = seg.labels.shape
-    rows, cols = np.nonzero(m)
     border = np.mean((rows <= 1) | (cols <= 1) | (rows >= h - 2) | (cols >= w - 2))
     xy = pts[:, :2] - pts[:, :2].mean(axis=0)
     cov = xy.T @ xy / n
@@ -125,8 +128,21 @@ def segment_features(seg: Segments, index: int) -> np.ndarray:
 
 
 def all_features(seg: Segments) -> np.ndarray:
-    """Features of every segment, ``(count, N_FEATURES)``."""
-    return np.array([segment_features(seg, i) for i in range(seg.count)]).reshape(seg.count, N_FEATURES)
+    """Features of every segment, ``(count, N_FEATURES)`` (pixels grouped with one sort)."""
+    out = np.zeros((seg.count, N_FEATURES))
+    flat = seg.labels.reshape(-1)
+    idx = np.flatnonzero(flat >= 0)
+    if idx.size == 0:
+        return out
+    order = idx[np.argsort(flat[idx], kind="stable")]
+    ids = flat[order]
+    starts = np.searchsorted(ids, np.arange(seg.count))
+    ends = np.append(starts[1:], ids.size)
+    w = seg.labels.shape[1]
+    for i in range(seg.count):
+        pix = order[starts[i] : ends[i]]
+        out[i] = _features(seg, pix // w, pix % w)
+    return out
 
 
 def rule_category(feat: np.ndarray) -> str:
