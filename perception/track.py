@@ -45,22 +45,29 @@ def view_of(inst: Instance) -> int:
     return int(m.group(1)) if m else -1
 
 
-def _voxels(points: np.ndarray, dilate: bool) -> set[tuple[int, int, int]]:
-    cells = np.unique(np.floor(points / OVERLAP_VOXEL).astype(np.int64), axis=0)
-    if not dilate:
-        return set(map(tuple, cells.tolist()))
-    shifts = np.array([[dx, dy, dz] for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)])
-    grown = np.unique((cells[:, None, :] + shifts[None, :, :]).reshape(-1, 3), axis=0)
-    return set(map(tuple, grown.tolist()))
+_SPAN = 1 << 20  # voxel coordinates are packed into one int64 (+-5 km at 1 cm)
+_SHIFTS = np.array(
+    [(dx * _SPAN + dy) * _SPAN + dz for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)],
+    dtype=np.int64,
+)
+
+
+def _voxel_keys(points: np.ndarray) -> np.ndarray:
+    """Sorted unique packed keys of the 1 cm voxels a cloud occupies."""
+    cells = np.floor(points / OVERLAP_VOXEL).astype(np.int64) + _SPAN // 2
+    return np.unique((cells[:, 0] * _SPAN + cells[:, 1]) * _SPAN + cells[:, 2])
 
 
 def cloud_overlap(a: Instance, b: Instance) -> float:
     """Share of the smaller cloud's voxels that lie in (one voxel around) the other cloud, in [0, 1]."""
     small, large = (a, b) if len(a.points) <= len(b.points) else (b, a)
-    mine = _voxels(small.points, dilate=False)
-    if not mine:
+    mine, theirs = _voxel_keys(small.points), _voxel_keys(large.points)
+    if mine.size == 0 or theirs.size == 0:
         return 0.0
-    return len(mine & _voxels(large.points, dilate=True)) / len(mine)
+    near = (mine[:, None] + _SHIFTS[None, :]).ravel()
+    pos = np.clip(np.searchsorted(theirs, near), 0, theirs.size - 1)
+    hit = (theirs[pos] == near).reshape(mine.size, -1).any(axis=1)
+    return float(hit.mean())
 
 
 def _compatible(a: Instance, b: Instance) -> bool:
