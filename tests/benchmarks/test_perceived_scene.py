@@ -147,7 +147,7 @@ def test_perceived_scene_in_a_real_world(libero_dir) -> None:
     )
     world = build_world(task, seed=0)
     try:
-        scene = PerceivedScene(world)
+        scene = PerceivedScene(world, oracle_masks=True)
         first = scene.observe()
         assert first.metadata["source"] == "perception" and scene.last_rgb is not None
         bowl, drawer = "akita_black_bowl_1", "white_cabinet_1/bottom_drawer"
@@ -183,7 +183,7 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
     )
     world = build_world(task, seed=0)
     try:
-        scene = PerceivedScene(world)
+        scene = PerceivedScene(world, oracle_masks=True)
         door = world.objects["microwave_1"]
         labels = {lab.id for f in scene.frames() for lab in f.labels.values()}
         assert "microwave_1/door" in labels  # a mask of its own
