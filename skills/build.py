@@ -135,7 +135,8 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_w
     # the base's rails run beside the table's near edge (x) and along it (y)
     edge = -layout.table_size[0] / 2
     half_y = layout.table_size[1] / 2
-    robot = Robot.load(client, th, (edge - 0.6, edge + 0.05), (-half_y, half_y))
+    # (0.9 m back: a cabinet at the desk's front edge opens its drawers 30 cm past it, handle included)
+    robot = Robot.load(client, th, (edge - 0.9, edge + 0.05), (-half_y, half_y))
     # the base is clamped to the table's edge: its carriage and link0 slide over the edge, not on it
     for link in (-1, *robot.base):
         p.setCollisionFilterPair(robot.body, table_body, link, -1, 0, physicsClientId=client)
@@ -162,10 +163,72 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_w
             part = resolve_part(world.objects[n.parent].model, graph, n.id)
             world.parts[n.id] = (n.parent, part)
     _initial_joints(world, layout)
+    _clear_start(world)
     for _ in range(SETTLE_STEPS):
         world.robot.hold(world.robot.q())
         world.step()
     return world
+
+
+def _clear_start(world: World, margin: float = 0.02) -> None:
+    """Back the robot's base off along its x rail until base and shoulder clear every object.
+
+    An open drawer of a cabinet near the table's front edge reaches over the rails; a base started
+    inside it would push the drawer shut before the first step (the task's graph says it is open).
+    """
+    import pybullet as p
+
+    r = world.robot
+    q = r.q()
+    for x in np.arange(q[0], r.lower[0] - 1e-9, -0.05):
+        q[0] = x
+        r.reset(q)
+        hits = any(
+            p.getClosestPoints(r.body, o.body, margin, linkIndexA=link, physicsClientId=world.client)
+            for o in world.objects.values()
+            for link in (*r.base, r.arm[0], r.arm[1])
+        )
+        if not hits:
+            return
+
+
+#: Room kept between a tall fixture and a movable object (m): a hand's width.
+HAND_CLEARANCE = 0.06
+#: Footprints whose circumscribed radius is larger than this (m) are separated as rectangles.
+LARGE_FOOTPRINT = 0.08
+
+
+def _rect_overlap(
+    d: np.ndarray, a: tuple[np.ndarray, float], b: tuple[np.ndarray, float], margin: float
+) -> tuple[np.ndarray, float] | None:
+    """The shortest push (unit direction from a to b, length) separating two oriented rectangles by
+    ``margin``; None when they are that far apart already (separating-axis test)."""
+    axes = []
+    for _, yaw in (a, b):
+        c, s = np.cos(yaw), np.sin(yaw)
+        axes += [np.array([c, s]), np.array([-s, c])]
+
+    def radius(r: tuple[np.ndarray, float], n: np.ndarray) -> float:
+        (hx, hy), yaw = r
+        c, s = np.cos(yaw), np.sin(yaw)
+        return float(hx * abs(c * n[0] + s * n[1]) + hy * abs(-s * n[0] + c * n[1]))
+
+    best: tuple[np.ndarray, float] | None = None
+    for n in axes:
+        along = float(np.dot(d, n))
+        overlap = radius(a, n) + radius(b, n) + margin - abs(along)
+        if overlap <= 0:
+            return None
+        if best is None or overlap < best[1]:
+            best = (n * (1.0 if along >= 0 else -1.0), overlap + 1e-4)
+    return best
+
+
+def _drawer_sweep(model: AssetModel) -> float:
+    """How far in front of an asset (local -x) its drawers reach when open, with their pull bars and
+    room for the hand on them (m); 0 without drawers."""
+    travel = [abs(a.open - a.closed) for a in model.articulations.values() if a.kind == "drawer"]
+    return max(travel) + 0.06 if travel else 0.0
 
 
 def separate_footprints(
@@ -180,7 +243,40 @@ def separate_footprints(
     pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
     # circumscribed circles: a rotated box reaches its half-diagonal
     rad = {o.id: float(np.hypot(*make_asset(o.asset, o.size).extent[:2]) / 2) for o in items}
+    rect = {o.id: (np.array(make_asset(o.asset, o.size).extent[:2]) / 2, o.yaw) for o in items}
+    # a cabinet's footprint reaches as far as its drawers open (and their pull bars and the hand on
+    # them): what stands there would be under an open drawer, out of the hand's reach, or swept away
+    off = {o.id: np.zeros(2) for o in items}
+    for o in items:
+        sweep = _drawer_sweep(make_asset(o.asset, o.size))
+        if sweep > 0:
+            half_xy, yaw = rect[o.id]
+            rect[o.id] = (half_xy + np.array([sweep / 2, 0.0]), yaw)
+            off[o.id] = -sweep / 2 * np.array([np.cos(yaw), np.sin(yaw)])
     fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
+    tall = {o.id for o in items if o.id in fixed and make_asset(o.asset, o.size).extent[2] > 0.15}
+    # a push keeps an object on the table (an object the layout puts nearer an edge may stay there):
+    # what a push along x cannot take goes sideways along y, and the other way round
+    half = np.array(layout.table_size[:2], dtype=float) / 2
+    bound = {
+        o.id: np.maximum(half - max(make_asset(o.asset, o.size).extent[:2]) / 2 - 0.01, np.abs(pos[o.id]))
+        for o in items
+    }
+
+    def push(oid: str, vec: np.ndarray, away: np.ndarray) -> None:
+        # ``away``: from the other object's centre to this one's (the side a deflected push goes to)
+        new = pos[oid] + vec
+        clipped = np.clip(new, -bound[oid], bound[oid])
+        left = np.abs(new - clipped)
+        for axis in (0, 1):
+            other = 1 - axis
+            if left[axis] > 1e-9:
+                sign = 1.0 if away[other] > 0 else -1.0
+                clipped[other] = np.clip(
+                    clipped[other] + sign * left[axis], -bound[oid][other], bound[oid][other]
+                )
+        pos[oid] = clipped
+
     for _ in range(rounds):
         moved = False
         for i, a in enumerate(items):
@@ -188,19 +284,30 @@ def separate_footprints(
                 if a.id in fixed and b.id in fixed:
                     continue
                 d = pos[b.id] - pos[a.id]
-                dist = float(np.linalg.norm(d))
-                need = rad[a.id] + rad[b.id] + margin
-                if dist >= need:
-                    continue
-                u = d / dist if dist > 1e-9 else np.array([0.0, 1.0])
-                push = need - dist + 1e-4
-                if a.id in fixed:
-                    pos[b.id] += u * push
-                elif b.id in fixed:
-                    pos[a.id] -= u * push
+                if max(rad[a.id], rad[b.id]) > LARGE_FOOTPRINT:
+                    d = d + off[b.id] - off[a.id]
+                    # beside a tall fixture (a cabinet) the hand needs its own width to grasp
+                    gap = HAND_CLEARANCE if {a.id, b.id} & tall else margin
+                    # a box or cabinet: its rectangle, not its circumscribed circle (which would push
+                    # neighbours off a 60 cm deep desk)
+                    sep = _rect_overlap(d, rect[a.id], rect[b.id], gap)
+                    if sep is None:
+                        continue
+                    u, amount = sep
                 else:
-                    pos[a.id] -= u * push / 2
-                    pos[b.id] += u * push / 2
+                    dist = float(np.linalg.norm(d))
+                    need = rad[a.id] + rad[b.id] + margin
+                    if dist >= need:
+                        continue
+                    u = d / dist if dist > 1e-9 else np.array([0.0, 1.0])
+                    amount = need - dist + 1e-4
+                if a.id in fixed:
+                    push(b.id, u * amount, d)
+                elif b.id in fixed:
+                    push(a.id, -u * amount, -d)
+                else:
+                    push(a.id, -u * amount / 2, -d)
+                    push(b.id, u * amount / 2, d)
                 moved = True
         if not moved:
             break
@@ -302,11 +409,14 @@ def _rest_on(
         if "/" in target and world.graph.has_node(target)
         else ""
     )
-    k = occupied.get(target, 0)
-    occupied[target] = k + 1
     interior = host.model.interiors.get(part)
     rel = world.graph.edges_from(placed.id) if world.graph.has_node(placed.id) else iter(())
     inside = any(e.relation == "in" for e in rel) or (part and interior is not None)
+    # what is inside a box and what stands on its lid are counted apart (a mug on a lid whose box holds
+    # a book goes on the lid itself, not 6 cm above it as if stacked on something)
+    key = f"{target}|{'in' if inside else 'on'}"
+    k = occupied.get(key, 0)
+    occupied[key] = k + 1
     if inside and interior is not None:
         link = host.links[interior.link]
         cx, cy, cz = interior.center

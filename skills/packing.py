@@ -6,6 +6,11 @@ wastes most of the floor, so the spot is chosen in the container's frame, with t
 to line up with the container's walls. Along the fingers' closing axis the fingers need their
 measured reach beside the object; across it half a centimetre.
 When the floor is full the object goes on the lowest neighbour: a second layer.
+
+A drawer is packed the same way, in the part that sticks out of its cabinet: the carcass and the
+other drawers (pull bars included) are obstacles taller than the hand's underside, so the hand's
+whole 22 x 9.4 cm footprint keeps clear of them; the wrist may also turn a quarter more so that the
+hand's length runs along the cabinet's front.
 """
 
 from __future__ import annotations
@@ -23,20 +28,49 @@ GAP_CLOSING, GAP_ACROSS = 0.018, 0.005
 HAND_HALF = (0.109, 0.047)
 
 
-def _container(world: World, target: str) -> tuple[SimObject, Interior, int] | None:
-    """The object and interior behind a container node (objects and their compartments; not drawers)."""
+def _container(world: World, target: str) -> tuple[SimObject, Interior, int, bool] | None:
+    """The object, interior, interior link and whether it is a drawer, behind a container node."""
+    drawer = False
     if target in world.objects:
         o = world.objects[target]
         interior = o.model.interiors.get("")
     elif target in world.parts:
         obj_id, part = world.parts[target]
         o = world.objects[obj_id]
-        if part in o.model.articulations:  # drawers: handled with their exposed area
+        art = o.model.articulations.get(part)
+        if art is not None and art.kind != "drawer":
             return None
+        drawer = art is not None
         interior = o.model.interiors.get(part)
     else:
         return None
-    return (o, interior, o.links[interior.link]) if interior is not None else None
+    return (o, interior, o.links[interior.link], drawer) if interior is not None else None
+
+
+def _carcass(
+    world: World, cont: SimObject, link: int, rot: np.ndarray, centre: np.ndarray, floor: float
+) -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """The rest of a drawer's cabinet (carcass, the other drawers) as obstacles in the drawer's frame:
+    a drawer is only open over the part that sticks out, and the closed drawer above it and the carcass
+    front stand higher than the hand's underside there."""
+    import pybullet as p
+
+    out = []
+    children = {link}
+    n = p.getNumJoints(cont.body, physicsClientId=world.client)
+    for j in range(n):  # links hanging from the drawer (its handle) move with it
+        if p.getJointInfo(cont.body, j, physicsClientId=world.client)[16] in children:
+            children.add(j)
+    for j in range(-1, n):
+        if j in children:
+            continue
+        lo, hi = world.aabb(cont.body, j)
+        if hi[2] < floor + 0.005:
+            continue
+        corners = [rot.T @ (np.array([x, y]) - centre[:2]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+        clo, chi = np.min(corners, axis=0), np.max(corners, axis=0)
+        out.append(((clo + chi) / 2, (chi - clo) / 2, float(hi[2])))
+    return out
 
 
 def _half(extent: tuple[float, float, float], rel_yaw: float) -> np.ndarray:
@@ -78,15 +112,48 @@ def packed_spot(
     found = _container(world, target)
     if found is None:
         return None
-    cont, interior, link = found
+    cont, interior, link, drawer = found
     yaw = world.yaw_of(cont.body, link)
     centre = world.to_world(cont.body, link, interior.center)
     hu, hv = interior.size[0] / 2, interior.size[1] / 2
     floor = centre[2] - interior.size[2] / 2
+    rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
     # turn the held object (by the wrist) so its sides run along the container's walls
     rel = world.yaw_of(obj.body) - yaw
     delta = -(((rel + math.pi / 4) % (math.pi / 2)) - math.pi / 4)
-    delta = fitting_turn(obj.model.extent, rel, delta, (hu, hv))
+    fixed = _carcass(world, cont, link, rot, centre, floor) if drawer else []
+    # a drawer: the hand may also turn a quarter more, so that its 22 cm length runs along the
+    # cabinet's front instead of reaching under the closed drawer above
+    deltas = [delta, delta + math.pi / 2, delta - math.pi / 2] if drawer else [delta]
+    best = None
+    for d in deltas:
+        found_spot = _spot_for(world, obj, cont, closing_yaw, yaw, rot, centre, (hu, hv), floor, d, fixed)
+        key = (found_spot[2], abs(d))
+        if best is None or key < best[0]:
+            best = (key, found_spot[0], found_spot[1])
+    assert best is not None
+    return best[1], best[2]
+
+
+def _spot_for(
+    world: World,
+    obj: SimObject,
+    cont: SimObject,
+    closing_yaw: float,
+    yaw: float,
+    rot: np.ndarray,
+    centre: np.ndarray,
+    half_size: tuple[float, float],
+    floor: float,
+    delta: float,
+    fixed: list[tuple[np.ndarray, np.ndarray, float]],
+) -> tuple[np.ndarray, float, int]:
+    """``(spot, delta, rank)`` for one wrist turn ``delta``; rank 0: a floor spot with room for the
+    whole hand, 1: with room for the fingers, 2: on top of what is there (a second layer)."""
+    hu, hv = half_size
+    rel = world.yaw_of(obj.body) - yaw
+    if not fixed:  # a drawer's turns are all tried by the caller
+        delta = fitting_turn(obj.model.extent, rel, delta, (hu, hv))
     held = _half(obj.model.extent, rel + delta)
     e1 = closing_yaw + delta - yaw  # closing axis in the container frame
     along = abs(math.cos(e1)) * held[0] + abs(math.sin(e1)) * held[1]
@@ -97,8 +164,7 @@ def packed_spot(
             abs(math.sin(e1)) * closing_gap + abs(math.cos(e1)) * GAP_ACROSS,
         ]
     )
-    rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
-    others = []
+    others = list(fixed)
     for o in world.objects.values():
         if o.id in (obj.id, cont.id) or o.model.fixed or support_of(world, o.id) == ("held", ""):
             continue
@@ -128,7 +194,7 @@ def packed_spot(
     umax, vmax = hu - held[0] - gap[0], hv - held[1] - gap[1]
     if umax < 0 or vmax < 0:
         umax, vmax = max(umax, 0.0), max(vmax, 0.0)
-    grid = [np.array([u, v]) for u in np.linspace(-umax, umax, 9) for v in np.linspace(-vmax, vmax, 9)]
+    grid = [np.array([u, v]) for u in np.linspace(-umax, umax, 13) for v in np.linspace(-vmax, vmax, 13)]
     # corners first: packing from the walls inwards leaves the most room for the next objects
     grid.sort(key=lambda c: -abs(c[0]) - abs(c[1]))
 
@@ -144,12 +210,22 @@ def packed_spot(
 
     # a floor spot with room for the whole hand; else a floor spot with room for the fingers (the hand
     # then stops above the tall neighbour and lets go a little higher); else a second layer
+    rank = 0
     free = next((c for c in grid if not tops(c, hand_room=True)), None)
-    free = free if free is not None else next((c for c in grid if not tops(c)), None)
+    if free is None:
+        rank = 1
+        free = next((c for c in grid if not tops(c)), None)
     if free is not None:
         z, best = floor, free
     else:
-        best = min(grid, key=lambda c: (round(max(tops(c)), 3), -abs(c[0]) - abs(c[1])))
+        rank = 2
+        # a second layer only on movable things, never on the cabinet around a drawer
+        layer = [c for c in grid if not any(_over(c, held + gap, oc, oh) for oc, oh, _ in fixed)] or grid
+        best = min(layer, key=lambda c: (round(max(tops(c)), 3), -abs(c[0]) - abs(c[1])))
         z = max(tops(best)) + 0.003
     xy = centre[:2] + rot @ best
-    return np.array([xy[0], xy[1], z]), delta
+    return np.array([xy[0], xy[1], z]), delta, rank
+
+
+def _over(c: np.ndarray, reach: np.ndarray, oc: np.ndarray, oh: np.ndarray) -> bool:
+    return abs(c[0] - oc[0]) < reach[0] + oh[0] and abs(c[1] - oc[1]) < reach[1] + oh[1]
