@@ -1,60 +1,21 @@
-"""IPC plan files: one ``(action arg ...)`` per line, ``;`` comments, optional ``t:`` timestamps."""
+"""IPC plan files: one ``(action arg ...)`` per line, ``;`` comments, optional ``t:`` timestamps.
+
+A line is read by the one step grammar (:mod:`gsr.step_grammar`) with effects off."""
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
-from gsr.errors import GSRError, ParseError
+from gsr.errors import GSRError
 from gsr.step import Plan, Step
-
-_NAME = re.compile(r"[A-Za-z0-9_\-./@#?]+")
-_TIMESTAMP = re.compile(r"\s*\d+(?:\.\d+)?\s*:")
-_DURATION = re.compile(r"\s*\[\s*\d+(?:\.\d+)?\s*\]")
+from gsr.step_grammar import parse_step_text
 
 
 def _parse_line(line: str, source: str, lineno: int) -> Step | None:
     """One plan line (comment already stripped) to a Step, or None when blank."""
-    pos = 0
-    stamp = _TIMESTAMP.match(line)
-    if stamp:
-        pos = stamp.end()
-
-    def error(message: str, at: int, expected: tuple[str, ...] = ()) -> ParseError:
-        return ParseError(message, source=source, line=lineno, column=at + 1, expected=expected)
-
-    while pos < len(line) and line[pos].isspace():
-        pos += 1
-    if pos == len(line):
-        if stamp:
-            raise error("timestamp without an action", pos, ("'('",))
+    if not line.strip():
         return None
-    if line[pos] != "(":
-        raise error(f"unexpected {line[pos]!r}", pos, ("'('",))
-    pos += 1
-    names: list[str] = []
-    while True:
-        while pos < len(line) and line[pos].isspace():
-            pos += 1
-        if pos == len(line):
-            raise error("unclosed '('", pos, ("')'",))
-        if line[pos] == ")":
-            pos += 1
-            break
-        match = _NAME.match(line, pos)
-        if not match:
-            raise error(f"unexpected {line[pos]!r}", pos, ("a name", "')'"))
-        names.append(match.group().lower())
-        pos = match.end()
-    if not names:
-        raise error("empty action", pos - 1, ("an action name",))
-    duration = _DURATION.match(line, pos)
-    if duration:
-        pos = duration.end()
-    rest = line[pos:].strip()
-    if rest:
-        raise error(f"unexpected {rest[0]!r} after the action", line.index(rest[0], pos), ("end of line",))
-    return Step(names[0], tuple(names[1:]))
+    return parse_step_text(line, source, lineno, effects=False)
 
 
 def parse_plan(text: str, source: str = "<string>") -> Plan:

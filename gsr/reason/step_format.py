@@ -15,7 +15,8 @@ fences. The same step as JSON, one object per line or a JSON list of objects::
 
 Atoms in JSON may also be lists (``["in", "bowl_1", "cabinet_1/bottom_drawer"]``). Names are
 lower-cased (PDDL is case-insensitive). Every syntax error is a :class:`gsr.errors.ParseError`
-with line and column.
+with line and column. A line is read by the one step grammar (:mod:`gsr.step_grammar`) with effects
+on; IPC plan files use the same grammar with effects off.
 """
 
 from __future__ import annotations
@@ -23,106 +24,32 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Iterable
-from functools import cache
 from typing import Any
-
-from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from gsr.errors import ParseError
 from gsr.pddl.model import Atom
 from gsr.step import Step
+from gsr.step_grammar import STEP_GRAMMAR, parse_step_text
 
-# Kept inline (not a .lark file) so the grammar ships with the module without package-data rules.
-STEP_GRAMMAR = r"""
-start: marker? call effect*
+__all__ = [
+    "STEP_GRAMMAR",
+    "content_lines",
+    "format_step",
+    "format_steps",
+    "parse_first_step",
+    "parse_step_line",
+    "parse_steps",
+    "step_from_json",
+]
 
-marker: BULLET
-      | MINUS
-      | INT MARK
-      | STEP_WORD INT? ":"
-
-call: "(" NAME NAME* ")"
-effect: PLUS atom   -> add
-      | MINUS atom  -> delete
-atom: "(" NAME NAME* ")"
-
-BULLET: "*" | "\u2022"
-MARK: "." | ")" | ":"
-STEP_WORD: /step/i
-PLUS: "+"
-MINUS: "-"
-INT: /[0-9]+/
-// names start with a letter, digit or underscore, so "-(" is always a delete sign
-NAME: /[A-Za-z0-9_][A-Za-z0-9_\-.\/@#]*/
-
-%import common.WS_INLINE
-%ignore WS_INLINE
-"""
-
-_WORDS = {
-    "NAME": "a name",
-    "INT": "a step number",
-    "PLUS": "'+'",
-    "MINUS": "'-'",
-    "LPAR": "'('",
-    "RPAR": "')'",
-    "BULLET": "a list marker",
-    "MARK": "'.'",
-    "STEP_WORD": "'step'",
-    "COLON": "':'",
-    "$END": "end of line",
-}
 _NAME_RE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_\-./@#]*")
 _FENCE = re.compile(r"^\s*```")
 _COMMENT = re.compile(r"\s(;|#).*$|^\s*(;|#).*$")
 
 
-@cache
-def _lark() -> Lark:
-    return Lark(STEP_GRAMMAR, parser="lalr", maybe_placeholders=False)
-
-
-def _syntax_error(err: UnexpectedInput, line: str, source: str, lineno: int) -> ParseError:
-    """A lark failure as a ParseError at (line, column) with a readable 'expected' list."""
-    if isinstance(err, UnexpectedToken) and err.token.type != "$END":
-        found, column, expected = str(err.token), err.column, err.accepts or err.expected
-        message = f"unexpected {found!r}"
-    elif isinstance(err, UnexpectedCharacters):
-        match = re.match(r"[^\s()]+", line[err.pos_in_stream :])
-        found = match.group(0) if match else line[err.pos_in_stream]
-        column, expected = err.column, err.allowed or set()
-        message = f"unexpected {found!r}"
-    else:
-        column = len(line.rstrip()) + 1
-        expected = err.expected if isinstance(err, UnexpectedToken | UnexpectedEOF) else set()
-        message = "unexpected end of line (missing ')'?)"
-    shown = tuple(sorted({_WORDS.get(name, name) for name in expected}))
-    return ParseError(message, source=source, line=lineno, column=column, expected=shown)
-
-
-def _names(tree: Tree) -> tuple[str, ...]:
-    return tuple(str(t).lower() for t in tree.children if isinstance(t, Token) and t.type == "NAME")
-
-
 def parse_step_line(line: str, source: str = "<step>", lineno: int = 1) -> Step:
     """Parse one step line (text syntax) into a Step; raises ParseError with line and column."""
-    try:
-        tree = _lark().parse(line)
-    except UnexpectedInput as err:
-        raise _syntax_error(err, line, source, lineno) from None
-    call = next(c for c in tree.children if isinstance(c, Tree) and c.data == "call")
-    names = _names(call)
-    add: list[Atom] = []
-    delete: list[Atom] = []
-    for child in tree.children:
-        if isinstance(child, Tree) and child.data in ("add", "delete"):
-            atom_tree = next(c for c in child.children if isinstance(c, Tree))
-            atom_names = _names(atom_tree)
-            (add if child.data == "add" else delete).append(Atom(atom_names[0], atom_names[1:]))
-    if not add and not delete:
-        return Step(names[0], names[1:])
-    return Step(names[0], names[1:], tuple(add), tuple(delete))
+    return parse_step_text(line, source, lineno, effects=True)
 
 
 def _json_atom(value: Any, where: str, source: str, lineno: int) -> Atom:
