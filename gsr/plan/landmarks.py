@@ -26,6 +26,7 @@ class Landmarks:
         self.facts: list[int] = []  # landmark index -> atom id
         self.parents: list[int] = []  # landmark index -> bitmask of landmarks ordered before it
         self.goal_mask = 0  # landmark indices that are goals
+        self._unary: tuple[dict[int, list[int]], list[tuple[int, ...]], list[int], list[int]] | None = None
         if len(task.goals) != 1:  # a disjunctive goal: no fact is a landmark for sure
             return
         derived = task.derived_mask
@@ -73,67 +74,108 @@ class Landmarks:
         self.by_fact = index
         # Operators that add each landmark (preferred operators).
         self.achievers = [adders.get(f, []) for f in self.facts]
+        self.union = sum(self.fact_mask)  # the atoms that are landmarks
+        self.goal_lms = [(k, self.fact_mask[k]) for k in bits(self.goal_mask)]
+        self._ready: dict[int, int] = {}  # accepted landmarks -> facts of the landmarks ready next
 
     def _reachable_without(self, fact: int):
         """Which operators are applicable in the delete relaxation when ``fact`` is never added
         (conditional effects and negative preconditions ignored: an over-approximation)."""
         task = self.task
-        reached = task.init & ~(1 << fact)
-        ops = task.ops
-        pre_mask, add_mask = task.pre_mask, task.add_mask
-        no_fact = ~(1 << fact)
-        live = list(range(len(ops)))
-        changed = True
-        while changed:
-            changed = False
-            rest = []
-            for i in live:
-                if reached & pre_mask[i] == pre_mask[i]:
-                    new = reached | (add_mask[i] & no_fact)
-                    for cp, _cn, ca, _cd in task.cond_mask[i]:
-                        if reached & cp == cp:
-                            new |= ca & no_fact
-                    if new != reached:
-                        reached = new
-                        changed = True
-                else:
-                    rest.append(i)
-            live = rest
+        pre_mask = task.pre_mask
         if task.axioms:
-            reached = ~0  # derived preconditions: do not prune achievers through them
+            return lambda i: True  # derived preconditions: do not prune achievers through them
+        if self._unary is None:
+            self._build_unary()
+        pre_of, adds, npre, no_pre = self._unary
+        # Counter-based exploration (each precondition edge visited once, as in FF's h_add).
+        unsat = npre[:]
+        seen = bytearray(len(task.atoms))
+        queue = bits(task.init & ~(1 << fact))
+        for f in queue:
+            seen[f] = 1
+        seen[fact] = 1  # never added
+        for u in no_pre:
+            for g in adds[u]:
+                if not seen[g]:
+                    seen[g] = 1
+                    queue.append(g)
+        for f in queue:  # the queue grows while it is read
+            for u in pre_of.get(f, ()):
+                unsat[u] -= 1
+                if not unsat[u]:
+                    for g in adds[u]:
+                        if not seen[g]:
+                            seen[g] = 1
+                            queue.append(g)
+        reached = 0
+        for f in queue:
+            reached |= 1 << f
         return lambda i: reached & pre_mask[i] == pre_mask[i]
+
+    def _build_unary(self) -> None:
+        """One relaxed operator per operator (its precondition atoms, its adds) and one per
+        conditional effect (precondition plus effect condition atoms, the effect's adds)."""
+        pre_of: dict[int, list[int]] = {}
+        adds: list[tuple[int, ...]] = []
+        npre: list[int] = []
+        for o in self.task.ops:
+            for pre, add in ((o.pre, o.add), *(((*o.pre, *cp), ca) for cp, _cn, ca, _cd in o.cond)):
+                if not add:
+                    continue
+                u = len(adds)
+                pres = set(pre)
+                for p in pres:
+                    pre_of.setdefault(p, []).append(u)
+                adds.append(tuple(add))
+                npre.append(len(pres))
+        self._unary = (pre_of, adds, npre, [u for u, k in enumerate(npre) if not k])
 
     def accept(self, accepted: int, state: int) -> int:
         """The accepted landmarks after reaching ``state`` (``accepted``: those of its parent)."""
         if not self.facts:
             return 0
-        parents, fact_mask = self.parents, self.fact_mask
+        # Candidates: landmarks true in the state and not accepted yet (usually a handful).
+        by_fact, parents = self.by_fact, self.parents
+        todo = [k for k in (by_fact[f] for f in bits(state & self.union)) if not accepted >> k & 1]
         changed = True
-        while changed:
+        while changed and todo:
             changed = False
-            for k in range(len(fact_mask)):
-                bit = 1 << k
-                if not accepted & bit and state & fact_mask[k] and accepted & parents[k] == parents[k]:
-                    accepted |= bit
+            rest = []
+            for k in todo:
+                if accepted & parents[k] == parents[k]:
+                    accepted |= 1 << k
                     changed = True
+                else:
+                    rest.append(k)
+            todo = rest
         return accepted
 
-    def value(self, accepted: int, state: int) -> tuple[int, list[int]]:
-        """Landmark count of a state with its accepted landmarks, and the preferred operators."""
+    def value(self, accepted: int, state: int, applicable: list[int] | None = None) -> tuple[int, list[int]]:
+        """Landmark count of a state with its accepted landmarks, and the preferred operators
+        (``applicable``: the state's applicable operators, when the caller has them)."""
         if not self.facts:
             return 0, []
         missing = self.all_mask & ~accepted
         h = missing.bit_count()
-        regained = accepted & self.goal_mask
-        for k in bits(regained):
-            if not state & self.fact_mask[k]:
+        for k, mask in self.goal_lms:
+            if accepted >> k & 1 and not state & mask:
                 h += 1
-        preferred = []
+        ready = self._ready.get(accepted)
+        if ready is None:
+            # Facts of the landmarks whose predecessors are all accepted (depends on accepted only).
+            ready = 0
+            parents, fact_mask = self.parents, self.fact_mask
+            for k in bits(missing):
+                if accepted & parents[k] == parents[k]:
+                    ready |= fact_mask[k]
+            if len(self._ready) > 100_000:
+                self._ready.clear()
+            self._ready[accepted] = ready
+        if not ready:
+            return h, []
         task = self.task
-        pre_mask, neg_mask = task.pre_mask, task.neg_mask
-        for k in bits(missing):
-            if accepted & self.parents[k] == self.parents[k]:
-                for i in self.achievers[k]:
-                    if state & pre_mask[i] == pre_mask[i] and not state & neg_mask[i]:
-                        preferred.append(i)
-        return h, preferred
+        if applicable is None:
+            applicable = task.applicable(state)
+        add_mask = task.add_mask
+        return h, [i for i in applicable if add_mask[i] & ready]

@@ -17,8 +17,6 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 if TYPE_CHECKING:
     from gsr.plan.heuristics import Relaxation
 
@@ -28,7 +26,7 @@ if TYPE_CHECKING:
 MIN_EDGES = 20_000
 # Seconds of h_FF in Python after which a smaller relaxation switches to the compiled path.
 JIT_AFTER = 0.5
-UNREACHED = np.int64(1) << np.int64(62)
+UNREACHED = 1 << 62  # the kernel's cost of an unreached fact
 
 _kernels = None  # (hadd, ff) once compiled; False when numba is unavailable
 
@@ -56,7 +54,9 @@ def kernels():
     return _kernels or None
 
 
-def _csr(rows: list[tuple[int, ...]] | list[list[int]]) -> tuple[np.ndarray, np.ndarray]:
+def _csr(rows: list[tuple[int, ...]] | list[list[int]]):
+    import numpy as np
+
     ptr = np.zeros(len(rows) + 1, dtype=np.int64)
     ptr[1:] = np.cumsum([len(r) for r in rows])
     idx = np.fromiter((x for r in rows for x in r), dtype=np.int64, count=int(ptr[-1]))
@@ -67,6 +67,8 @@ class CompiledRelaxation:
     """Flat arrays of one Relaxation and reusable work buffers for the compiled kernels."""
 
     def __init__(self, relax: Relaxation) -> None:
+        import numpy as np
+
         self.hadd_kernel, self.plan_kernel = kernels()
         n_facts, n_unary = relax.n_facts, len(relax.pre)
         self.n_atoms = len(relax.task.atoms)
@@ -96,9 +98,11 @@ class CompiledRelaxation:
         self.stack = np.empty(n_facts + 1, dtype=np.int64)
         self.out = np.empty(len(relax.task.ops) + 1, dtype=np.int64)
         self.stamp = 0
+        self.np = np
 
     def hadd(self, state: int) -> None:
         """Fill ``self.cost`` and ``self.sup`` for ``state`` (UNREACHED for unreached facts)."""
+        np = self.np
         raw = np.frombuffer(state.to_bytes(self.n_bytes, "little"), dtype=np.uint8)
         self.hadd_kernel(
             raw,

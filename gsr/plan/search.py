@@ -251,7 +251,8 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         res.evaluated += 1
         if h_ff == INF:
             continue
-        h_lm, pref_lm = lm(accepted[sid], state)
+        succ_ops = applicable(state)
+        h_lm, pref_lm = lm(accepted[sid], state, succ_ops)
         progress = False
         if h_ff < best[0]:
             best[0] = h_ff
@@ -269,7 +270,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         pref = set(pref_ff)
         pref.update(pref_lm)
         q_ff, q_ff_pref, q_lm, q_lm_pref = queues
-        for op in applicable(state):
+        for op in succ_ops:
             counter += 1
             heappush(q_ff, (h_ff, counter, sid, op))
             heappush(q_lm, (h_lm, counter, sid, op))

@@ -43,6 +43,11 @@ def mask(ids: Ids) -> int:
 
 def bits(state: int) -> list[int]:
     """The atom ids set in a bitset, ascending."""
+    if state.bit_count() > 48:  # dense: numpy unpacks the bytes (~5x faster at a few hundred bits)
+        import numpy as np
+
+        raw = np.frombuffer(state.to_bytes((state.bit_length() + 7) // 8, "little"), np.uint8)
+        return np.flatnonzero(np.unpackbits(raw, bitorder="little")).tolist()
     out = []
     while state:
         low = state & -state
