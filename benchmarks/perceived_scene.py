@@ -109,7 +109,10 @@ class PerceivedScene:
         else:
             assert self.tracker is not None
             observed = self.tracker.assign(observed, self.belief)
-            self.binding = {**self.binding, **bind_to_world(observed, self.world)}
+            now = bind_to_world(observed, self.world)
+            # remembered nodes keep their body unless a node seen now is that body
+            kept = {p: w for p, w in self.binding.items() if p not in now and w not in now.values()}
+            self.binding = {**kept, **now}
             to_perceived = {w: p for p, w in self.binding.items()}
             held = {to_perceived[w] for w in held_objects(self.world) if w in to_perceived}
         observed = with_map_regions(observed, self.world, table_only=not self.oracle_masks)

@@ -13,8 +13,9 @@ Three jobs, all on geometry that perception measured itself:
   ``<parent>/<category>_<k>`` and its ``parent`` that object, so drawer levels, openings and the
   grounder's "the bottom drawer of the cabinet" work as with labelled masks.
 * :class:`Tracker` keeps node ids stable between observations: a node of a new observation takes the id
-  of the previous belief's node it matches — first by place (same category, centres close), then, for
-  what moved, by appearance (same category and colour, similar size); a part keeps its id through its
+  of the previous belief's node it matches — first by place (same category or one of them ``unknown``,
+  centres close, sizes within 2.5x), then, for what moved, by appearance (same category and colour,
+  sizes within 1.6x); a part keeps its id through its
   parent and its level. Unmatched nodes get fresh ids, never one issued before.
 """
 
@@ -251,31 +252,44 @@ def _same_kind(a: Node, b: Node) -> bool:
 TRACK_REACH = 0.03
 #: Sizes within this ratio (each of x/y sorted, and z) count as similar for re-identification after a move.
 SIZE_RATIO = 1.6
+#: ... and for staying in place (looser: another camera angle or the arm's shadow changes the visible part).
+PLACE_SIZE_RATIO = 2.5
 
 
 def _place_cost(new: Node, old: Node) -> float | None:
     c1, c2 = _center(new), _center(old)
-    if c1 is None or c2 is None or not _same_kind(new, old):
+    if c1 is None or c2 is None or not _same_kind(new, old) or not _similar_size(new, old, PLACE_SIZE_RATIO):
         return None
     reach = 0.5 * float(max(_size(new)[:2].max(), _size(old)[:2].max())) + TRACK_REACH
     d = float(np.linalg.norm(c1 - c2))
     return d if d <= reach else None
 
 
+def _size_ratio(new: Node, old: Node) -> np.ndarray | None:
+    s1, s2 = _size(new), _size(old)
+    if not (s1.any() and s2.any()):
+        return None
+    a = np.concatenate([np.sort(s1[:2]), s1[2:]]) + 0.01
+    b = np.concatenate([np.sort(s2[:2]), s2[2:]]) + 0.01
+    return np.maximum(a / b, b / a)
+
+
+def _similar_size(new: Node, old: Node, limit: float) -> bool:
+    ratio = _size_ratio(new, old)
+    return ratio is None or float(ratio.max()) <= limit
+
+
 def _look_cost(new: Node, old: Node) -> float | None:
-    if new.category != old.category or new.category == UNKNOWN:
+    if new.category != old.category:
         return None
     if new.attributes.get("color") != old.attributes.get("color"):
         return None
-    s1, s2 = _size(new), _size(old)
-    if s1.any() and s2.any():
-        a = np.concatenate([np.sort(s1[:2]), s1[2:]]) + 0.01
-        b = np.concatenate([np.sort(s2[:2]), s2[2:]]) + 0.01
-        ratio = np.maximum(a / b, b / a)
-        if float(ratio.max()) > SIZE_RATIO:
-            return None
-        return float(np.abs(np.log(ratio)).sum())
-    return 1.0
+    ratio = _size_ratio(new, old)
+    if ratio is None:
+        return 1.0
+    if float(ratio.max()) > SIZE_RATIO:
+        return None
+    return float(np.abs(np.log(ratio)).sum())
 
 
 def _assign(pairs: dict[tuple[str, str], float]) -> dict[str, str]:

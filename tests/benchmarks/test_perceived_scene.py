@@ -219,3 +219,40 @@ def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
     assert "held" in still.node("cube").states and not [e for e in still.edges if e.source == "cube"]
     seen = belief.model_copy(update={"nodes": (*belief.nodes[:2], _node("cube", "cube"))})
     assert with_remembered_support(seen, set(), expected) is seen  # seen nodes keep what was seen
+
+
+@pytest.mark.physics
+def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -> None:
+    """Without the simulator's masks: perception's own ids, stable across observations, bound to bodies."""
+    pytest.importorskip("open3d")
+    from gsr.benchmarks.perceived_scene import PerceivedScene
+    from gsr.benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.skills import build_world, run_step
+
+    from gsr.step import Step
+
+    task = task_from_bddl(
+        libero_dir
+        / "libero_10"
+        / "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
+    )
+    world = build_world(task, seed=0)
+    try:
+        scene = PerceivedScene(world)
+        first = scene.observe()
+        world_ids = {n.id for n in world.graph.nodes}
+        seen = [n for n in first.nodes if not n.attributes.get("map")]
+        assert seen and not {n.id for n in seen} & world_ids  # no id copied from the task graph
+        again = scene.observe()
+        assert {n.id for n in seen} <= {n.id for n in again.nodes}  # nothing moved: the same ids
+        bowl = next(p for p, w in scene.binding.items() if w == "akita_black_bowl_1")
+        support = next(e.target for e in first.edges if e.source == bowl and e.relation == "on")
+        assert scene.world_id(support) in {world.table_id, *world.regions}
+        assert run_step(world, Step("pick", ("akita_black_bowl_1", world.table_id))).ok
+        held = scene.observe()
+        in_hand = next(p for p, w in scene.binding.items() if w == "akita_black_bowl_1")
+        assert "held" in held.node(in_hand).states  # the gripper's grasp, on the perceived node it is
+        assert not [e for e in held.edges if e.source == in_hand and e.relation in ("on", "in")]
+        assert "held" in scene.in_world_ids(held).node("akita_black_bowl_1").states
+    finally:
+        world.close()
