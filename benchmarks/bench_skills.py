@@ -30,6 +30,7 @@ import time
 from collections import Counter
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
@@ -325,8 +326,38 @@ def run_episode(seed: int) -> dict:
     }
 
 
-def run_suite_task(job: tuple[dict, int]) -> dict:
-    """One suite task, planner agent, physical execution; a JSON-ready record."""
+#: Recovery: failed physical steps in a row after which an episode stops (each failure makes the
+#: planner agent replan from the observed scene graph), and an episode's CPU-time bound (s).
+RETRIES, EPISODE_CPU_S = 3, 600.0
+
+
+def _bounded(executor: Any, cpu_budget: float) -> Any:
+    """The executor with an episode CPU-time bound: once spent, every step is refused (no skill runs),
+    so the runner's retry count ends the episode; a step already running finishes (skills are bounded
+    by their own simulation-step budgets)."""
+    from gsr.diagnosis import Diagnosis
+
+    start = time.process_time()
+    execute = executor.execute
+
+    def bounded_execute(step: Step) -> Diagnosis:
+        spent = time.process_time() - start
+        if spent > cpu_budget:
+            executor.out_of_time = True
+            return Diagnosis(
+                ok=False,
+                step=step,
+                message=f"episode time bound: {spent:.0f} of {cpu_budget:.0f} CPU-s spent",
+            )
+        return execute(step)
+
+    executor.execute = bounded_execute
+    executor.out_of_time = False
+    return executor
+
+
+def run_suite_task(job: tuple[dict, int, int, float]) -> dict:
+    """One suite task, planner agent, physical execution with bounded recovery; a JSON-ready record."""
     from gsr.benchmarks.agents import make_agent
     from gsr.benchmarks.runner import run_episode
     from gsr.skills.sim_executor import SimExecutor
@@ -334,14 +365,20 @@ def run_suite_task(job: tuple[dict, int]) -> dict:
     from gsr.resources import load_builtin_domain
     from gsr.task_spec import task_from_dict
 
-    data, seed = job
+    data, seed, retries, cpu_budget = job
     task = task_from_dict(data)
-    ex = SimExecutor(seed=seed, frame_camera=None)
+    ex = _bounded(SimExecutor(seed=seed, frame_camera=None), cpu_budget)
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         r = run_episode(
-            task, make_agent("planner", {}), load_builtin_domain("tabletop"), seed=seed, executor=ex
+            task,
+            make_agent("planner", {}),
+            load_builtin_domain("tabletop"),
+            seed=seed,
+            retries=retries,
+            executor=ex,
         )
+        failures = [o.diagnosis for o in ex.outcomes if not o.ok]
     finally:
         ex.close()
     return {
@@ -350,6 +387,9 @@ def run_suite_task(job: tuple[dict, int]) -> dict:
         "level": task.level,
         "success": r.success,
         "steps": r.steps,
+        "recoveries": len(failures),
+        "failures": failures,
+        "out_of_time": ex.out_of_time,
         "reason": r.reason,
         "wall_s": round(time.perf_counter() - t0, 2),
         "cpu_s": round(time.process_time() - c0, 2),
@@ -362,18 +402,28 @@ def suite_markdown(rows: list[dict]) -> str:
     for r in rows:
         groups.setdefault((r["category"], r["level"] or "-"), []).append(r)
     lines = [
-        "| category | level | tasks | physical success | median wall s | main failure |",
-        "|---|---|---|---|---|---|",
+        "| category | level | tasks | physical success | wall s median / p95 | CPU s median / p95 "
+        "| recovered | main failure |",
+        "|---|---|---|---|---|---|---|---|",
     ]
-    for (cat, level), rs in sorted(groups.items()):
+    for (cat, level), rs in [*sorted(groups.items()), (("all", "-"), rows)]:
         ok = sum(r["success"] for r in rs)
         fails = Counter(_failure_kind(r["reason"]) for r in rs if not r["success"])
         main = ", ".join(f"{k} {v}" for k, v in fails.most_common(2)) or "-"
-        med = statistics.median(r["wall_s"] for r in rs)
+        wall, cpu = [r["wall_s"] for r in rs], [r.get("cpu_s", 0.0) for r in rs]
+        recovered = sum(1 for r in rs if r["success"] and r.get("recoveries"))
         lines.append(
-            f"| {cat} | {level} | {len(rs)} | {ok}/{len(rs)} ({100 * ok / len(rs):.0f}%) | {med:.1f} | {main} |"
+            f"| {cat} | {level} | {len(rs)} | {ok}/{len(rs)} ({100 * ok / len(rs):.0f}%) "
+            f"| {statistics.median(wall):.1f} / {_p95(wall):.1f} | {statistics.median(cpu):.1f} / {_p95(cpu):.1f} "
+            f"| {recovered} | {main} |"
         )
     return "\n".join(lines)
+
+
+def _p95(values: list[float]) -> float:
+    """The 95th percentile (nearest rank)."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, -(-95 * len(ordered) // 100) - 1))]
 
 
 def _failure_kind(reason: str) -> str:
@@ -389,6 +439,8 @@ def _failure_kind(reason: str) -> str:
     ):
         if f"({kind})" in reason:
             return kind
+    if "episode time bound" in reason:
+        return "out_of_time"
     return "diverged" if "diverges" in reason else (reason.split(":")[0][:40] or "unknown")
 
 
@@ -469,6 +521,18 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--level", help="with --suite: keep tasks of this level only (e.g. Simple)")
     ap.add_argument("--limit", type=int, help="with --suite: the first N tasks only")
     ap.add_argument("--category", help="with --suite: keep tasks whose category contains this (e.g. Spatial)")
+    ap.add_argument(
+        "--retries",
+        type=int,
+        default=RETRIES,
+        help=f"with --suite: failed steps in a row the planner replans after (default {RETRIES})",
+    )
+    ap.add_argument(
+        "--episode-cpu",
+        type=float,
+        default=EPISODE_CPU_S,
+        help=f"with --suite: an episode's CPU-time bound in s (default {EPISODE_CPU_S:.0f})",
+    )
     ap.add_argument("--figures", type=Path, help="write the docs figures (PNG) to this folder and exit")
     args = ap.parse_args(argv)
     if args.figures:
@@ -546,7 +610,7 @@ def _main_suite(args: argparse.Namespace) -> int:
     if not tasks:
         print("error: no tasks selected", file=sys.stderr)
         return 2
-    jobs = [(t.model_dump(mode="json"), args.seed) for t in tasks]
+    jobs = [(t.model_dump(mode="json"), args.seed, args.retries, args.episode_cpu) for t in tasks]
     rows: list[dict] = []
     with multiprocessing.get_context("spawn").Pool(args.workers) if args.workers > 1 else _Serial() as pool:
         for row in pool.imap(run_suite_task, jobs):
