@@ -361,6 +361,10 @@ def evaluate_no_oracle(
         world=world,
         perception_seconds=round(total_s, 4),
         detect_seconds=round(timing.detect_s, 4),
+        cpu_ms_per_frame={
+            "detector": round(1000 * timing.detect_cpu_s / max(timing.frames, 1), 1),
+            "pipeline": round(1000 * timing.perceive_cpu_s / max(timing.frames, 1), 1),
+        },
         fps=round(timing.frames / total_s, 2) if total_s > 0 else None,
         fps_cpu=round(timing.frames / total_cpu, 2) if total_cpu > 0 else None,
     )
@@ -409,6 +413,8 @@ def _format_no_oracle(report: dict[str, Any]) -> str:
     lines.append(
         f"perception incl. segmentation and recognition: {report['fps']} frames/s wall "
         f"({report['perception_seconds']} s, of which detector {report['detect_seconds']} s), "
-        f"{report['fps_cpu']} frames per CPU-second"
+        f"{report['fps_cpu']} frames per CPU-second (CPU ms per frame: detector "
+        f"{report['cpu_ms_per_frame']['detector']}, fusion + geometry + relations "
+        f"{report['cpu_ms_per_frame']['pipeline']})"
     )
     return "\n".join(lines)
