@@ -352,7 +352,7 @@ def evaluate_no_oracle(
     total_cpu = timing.detect_cpu_s + timing.perceive_cpu_s
     report.update(
         oracle=False,
-        detector=getattr(detector, "name", type(detector).__name__),
+        detector=detector_name(detector),
         seed=seed,
         depth_noise=depth_noise,
         mask_erosion=0,
@@ -369,6 +369,18 @@ def evaluate_no_oracle(
         fps_cpu=round(timing.frames / total_cpu, 2) if total_cpu > 0 else None,
     )
     return report
+
+
+def detector_name(detector: Any) -> str:
+    """What detected: the trained model (with its training note) or geometry with the shape rule."""
+    if not hasattr(detector, "model"):
+        return type(detector).__name__
+    model = detector.model
+    if model is None:
+        return "geometry + shape rule (no weights)"
+    training = (getattr(model, "card", None) or {}).get("training", {})
+    frames = training.get("frames") if isinstance(training, dict) else None
+    return "geometry + trained model" + (f" ({frames} training frames)" if frames else "")
 
 
 def as_truth_ids(graph: SceneGraph, matching: dict[str, str]) -> SceneGraph:
