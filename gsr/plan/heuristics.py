@@ -11,7 +11,7 @@ compiled into complement facts (see Relaxation), which keeps h_max and LM-cut ad
 from __future__ import annotations
 
 from heapq import heappop, heappush
-from time import perf_counter
+from time import process_time
 
 from gsr.plan import relax_jit
 from gsr.plan.task import Task
@@ -175,7 +175,7 @@ class Relaxation:
         # both of the initial state. Callers only read the returned lists.
         self._last: tuple[int, tuple[list[float], list[int]]] | None = None
         # Large tasks: the same h_add and relaxed plans compiled by numba when it is installed, from
-        # the start on large relaxations, or once h_FF has taken JIT_AFTER seconds in Python (small
+        # the start on large relaxations, or once h_FF has taken JIT_AFTER CPU seconds in Python (small
         # searches, the tabletop ones among them, never pay numba's import).
         self._jit = None
         self._py_time = 0.0
@@ -409,9 +409,9 @@ class Relaxation:
             if self._py_time > relax_jit.JIT_AFTER:
                 self._use_jit()
                 return self.ff(state)
-            start = perf_counter()
+            start = process_time()
             found = self._ff_python(state)
-            self._py_time += perf_counter() - start
+            self._py_time += process_time() - start
             return found
         return self._ff_python(state)
 
