@@ -11,7 +11,7 @@ holds now, and the first such ground action is proposed.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 
 from gsr.diagnosis import (
     Diagnosis,
@@ -22,16 +22,8 @@ from gsr.diagnosis import (
     fact_text,
     formula_text,
 )
-from gsr.pddl.model import (
-    AndEffect,
-    Atom,
-    Domain,
-    Effect,
-    ForallEffect,
-    Literal,
-    When,
-    is_variable,
-)
+from gsr.pddl.model import Atom, Domain, Literal, is_variable
+from gsr.pddl.walk import effect_literals
 from gsr.semantics import CompiledAction, CompiledDomain, Fact, atom_fact, compile_domain
 from gsr.state import State
 from gsr.step import Step
@@ -46,17 +38,6 @@ _NO_NUMERIC: dict = {}
 
 
 # ------------------------------------------------------------ hints
-
-
-def _effect_literals(e: Effect) -> Iterator[Literal]:
-    """Every add/delete literal of an effect, including those under ``when`` and ``forall``."""
-    if isinstance(e, Literal):
-        yield e
-    elif isinstance(e, AndEffect):
-        for p in e.parts:
-            yield from _effect_literals(p)
-    elif isinstance(e, (When, ForallEffect)):
-        yield from _effect_literals(e.effect)
 
 
 _ACHIEVERS: dict[int, tuple[CompiledDomain, dict]] = {}
@@ -87,7 +68,7 @@ def _achiever_index(cd: CompiledDomain) -> dict[tuple[str, bool], list[tuple[Com
         return hit[1]
     index: dict[tuple[str, bool], list[tuple[CompiledAction, Literal]]] = {}
     for ca in cd.actions.values():
-        for lit in _effect_literals(ca.action.effect):
+        for lit in effect_literals(ca.action.effect):
             index.setdefault((lit.atom.predicate, not lit.negated), []).append((ca, lit))
     _ACHIEVERS[id(cd)] = (cd, index)
     return index

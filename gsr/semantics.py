@@ -40,6 +40,7 @@ from gsr.pddl.model import (
     When,
     is_variable,
 )
+from gsr.pddl.walk import conjuncts, effect_leaves, effect_literals, free_variables, negate
 from gsr.state import State
 
 Fact = tuple[str, ...]
@@ -249,49 +250,6 @@ class _Codegen:
         return f"N.get(({', '.join(key)},), 0.0)"
 
 
-def conjuncts(f: Formula) -> tuple[Formula, ...]:
-    """Top-level conjuncts of a formula (flattening nested ``and``)."""
-    if isinstance(f, And):
-        return tuple(c for part in f.parts for c in conjuncts(part))
-    return (f,)
-
-
-def negate(f: Formula) -> Formula:
-    """``(not f)`` with the negation pushed inwards (negation normal form at the top)."""
-    if isinstance(f, Not):
-        return f.formula
-    if isinstance(f, And):
-        return Or(tuple(negate(p) for p in f.parts))
-    if isinstance(f, Or):
-        return And(tuple(negate(p) for p in f.parts))
-    if isinstance(f, Imply):
-        return And((f.condition, negate(f.then)))
-    if isinstance(f, Exists):
-        return Forall(f.params, negate(f.body))
-    if isinstance(f, Forall):
-        return Exists(f.params, negate(f.body))
-    return Not(f)
-
-
-def free_variables(f: Formula) -> frozenset[str]:
-    """Variables of ``f`` not bound by one of its quantifiers."""
-    if isinstance(f, Atom):
-        return frozenset(a for a in f.args if is_variable(a))
-    if isinstance(f, Equals):
-        return frozenset(a for a in (f.left, f.right) if is_variable(a))
-    if isinstance(f, Not):
-        return free_variables(f.formula)
-    if isinstance(f, (And, Or)):
-        return frozenset().union(*(free_variables(p) for p in f.parts))
-    if isinstance(f, Imply):
-        return free_variables(f.condition) | free_variables(f.then)
-    if isinstance(f, (Exists, Forall, ForN)):
-        return free_variables(f.body) - {p.name for p in f.params}
-    if isinstance(f, ForPairs):
-        return free_variables(f.body) - {p.name for p in (*f.first, *f.second)}
-    return frozenset()
-
-
 def _has_generator(params: tuple[TypedVar, ...], conj: list[Formula]) -> bool:
     """True when a positive atom over a quantified variable can drive the enumeration."""
     names = {p.name for p in params}
@@ -396,23 +354,11 @@ class CompiledDomain:
 
 
 def _effect_predicates(e: Effect) -> set[str]:
-    if isinstance(e, Literal):
-        return {e.atom.predicate}
-    if isinstance(e, AndEffect):
-        return set().union(*(_effect_predicates(p) for p in e.parts))
-    if isinstance(e, (When, ForallEffect)):
-        return _effect_predicates(e.effect)
-    return set()
+    return {lit.atom.predicate for lit in effect_literals(e)}
 
 
 def _effect_has_cost(e: Effect) -> bool:
-    if isinstance(e, Increase):
-        return True
-    if isinstance(e, AndEffect):
-        return any(_effect_has_cost(p) for p in e.parts)
-    if isinstance(e, (When, ForallEffect)):
-        return _effect_has_cost(e.effect)
-    return False
+    return any(isinstance(leaf, Increase) for leaf in effect_leaves(e))
 
 
 def _compile_action(cd: CompiledDomain, action: Action) -> CompiledAction:

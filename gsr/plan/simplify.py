@@ -31,6 +31,7 @@ from gsr.pddl.model import (
     Or,
     TypedVar,
 )
+from gsr.pddl.walk import free_variables  # the one copy; the grounder imports it from here
 from gsr.plan.normalize import nnf
 
 
@@ -40,23 +41,6 @@ class TypedObjects(Protocol):
     def __call__(self, types: tuple[str, ...]) -> list[str]: ...
 
     def has(self, obj: str, types: tuple[str, ...]) -> bool: ...
-
-
-def free_variables(formula: Formula) -> frozenset[str]:
-    """Variables occurring free in a formula."""
-    if isinstance(formula, Atom):
-        return frozenset(a for a in formula.args if a.startswith("?"))
-    if isinstance(formula, Equals):
-        return frozenset(a for a in (formula.left, formula.right) if a.startswith("?"))
-    if isinstance(formula, Not):
-        return free_variables(formula.formula)
-    if isinstance(formula, (And, Or)):
-        return frozenset().union(*(free_variables(p) for p in formula.parts))
-    if isinstance(formula, Imply):
-        return free_variables(formula.condition) | free_variables(formula.then)
-    if isinstance(formula, (Exists, Forall)):
-        return free_variables(formula.body) - {p.name for p in formula.params}
-    raise GSRError(f"unsupported formula in planner: {formula!r}")
 
 
 class Simplifier:

@@ -5,47 +5,14 @@ from __future__ import annotations
 import difflib
 
 from gsr.errors import GSRError, ParseError
-from gsr.pddl.model import (
-    And,
-    Atom,
-    Domain,
-    Equals,
-    Exists,
-    Forall,
-    Formula,
-    ForN,
-    ForPairs,
-    Imply,
-    Not,
-    Or,
-    TypedVar,
-    is_variable,
-)
+from gsr.pddl.model import Atom, Domain, Formula, is_variable
+from gsr.pddl.walk import bound_variables, free_variables, subformulas, terms
 from gsr.state import State
 from gsr.step import Goal
 
 
 class GoalRejected(GSRError):
     """A goal answer that does not parse or names unknown predicates, objects or types."""
-
-
-def _walk(f: Formula):
-    if isinstance(f, (Atom, Equals)):
-        yield f
-    elif isinstance(f, Not):
-        yield from _walk(f.formula)
-    elif isinstance(f, (And, Or)):
-        for p in f.parts:
-            yield from _walk(p)
-    elif isinstance(f, Imply):
-        yield from _walk(f.condition)
-        yield from _walk(f.then)
-    elif isinstance(f, (Exists, Forall, ForN)):
-        yield from f.params
-        yield from _walk(f.body)
-    elif isinstance(f, ForPairs):
-        yield from (*f.first, *f.second)
-        yield from _walk(f.body)
 
 
 def _near(word: str, choices: list[str]) -> str:
@@ -55,29 +22,24 @@ def _near(word: str, choices: list[str]) -> str:
 
 def goal_problems(domain: Domain, state: State, formula: Formula) -> list[str]:
     """What is wrong with a goal formula: unknown predicates, wrong arity, unknown objects or types, free variables."""
-    from gsr.semantics import free_variables
-
     problems: list[str] = []
     objects = sorted(state.objects)
-    for item in _walk(formula):
-        if isinstance(item, TypedVar):
-            for t in item.types:
-                if t not in domain.types:
-                    problems.append(f"unknown type {t}{_near(t, sorted(domain.types))}")
-            continue
-        terms = (item.left, item.right) if isinstance(item, Equals) else item.args
-        if isinstance(item, Atom):
-            pred = domain.predicates.get(item.predicate)
+    for node in subformulas(formula):
+        for t in (t for var in bound_variables(node) for t in var.types):
+            if t not in domain.types:
+                problems.append(f"unknown type {t}{_near(t, sorted(domain.types))}")
+        if isinstance(node, Atom):
+            pred = domain.predicates.get(node.predicate)
             if pred is None:
                 problems.append(
-                    f"unknown predicate {item.predicate}{_near(item.predicate, sorted(domain.predicates))}"
+                    f"unknown predicate {node.predicate}{_near(node.predicate, sorted(domain.predicates))}"
                 )
                 continue
-            if pred.arity != len(item.args):
+            if pred.arity != len(node.args):
                 problems.append(
-                    f"{item} has {len(item.args)} argument(s); {item.predicate} takes {pred.arity}"
+                    f"{node} has {len(node.args)} argument(s); {node.predicate} takes {pred.arity}"
                 )
-        for term in terms:
+        for term in terms(node):
             if not is_variable(term) and term not in state.objects:
                 problems.append(f"unknown object {term}{_near(term, objects)}")
     free = sorted(free_variables(formula))
