@@ -11,7 +11,7 @@ compiled into complement facts (see Relaxation), which keeps h_max and LM-cut ad
 from __future__ import annotations
 
 from heapq import heappop, heappush
-from time import process_time
+from time import perf_counter, process_time
 
 from gsr.plan import relax_jit
 from gsr.plan.task import Task
@@ -175,10 +175,13 @@ class Relaxation:
         # both of the initial state. Callers only read the returned lists.
         self._last: tuple[int, tuple[list[float], list[int]]] | None = None
         # Large tasks: the same h_add and relaxed plans compiled by numba when it is installed, from
-        # the start on large relaxations, or once h_FF has taken JIT_AFTER CPU seconds in Python (small
-        # searches, the tabletop ones among them, never pay numba's import).
+        # the start on large relaxations, or once Python h_FF has taken JIT_AFTER seconds of wall
+        # time and the search as much CPU time (small searches, the tabletop ones among them, never
+        # pay numba's import).
         self._jit = None
-        self._py_time = 0.0
+        self._py_time = 0.0  # wall seconds spent in Python h_FF
+        self._jit_check = relax_jit.JIT_AFTER  # ... at which the CPU time is looked at next
+        self._cpu0 = process_time()
         self._jit_open = self.integral and relax_jit.allowed()
         if self._jit_open and relax_jit.wanted(sum(self.npre)):
             self._use_jit()
@@ -406,12 +409,16 @@ class Relaxation:
             h = len(plan) if self.unit else sum(task.ops[o].cost for o in plan)
             return h, [o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
         if self._jit_open:
-            if self._py_time > relax_jit.JIT_AFTER:
-                self._use_jit()
-                return self.ff(state)
-            start = process_time()
+            if self._py_time > self._jit_check:
+                # Wall time is cheap to read (process_time costs ~20 us here) but counts other
+                # processes' load: confirm with this process's CPU time since construction.
+                if process_time() - self._cpu0 > relax_jit.JIT_AFTER:
+                    self._use_jit()
+                    return self.ff(state)
+                self._jit_check += relax_jit.JIT_AFTER
+            start = perf_counter()
             found = self._ff_python(state)
-            self._py_time += process_time() - start
+            self._py_time += perf_counter() - start
             return found
         return self._ff_python(state)
 
