@@ -62,27 +62,16 @@ def _voxel_keys(points: np.ndarray) -> np.ndarray:
 def cloud_overlap(a: Instance, b: Instance) -> float:
     """Share of the smaller cloud's voxels that lie in (one voxel around) the other cloud, in [0, 1]."""
     small, large = (a, b) if len(a.points) <= len(b.points) else (b, a)
-    mine, theirs = _voxel_keys(small.points), _voxel_keys(large.points)
+    return _key_overlap(_voxel_keys(small.points), _voxel_keys(large.points))
+
+
+def _key_overlap(mine: np.ndarray, theirs: np.ndarray) -> float:
     if mine.size == 0 or theirs.size == 0:
         return 0.0
     near = (mine[:, None] + _SHIFTS[None, :]).ravel()
     pos = np.clip(np.searchsorted(theirs, near), 0, theirs.size - 1)
     hit = (theirs[pos] == near).reshape(mine.size, -1).any(axis=1)
     return float(hit.mean())
-
-
-def _compatible(a: Instance, b: Instance) -> bool:
-    """Parts never merge with objects; otherwise any categories may (the vote settles the name)."""
-    return is_part_category(a.label.category) == is_part_category(b.label.category)
-
-
-def _near_same(a: Instance, b: Instance) -> bool:
-    """Same category, overlapping heights and centres within half the object's width (+1 cm)."""
-    if a.label.category != b.label.category:
-        return False
-    z_overlap = min(a.aabb_max[2], b.aabb_max[2]) - max(a.aabb_min[2], b.aabb_min[2])
-    reach = 0.5 * max(float(a.size[:2].max()), float(b.size[:2].max())) + 0.01
-    return z_overlap > 0 and float(np.linalg.norm(a.center[:2] - b.center[:2])) <= reach
 
 
 def _box_contains_share(inner: Instance, outer: Instance) -> float:
@@ -93,10 +82,36 @@ def _box_contains_share(inner: Instance, outer: Instance) -> float:
     return inter / vol
 
 
+def _candidates(instances: list[Instance]) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (i < j) that may be one object: other camera, both parts or both objects, and boxes that touch
+    (within a voxel) or the same category with centres within half the object's width + 1 cm; and which
+    pairs pass the centre rule alone (``near``)."""
+    lo = np.array([i.aabb_min for i in instances])
+    hi = np.array([i.aabb_max for i in instances])
+    views = np.array([view_of(i) for i in instances])
+    part = np.array([is_part_category(i.label.category) for i in instances])
+    cats = np.array([i.label.category for i in instances])
+    g = OVERLAP_VOXEL
+    touch = np.all((lo[:, None, :] - g <= hi[None, :, :]) & (lo[None, :, :] - g <= hi[:, None, :]), axis=2)
+    z_overlap = np.minimum(hi[:, None, 2], hi[None, :, 2]) - np.maximum(lo[:, None, 2], lo[None, :, 2])
+    centres = np.array([i.center[:2] for i in instances])
+    half = np.array([0.5 * float(i.size[:2].max()) for i in instances])
+    reach = np.maximum(half[:, None], half[None, :]) + 0.01
+    dist = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
+    near = (cats[:, None] == cats[None, :]) & (z_overlap > 0) & (dist <= reach)
+    allowed = (views[:, None] != views[None, :]) & (part[:, None] == part[None, :])
+    upper = np.triu(np.ones((len(instances),) * 2, dtype=bool), 1)
+    return allowed & upper & (touch | near), near
+
+
 def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instance]:
-    """Merge detections of one object seen by several cameras (see the module docstring); numbered keys."""
+    """Merge detections of one object seen by several cameras (see the module docstring); numbered keys.
+
+    Candidate pairs are merged strongest first (voxel overlap; the centre rule counts as ``MERGE_OVERLAP``),
+    and a group never takes two detections of one camera."""
     n = len(instances)
     root = list(range(n))
+    views_of = {i: {view_of(inst)} for i, inst in enumerate(instances)}
 
     def find(i: int) -> int:
         while root[i] != i:
@@ -104,20 +119,29 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             i = root[i]
         return i
 
-    views = [view_of(i) for i in instances]
-    for i in range(n):
-        for j in range(i + 1, n):
-            a, b = instances[i], instances[j]
-            if views[i] == views[j] or not _compatible(a, b) or find(i) == find(j):
-                continue
-            if _box_contains_share(a, b) == 0.0 and _box_contains_share(b, a) == 0.0 and not _near_same(a, b):
-                continue  # disjoint boxes: nothing to merge (cheap test before the voxel overlap)
-            if _near_same(a, b) or cloud_overlap(a, b) >= MERGE_OVERLAP:
-                # one camera's detections stay apart even through a third view
-                members_i = {views[k] for k in range(n) if find(k) == find(i)}
-                members_j = {views[k] for k in range(n) if find(k) == find(j)}
-                if not members_i & members_j:
-                    root[find(j)] = find(i)
+    pairs: list[tuple[float, int, int]] = []
+    if n > 1:
+        cand, near = _candidates(instances)
+        keys: dict[int, np.ndarray] = {}
+
+        def key(i: int) -> np.ndarray:
+            if i not in keys:
+                keys[i] = _voxel_keys(instances[i].points)
+            return keys[i]
+
+        for i, j in zip(*np.nonzero(cand), strict=True):
+            small, large = (i, j) if len(instances[i].points) <= len(instances[j].points) else (j, i)
+            overlap = _key_overlap(key(int(small)), key(int(large)))
+            if near[i, j]:
+                overlap = max(overlap, MERGE_OVERLAP)
+            if overlap >= MERGE_OVERLAP:
+                pairs.append((overlap, int(i), int(j)))
+    for _, i, j in sorted(pairs, reverse=True):
+        ri, rj = find(i), find(j)
+        if ri == rj or views_of[ri] & views_of[rj]:
+            continue  # one camera's detections stay apart, even through a third view
+        root[rj] = ri
+        views_of[ri] |= views_of.pop(rj)
     groups: dict[int, list[Instance]] = {}
     for i in range(n):
         groups.setdefault(find(i), []).append(instances[i])
@@ -158,7 +182,8 @@ def _merge_group(group: list[Instance], params: GeometryParams) -> Instance | No
     label = dataclasses.replace(base.label, category=category, color=color, attributes=attrs)
     points = np.concatenate([g.points for g in group])
     rgb = np.concatenate([g.rgb for g in group])
-    points, rgb = clean_points(points, rgb, params)
+    # each view's cloud is already cleaned of outliers: only the voxel grid is re-applied
+    points, rgb = clean_points(points, rgb, dataclasses.replace(params, outlier_neighbors=len(points)))
     if len(points) < params.min_points:
         return None
     inst = Instance(base.key, label, points, rgb, views=sum(g.views for g in group))
