@@ -24,6 +24,8 @@ def resolve_part(model: AssetModel, graph: SceneGraph, node_id: str) -> str:
     n = graph.node(node_id)
     name = node_id.split("/")[-1]
     cat = n.category
+    if name in model.part_links:  # a part the asset has by that name (a microwave's top_side)
+        return name
     if is_a(cat, "drawer"):
         drawers = sorted(p for p in model.articulations if p.startswith("drawer_"))
         level = n.attributes.get("level")
@@ -192,6 +194,9 @@ def _clear_start(world: World, margin: float = 0.02) -> None:
             return
 
 
+#: Objects a layout puts in a drawer start in its front part: the first row's centre this far from the
+#: front wall, the second row behind it (m).
+DRAWER_SLOT_X, DRAWER_ROW_PITCH = 0.065, 0.05
 #: Room kept between a tall fixture and a movable object (m): a hand's width.
 HAND_CLEARANCE = 0.06
 #: Footprints whose circumscribed radius is larger than this (m) are separated as rectangles.
@@ -263,6 +268,31 @@ def separate_footprints(
         for o in items
     }
 
+    # named regions where nothing starts (LIBERO's stove-front region) are destinations: an object
+    # pushed into one would start "on" it, unlike its graph says
+    starts = [np.array(o.position[:2], dtype=float) for o in layout.objects]
+    empty = [
+        r.bounds
+        for r in layout.regions
+        if not any(r.bounds[0] <= c[0] <= r.bounds[2] and r.bounds[1] <= c[1] <= r.bounds[3] for c in starts)
+    ]
+
+    def keep_out(start: np.ndarray, new: np.ndarray) -> np.ndarray:
+        for x0, y0, x1, y1 in empty:
+            if x0 <= new[0] <= x1 and y0 <= new[1] <= y1:
+                # stop at the edge it came in by (the smaller correction if it came in at a corner)
+                fixes = []
+                for axis, lo, hi in ((0, x0, x1), (1, y0, y1)):
+                    if start[axis] < lo:
+                        fixes.append((new[axis] - lo + 1e-3, axis, lo - 1e-3))
+                    elif start[axis] > hi:
+                        fixes.append((hi - new[axis] + 1e-3, axis, hi + 1e-3))
+                if fixes:
+                    _, axis, value = min(fixes)
+                    new = new.copy()
+                    new[axis] = value
+        return new
+
     def push(oid: str, vec: np.ndarray, away: np.ndarray) -> None:
         # ``away``: from the other object's centre to this one's (the side a deflected push goes to)
         new = pos[oid] + vec
@@ -275,7 +305,7 @@ def separate_footprints(
                 clipped[other] = np.clip(
                     clipped[other] + sign * left[axis], -bound[oid][other], bound[oid][other]
                 )
-        pos[oid] = clipped
+        pos[oid] = keep_out(pos[oid], clipped)
 
     for _ in range(rounds):
         moved = False
@@ -425,6 +455,13 @@ def _rest_on(
         gx, gy = (k % 3 - 1) * sx / 3.2, (k // 3 % 3 - 1) * sy / 3.2
         if k == 0:
             gx = gy = 0.0
+        art = host.model.articulations.get(part)
+        if art is not None and art.kind == "drawer":
+            # a drawer: in its front part (local -x, the handle's end), two rows of four, where a
+            # hand put them through the opening and where it reaches them again under the drawer above
+            row, col = k // 4 % 2, k % 4
+            gx = -sx / 2 + DRAWER_SLOT_X + row * DRAWER_ROW_PITCH
+            gy = (col - 1.5) * sy / 4.5
         floor = world.to_world(host.body, link, (cx + gx, cy + gy, cz - sz / 2))
         return float(floor[0]), float(floor[1]), float(floor[2]) + 0.012 + 0.05 * (k // 9)
     link = host.links.get(host.model.part_links.get(part, ""), -1) if part else -1
@@ -467,7 +504,9 @@ def _initial_joints(world: World, layout: Layout) -> None:
             link = o.links[art.link]
             frac = fractions.get((o.id, part), 0.0)
             q = art.closed + frac * (art.open - art.closed)
+            before = world.link_pose(o.body, link)[0]
             p.resetJointState(o.body, link, q, physicsClientId=world.client)
+            _carry_riders(world, o, part, world.link_pose(o.body, link)[0] - before)
             if art.kind == "button":  # a spring: a weak position motor pulls the button back up
                 p.setJointMotorControl2(
                     o.body,
@@ -487,3 +526,18 @@ def _initial_joints(world: World, layout: Layout) -> None:
                     force=JOINT_FRICTION[art.kind],
                     physicsClientId=world.client,
                 )
+
+
+def _carry_riders(world: World, host: SimObject, part: str, shift: np.ndarray) -> None:
+    """What the layout puts in or on a part that starts moved (a bowl in a drawer that starts open)
+    moves with it: objects were set into the part where its link was before the joint was set."""
+    import pybullet as p
+
+    if float(np.linalg.norm(shift)) < 1e-6:
+        return
+    for o in world.objects.values():
+        if world.parts.get(o.placed.on or "") == (host.id, part):
+            pos, orn = p.getBasePositionAndOrientation(o.body, physicsClientId=world.client)
+            p.resetBasePositionAndOrientation(
+                o.body, tuple(np.array(pos) + shift), orn, physicsClientId=world.client
+            )

@@ -34,7 +34,9 @@ def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
     front = (*tuple(min(1.0, c * 0.85 + 0.1) for c in rgba[:3]), 1.0)
     for k in range(3):
         name = f"drawer_{k}"
-        shapes = [*open_box(dx - T, dy, dz * 0.8, rgba)]
+        # side and back walls half the drawer's height: a hand closing on a 3 cm cube or a 5 cm mug in
+        # the drawer keeps its underside (4 cm above the fingertips) clear of them anywhere inside
+        shapes = [*open_box(dx - T, dy, dz * 0.5, rgba)]
         # the front panel and a pull bar standing 2.5 cm off it
         shapes.append(box((-dx / 2, 0, dz / 2), (T, sy - 0.006, dz), front))
         # a vertical bar 4.5 cm off the front: a tilted hand closing sideways round it stays clear of the
@@ -118,7 +120,6 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
     sx, sy, sz = scale(size, (0.26, 0.36, 0.22))
     shapes = [
         box((0, 0, T / 2), (sx, sy, T), rgba),
-        box((0, 0, sz - T / 2), (sx, sy, T), rgba),
         box((sx / 2 - T / 2, 0, sz / 2), (T, sy, sz), rgba),
         box((0, -sy / 2 + T / 2, sz / 2), (sx, T, sz), rgba),
         box((0, sy / 2 - T / 2, sz / 2), (sx, T, sz), rgba),
@@ -143,6 +144,14 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
         "microwave",
         [
             Link("base", tuple(shapes), 8.0),
+            # the roof is a part of its own: things stand on the microwave's top side (LIBERO's bowl)
+            Link(
+                "top_side",
+                (box((0, 0, T / 2), (sx, sy, T), rgba),),
+                0.5,
+                "base",
+                Joint("fixed", (0, 0, sz - T)),
+            ),
             door,
             _button_link("button", (-sx / 2 + 0.04, sy / 2 - 0.05, sz), (0.1, 0.7, 0.2, 1)),
         ],
@@ -153,6 +162,7 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
         interiors={"": Interior("base", (0, 0, sz / 2), (sx - 2 * T, sy - 2 * T, sz - 2 * T))},
         open_part="door",
         switch_part="button",
+        part_links={"top_side": "top_side"},
         fixed=True,
         extent=(sx, sy, sz),
     )
@@ -205,11 +215,40 @@ def make_rack(size: Vec | None, rgba: RGBA) -> AssetModel:
 
 
 def make_shelf(size: Vec | None, rgba: RGBA) -> AssetModel:
-    """A low two-level shelf (a supporter fixture)."""
-    sx, sy, sz = scale(size, (0.2, 0.4, 0.12))
+    """A two-layer shelf built as three steps, each open from above: the ``bottom_region`` board in
+    front (-x), the ``top_region`` layer a third further back at half height, the ``top_side`` at the
+    back at full height.
+
+    LIBERO's two-layer shelf has its layers one above the other; the skills set things down from
+    above, so each layer gets a third of the depth open to the sky (deep enough for a 16 cm frying pan)
+    and the risers between them stay lower than a hand holding a book.
+    """
+    sx, sy, sz = scale(size, (0.57, 0.4, 0.2))
     c = rgba if rgba != (0.7, 0.7, 0.7, 1) else WOOD
+    step = sx / 3
+    links = [
+        Link(
+            "base",
+            (
+                box((0, -sy / 2 + T / 2, sz / 2), (sx, T, sz), c),
+                box((0, sy / 2 - T / 2, sz / 2), (sx, T, sz), c),
+            ),
+            5.0,
+        ),
+    ]
+    levels = (("bottom_region", -step, 0.0), ("top_region", 0.0, sz / 2), ("top_side", step, sz))
+    for name, x, z in levels:
+        # a board the width between the sides, and the riser under it down to the table
+        shapes = [box((0, 0, -T / 2), (step, sy - 2 * T, T), c)]
+        if z > T:
+            shapes.append(box((0, 0, -z / 2), (step, sy - 2 * T, z - T), c))
+        links.append(Link(name, tuple(shapes), 1.0, "base", Joint("fixed", (x, 0, max(z, T)))))
     return AssetModel(
-        "shelf", [Link("base", (box((0, 0, sz / 2), (sx, sy, sz), c),), 5.0)], fixed=True, extent=(sx, sy, sz)
+        "shelf",
+        links,
+        part_links={name: name for name, _, _ in levels},
+        fixed=True,
+        extent=(sx, sy, sz),
     )
 
 

@@ -110,6 +110,7 @@ def _site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarra
 
 
 TILT = 0.5  # rad from vertical: a hand leaning away from a tall neighbour keeps its palm off it
+MAX_CLOSING = 0.075  # m: the widest object the 8 cm gripper closes on with room to spare
 NEAR = 0.12  # m: neighbours closer than this (footprint to grasp centre) shape the grasp candidates
 
 
@@ -175,11 +176,21 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
         pos, yaw = _site_pose(world, obj, site)
         out.append((pos, top_down(yaw), site.width))
     sx, sy = obj.model.extent[:2]
-    if sites and abs(sx - sy) < 1e-6 and math.hypot(sx, sy) < 0.06:
+    square = abs(sx - sy) < 1e-6 and math.hypot(sx, sy) < 0.06
+    # a small package (LIBERO's cream cheese, butter) between tall neighbours gets the same treatment
+    small = (
+        obj.model.name != "mug"
+        and all(math.hypot(*g.xyz[:2]) < 1e-6 for g in obj.model.grasps)
+        and min(sx, sy) <= 0.06
+        and max(sx, sy) <= MAX_CLOSING
+    )
+    if sites and (square or small):
         pos, face = _site_pose(world, obj, sites[0])
 
-        def width(closing: float) -> float:
-            t = closing - face
+        body_yaw = world.yaw_of(obj.body)
+
+        def width(closing: float) -> float:  # the object's extent along a world closing direction
+            t = closing - body_yaw
             return abs(math.cos(t)) * sx + abs(math.sin(t)) * sy
 
         extra = []
@@ -189,9 +200,9 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
             extra += [
                 (pos, top_down(along), width(along)),
                 (pos, angled(to_wall, TILT, fingers_vertical=False), width(along)),
-                (pos, angled(nearest_face, TILT, fingers_vertical=False), sx),
+                (pos, angled(nearest_face, TILT, fingers_vertical=False), width(nearest_face + math.pi / 2)),
             ]
-        out = out[:2] + extra + out[2:]
+        out = out[:2] + [e for e in extra if e[2] <= MAX_CLOSING] + out[2:]
     return out
 
 
@@ -303,7 +314,9 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         spot = surface_spot(world, obj, loc.body, lo, hi, links={loc.link} if loc.part else None)
         if spot is not None:
             return spot
-    return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
+        return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
+    # on a movable thing (a bowl, a plate, a box): its middle, where it holds the object best
+    return _free_spot(world, obj, lo, hi, hi[2])
 
 
 def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -375,7 +388,11 @@ def _free_spot(
     candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 7) for y in np.linspace(ylo, yhi, 7)]
     centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
-        candidates.sort(key=lambda c: c[0] + 0.3 * abs(c[1] - centre[1]))
+        # ... where the hand does not meet a tall neighbour (a bowl beside a wine bottle)
+        from gsr.skills.surfaces import hand_crowding
+
+        crowded = hand_crowding(world, obj, z)
+        candidates.sort(key=lambda c: (crowded(c), c[0] + 0.3 * abs(c[1] - centre[1])))
     else:
         candidates.sort(key=lambda c: float(np.linalg.norm(c - centre)))
 
@@ -444,12 +461,17 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     if packed is not None:
         # containers: a spot in the container's frame, the wrist turned to line the object up with it
         spot, delta = packed
+    else:
+        from gsr.skills.surfaces import uncrowded_turn
+
+        spot = target_point(world, target, obj, relation)
+        # the hand's 22 cm length turned away from a tall neighbour (a bottle beside the bowl)
+        delta = uncrowded_turn(world, obj, spot)
+    if delta:
         turn = p.getQuaternionFromEuler((0, 0, delta))
         quat = tuple(p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), quat)[1])
         c, s = math.cos(delta), math.sin(delta)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
-    else:
-        spot = target_point(world, target, obj, relation)
     goal = spot + offset + np.array([0, 0, 0.012])
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
     m.ignore = {obj.body}
@@ -460,8 +482,10 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     # the object shifts in the fingers on the way (the two fingers are not coupled, and the wrist turned):
     # re-measure it above the spot, before descending past neighbours and walls, and again just above
     goal = _recentre(world, m, obj, spot, goal, quat, z_transit)
-    m.move_line((goal + np.array([0, 0, 0.04]), quat))
-    goal = _recentre(world, m, obj, spot, goal, quat, goal[2] + 0.04)
+    # (a hand that leans, holding a package it took from between tall neighbours, may meet a wall top
+    # of a deep basket before that: it stops there and the release below decides)
+    m.move_until_contact((goal + np.array([0, 0, 0.04]), quat))
+    goal = _recentre(world, m, obj, spot, goal, quat, float(m.pose()[0][2]))
     # down to the release point, or as low as the hand gets without touching a wall top or a neighbour
     # (the Panda's hand is 22 cm long: over a 3 cm cube in an 8.5 cm deep box it cannot reach the floor;
     # the object is then let go a few centimetres above it)

@@ -192,13 +192,32 @@ class Motion:
         goal = np.clip([x, y], r.lower[:2], r.upper[:2])
         q = r.q()
         start = q[:2].copy()
-        n = max(1, int(np.max(np.abs(goal - start)) / 0.01))
-        qs = []
-        for i in range(1, n + 1):
-            qq = q.copy()
-            qq[:2] = start + (goal - start) * i / n
-            qs.append(qq)
-        self.follow(qs)
+        for a, b in itertools.pairwise([start, *self._base_route(start, goal), goal]):
+            n = max(1, int(np.max(np.abs(b - a)) / 0.01))
+            qs = []
+            for i in range(1, n + 1):
+                qq = q.copy()
+                qq[:2] = a + (b - a) * i / n
+                qs.append(qq)
+            self.follow(qs)
+
+    def _base_route(self, start: np.ndarray, goal: np.ndarray) -> list[np.ndarray]:
+        """Waypoints for a base slide that would run into something (a stove by the table's edge): back
+        off along x until the slide along y is clear, slide, come forward again; none when the straight
+        slide is clear (or no backed-off slide is)."""
+        r = self.robot
+
+        def clear(a: np.ndarray, b: np.ndarray) -> bool:
+            n = max(1, int(np.max(np.abs(b - a)) / 0.02))
+            return all(self._base_clear(a + (b - a) * i / n, margin=0.005) for i in range(1, n + 1))
+
+        if clear(start, goal):
+            return []
+        for back in np.arange(min(start[0], goal[0]) - 0.05, r.lower[0] - 1e-9, -0.05):
+            a, b = np.array([back, start[1]]), np.array([back, goal[1]])
+            if clear(a, b):
+                return [a, b]
+        return []
 
     def park_for(
         self, target: np.ndarray, standoff: float = STANDOFF, poses: list[Pose] | None = None
@@ -246,7 +265,7 @@ class Motion:
             Failure.UNREACHABLE, f"no base position reaches the poses around {np.round(target, 3).tolist()}"
         )
 
-    def _base_clear(self, base: np.ndarray) -> bool:
+    def _base_clear(self, base: np.ndarray, margin: float = 0.01) -> bool:
         """Whether the robot's base and shoulder at ``base`` stay clear of every object (fixtures by the edge)."""
         import pybullet as p
 
@@ -258,7 +277,7 @@ class Motion:
         try:
             for o in w.objects.values():
                 for link in (*r.base, r.arm[0]):
-                    if p.getClosestPoints(r.body, o.body, 0.01, linkIndexA=link, physicsClientId=w.client):
+                    if p.getClosestPoints(r.body, o.body, margin, linkIndexA=link, physicsClientId=w.client):
                         return False
             return True
         finally:

@@ -10,6 +10,8 @@ rays meet is where the object's bottom goes, so nothing is dropped from the top 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from gsr.skills.world import SimObject, World
 
@@ -61,6 +63,21 @@ def _hand_meets(c: np.ndarray, e1: np.ndarray, nc: np.ndarray, nh: np.ndarray) -
     )
 
 
+def hand_crowding(world: World, obj: SimObject, z: float, turn: float = 0.0) -> Callable[[np.ndarray], bool]:
+    """Whether the hand, setting the held ``obj`` down with its bottom at height ``z`` at a point (x, y),
+    would meet a neighbour standing taller than the hand's underside (the hand's footprint is 22 x 9.4
+    cm, long along the closing axis, as the object is held now and the wrist then turned by ``turn``)."""
+    olo, ohi = world.body_aabb(obj.body)
+    tall = _tall_neighbours(world, obj, z + float(ohi[2] - olo[2]))
+    c, s = np.cos(turn), np.sin(turn)
+    e1 = np.array([[c, -s], [s, c]]) @ _closing_axis(world)
+
+    def crowded(c: np.ndarray) -> bool:
+        return any(_hand_meets(np.asarray(c[:2]), e1, nc, nh) for nc, nh in tall)
+
+    return crowded
+
+
 def surface_spot(
     world: World,
     obj: SimObject,
@@ -100,8 +117,7 @@ def surface_spot(
         hits += p.rayTestBatch(starts[i : i + batch], ends[i : i + batch], physicsClientId=world.client)
     n = len(_probe_points(np.zeros(2), half))
     middle = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
-    tall = _tall_neighbours(world, obj, float(lo[2]) + float(ohi[2] - olo[2]))
-    e1 = _closing_axis(world)
+    crowded_at = hand_crowding(world, obj, float(lo[2]))
     good: list[tuple[tuple[int, float, float], np.ndarray, float]] = []
     for k, c in enumerate(candidates):
         rays = hits[k * n : (k + 1) * n]
@@ -111,7 +127,7 @@ def surface_spot(
         if max(zs) - min(zs) > LEVEL:
             continue  # not level under the footprint: a knob, a rail, an edge
         # the hand's whole footprint clear of tall neighbours first (a second moka pot beside the first)
-        crowded = int(any(_hand_meets(c, e1, nc, nh) for nc, nh in tall))
+        crowded = int(crowded_at(c))
         key = (
             (crowded, round(float(c[0]), 4), round(abs(float(c[1] - middle[1])), 4))
             if prefer_near
@@ -122,3 +138,14 @@ def surface_spot(
         return None
     _, c, z = min(good, key=lambda g: g[0])
     return np.array([c[0], c[1], z])
+
+
+def uncrowded_turn(world: World, obj: SimObject, spot: np.ndarray) -> float:
+    """0, or the quarter turn of the wrist that keeps the hand off the tall neighbours at ``spot`` when
+    the hand as it is would meet one (and the turned hand does not)."""
+    if not hand_crowding(world, obj, float(spot[2]))(spot):
+        return 0.0
+    for turn in (np.pi / 2, -np.pi / 2):
+        if not hand_crowding(world, obj, float(spot[2]), turn)(spot):
+            return float(turn)
+    return 0.0

@@ -137,3 +137,91 @@ def test_libero_task_runs_physically(libero_dir: Path, suite: str, name: str) ->
     finally:
         ex.close()
     assert result.success, result.reason
+
+
+def _libero(libero_dir: Path, suite: str, name: str):
+    return task_from_bddl(libero_dir / suite / f"{name}.bddl")
+
+
+def test_an_object_in_a_drawer_that_starts_open_starts_in_it(libero_dir: Path) -> None:
+    from gsr.skills.sim_graph import support_of
+
+    task = _libero(
+        libero_dir,
+        "libero_spatial",
+        "pick_up_the_black_bowl_in_the_top_drawer_of_the_wooden_cabinet_and_place_it_on_the_plate",
+    )
+    with build_world(task, seed=0) as w:
+        assert support_of(w, "akita_black_bowl_1") == ("in", "wooden_cabinet_1/top_drawer")
+
+
+def test_separation_keeps_objects_out_of_named_regions_they_do_not_start_in(libero_dir: Path) -> None:
+    from gsr.skills.build import separate_footprints
+
+    layout = _libero(libero_dir, "libero_goal", "put_the_cream_cheese_in_the_bowl").layout
+    assert layout is not None
+    shifts = separate_footprints(layout)
+    region = next(r for r in layout.regions if r.name.endswith("stove_front_region"))
+    x0, y0, x1, y1 = region.bounds
+    for o in layout.objects:
+        dx, dy = shifts.get(o.id, (0.0, 0.0))
+        x, y = o.position[0] + dx, o.position[1] + dy
+        started_in = x0 <= o.position[0] <= x1 and y0 <= o.position[1] <= y1
+        assert started_in or not (x0 <= x <= x1 and y0 <= y <= y1), o.id
+
+
+def test_microwave_top_and_shelf_levels_are_parts_of_their_own() -> None:
+    microwave = make_asset("microwave")
+    shelf = make_asset("wooden_two_layer_shelf")
+    graph = SceneGraph(
+        nodes=(
+            Node(id="microwave_1", category="microwave"),
+            Node(id="microwave_1/top_side", category="region", parent="microwave_1"),
+            Node(id="shelf_1", category="shelf"),
+            *(
+                Node(id=f"shelf_1/{level}", category="region", parent="shelf_1")
+                for level in ("bottom_region", "top_region", "top_side")
+            ),
+        ),
+        edges=(),
+    )
+    assert resolve_part(microwave, graph, "microwave_1/top_side") == "top_side"
+    assert [
+        resolve_part(shelf, graph, f"shelf_1/{lv}") for lv in ("bottom_region", "top_region", "top_side")
+    ] == [
+        "bottom_region",
+        "top_region",
+        "top_side",
+    ]
+
+
+def test_shelf_levels_are_open_from_above_one_step_higher_each() -> None:
+    layout = Layout(
+        objects=(
+            PlacedObject(id="shelf_1", asset="wooden_two_layer_shelf", position=(0.1, 0.0, 0.0), fixed=True),
+            PlacedObject(id="book_1", asset="black_book", position=(-0.25, 0.35, 0.0)),
+        ),
+        table_size=(1.2, 1.6),
+    )
+    graph = SceneGraph(
+        nodes=(
+            Node(id="table", category="table"),
+            Node(id="shelf_1", category="shelf", attributes={"fixture": True}),
+            *(
+                Node(id=f"shelf_1/{lv}", category="region", parent="shelf_1")
+                for lv in ("bottom_region", "top_region", "top_side")
+            ),
+            Node(id="book_1", category="book"),
+        ),
+        edges=(),
+    )
+    with build_world(layout, seed=0, graph=graph) as w:
+        shelf, book = w.objects["shelf_1"], w.objects["book_1"]
+        heights = []
+        for lv in ("bottom_region", "top_region", "top_side"):
+            link = shelf.links[lv]
+            lo, hi = w.aabb(shelf.body, link)
+            spot = surface_spot(w, book, shelf.body, lo, hi, links={link})
+            assert spot is not None, lv  # a standing book fits on every level, seen from above
+            heights.append(float(spot[2]))
+        assert heights[0] < heights[1] < heights[2]
