@@ -8,7 +8,7 @@ tasks (``tabletop-long``). ``--pick 0.25,0.5`` runs only the problems at those f
 IPC set's list (by size), for short side-by-side runs.
 
 Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems gsr,pyperplan,fd]
-       [--timeout 60] [--planner lazy-ff] [--long-tasks 30] [--seed 0] [--pick F,...] [--isolate]
+       [--timeout 60] [--planner auto] [--long-tasks 30] [--seed 0] [--pick F,...] [--isolate]
        [--save FILE] [--markdown] [-v]
        python benchmarks/bench_planner.py --merge A.json B.json ... [--markdown]
 
@@ -324,6 +324,8 @@ def bench_set(
     from gsr.pddl.writer import write_domain, write_problem
 
     rows = []
+    if planner == "auto":  # FD runs lama-first on every set; GSR's tabletop planner is its default
+        planner = "lama" if domain_set in IPC_SETS else "lazy-ff"
     if domain_set in IPC_SETS:
         tasks: Iterator = ((p.name, _domain_of(p), p) for p in problems(domain_set, pick))
     else:
@@ -497,7 +499,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sets", default=",".join(SETS), help=f"comma-separated, from {', '.join(SETS)}")
     parser.add_argument("--systems", default="gsr,pyperplan,fd", help="comma-separated: gsr, pyperplan, fd")
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per task and system")
-    parser.add_argument("--planner", default="lazy-ff", help="GSR planner (see gsr.plan.PLANNERS)")
+    parser.add_argument(
+        "--planner",
+        default="auto",
+        help="GSR planner (see gsr.plan.PLANNERS); auto: lama on the IPC sets (as FD's lama-first), "
+        "lazy-ff (gsr's default) on the tabletop sets",
+    )
     parser.add_argument("--long-tasks", type=int, default=30, help="number of generated long tabletop tasks")
     parser.add_argument("--seed", type=int, default=0, help="seed of the long tabletop task generator")
     parser.add_argument("--save", type=Path, help="write the full per-task results as JSON")
