@@ -87,11 +87,18 @@ def register(app: typer.Typer) -> None:
                 help="K >= 2: K-fold estimate (calibration, captions from the other folds); 0: off."
             ),
         ] = 0,
+        split: Annotated[
+            str,
+            typer.Option(
+                help="How --crossfit folds the tasks: position (file order), person (no recipient in two "
+                "folds) or object (no target object in two folds: its caption never comes from its fold)."
+            ),
+        ] = "position",
     ) -> None:
         """Run the PRS delivery benchmark in the offline PRS environment, scored by PRS's rules."""
         from gsr.benchmarks.delivery.prs_cli import prs_command
 
-        raise typer.Exit(prs_command(data, tasks, out, workers, captions, crossfit))
+        raise typer.Exit(prs_command(data, tasks, out, workers, captions, crossfit, split=split))
 
     @delivery_app.command("schedule")
     def delivery_schedule(

@@ -27,6 +27,7 @@ from gsr.benchmarks.delivery.prs_parse import (
     ParsedRequest,
     RequestParseError,
     RoomMatcher,
+    base_color,
     label_score,
     label_words,
     normalise,
@@ -40,6 +41,9 @@ from gsr.building.prs_graph import station_graph
 
 #: An object whose caption shares at least this fraction of the request's attribute words is taken at once.
 GOOD_CAPTION = 0.5
+#: Simulated seconds after which the object search takes the best candidate seen (a third of the limit
+#: is kept for finding the person).
+SEARCH_BUDGET_S = 400.0
 #: A room whose free cells the first viewpoint sees at least this fraction of gets no second look.
 COVERAGE = 0.9
 
@@ -55,6 +59,12 @@ class Outcome:
     delivered: bool = False
     reason: str = ""
     steps: list[str] = field(default_factory=list)
+
+
+def contradicts(colors: set[str], caption: frozenset[str]) -> bool:
+    """Whether a caption's colours rule out the requested ones (both said, none shared)."""
+    seen = {c for c in (base_color(w) for w in caption) if c}
+    return bool(colors and seen and not colors & seen)
 
 
 class PrsAgent:
@@ -155,6 +165,7 @@ class PrsAgent:
         type_words = {w for lab in wanted for w in label_words(lab)}
         attrs = {t for t in parsed.object_tokens if t not in type_words and t not in STOP}
         src = set(normalise(" ".join(parsed.source_tokens)).split()) - STOP
+        want_colors = {c for ph in parsed.objects for c in ph.colors}
 
         def rec_score(name: str) -> float:
             w = set(words(name))
@@ -178,6 +189,8 @@ class PrsAgent:
         for rec in recs:
             if env.done:
                 return None
+            if best is not None and env.seconds > SEARCH_BUDGET_S:
+                break  # leave time to deliver: take the best object seen so far
             stand = self.stand_near(env, rec.box, rec.room)
             if stand is None or stand in looked or not self._go(env, stand, out):
                 continue
@@ -192,6 +205,8 @@ class PrsAgent:
                 cap = (
                     2 * len(attrs & o.caption) / (len(attrs) + len(o.caption)) if attrs and o.caption else 0.0
                 )
+                if cap == 0 and contradicts(want_colors, o.caption):
+                    cap = -1.0  # "the sky blue cake" is not the one seen as red and white
                 on = self._receptacle_of(env, o)
                 key = (cap, rec_score(on) if on else 0.0)
                 if best is None or key > best[0]:
@@ -199,7 +214,8 @@ class PrsAgent:
             uncaptioned = (
                 best is not None
                 and best[0][0] == 0
-                and not any(o.caption for o in seen.objects if o.type in wanted)
+                and not best[1].caption
+                and not any(o.caption and o.caption & attrs for o in seen.objects if o.type in wanted)
             )
             if best is not None and (
                 not attrs or best[0][0] >= GOOD_CAPTION or (uncaptioned and best[0][1] > 0)

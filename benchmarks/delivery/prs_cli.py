@@ -27,19 +27,24 @@ def prs_command(
     captions: str = "dev",
     crossfit: int = 0,
     calibration: str = "auto",
+    split: str = "position",
 ) -> int:
     """Run, write the three files, print the PRS metrics; 1 with a one-line message on bad input.
 
     ``crossfit`` K >= 2: the honest estimate on a task file that is also the calibration/caption source
-    (each of K folds runs on a station calibrated, with captions built, from the other folds)."""
-    from gsr.benchmarks.delivery.prs_run import run_prs, run_prs_crossfit
+    (each of K folds runs on a station calibrated, with captions built, from the other folds); ``split``
+    says how the tasks are folded (``prs_run.SPLITS``: position, person or object)."""
+    from gsr.benchmarks.delivery.prs_run import SPLITS, run_prs, run_prs_crossfit
 
     if workers < 1 or crossfit < 0 or crossfit == 1:
         print("error: --workers must be >= 1 and --crossfit 0 (off) or >= 2", file=sys.stderr)
         return 1
+    if split not in SPLITS:
+        print(f"error: --split must be one of {', '.join(SPLITS)}, not {split!r}", file=sys.stderr)
+        return 1
     try:
         if crossfit:
-            run = run_prs_crossfit(data, tasks, crossfit)
+            run = run_prs_crossfit(data, tasks, crossfit, split)
         else:
             run = run_prs(data, tasks, workers=workers, captions=captions, calibration=calibration)
     except GSRError as exc:

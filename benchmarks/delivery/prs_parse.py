@@ -1,11 +1,31 @@
-"""Parsing PRS's free-form delivery requests with general constructions.
+"""Parsing PRS's free-form delivery requests on the project's language stack.
 
-A request is two sentences (the person's own request, then a third party's with the person described).
-From each sentence: the object phrase (the noun phrase after a fetch verb, up to its preposition), the
-source (``from/on/off`` + receptacle and room words, or an earlier ``go to the <room>``), and the
-destination (rooms after the object phrase, ``for me`` / ``my bedroom`` meaning the requester's own
-places). Object words are matched against the detector's type labels through a small lexicon of
-synonyms; room words against the station's room names (numbers dropped, ``bedroom`` = ``bed room``).
+Words are classified by the grounder's own lexicon (``gsr.language.lexicon.build_lexicon``: its function
+words and word classes, everyday verbs, colours, registered nouns, fillers) plus the sections of the
+everyday vocabulary (``data/language/vocabulary.yaml``) written for free-form requests: spellings and
+compounds, place-name phrases, object-name synonyms, colour shades, materials, search verbs, irregular
+participles, pronouns (``me`` = the requester) and connectives. Nothing here is keyed to a sentence, a
+task, a person or an object of PRS's data: the constructions are general ones.
+
+From each sentence of a request:
+
+- the **object phrase**: the noun phrase after a fetch, give or search verb (class ``PICK``, ``GET``,
+  ``PLACE``, ``GIVE``, ``WANT`` or a search verb), from its determiner up to a preposition, a relative
+  clause, a participle, punctuation, ``then`` or ``and`` + anything but a colour or material (so *red
+  and white bagged cake* stays whole); among several, the one naming a detector label best. Its
+  structure: head words (those of the best label), colours (shades mapped to base colours), the lid or
+  cap colour, materials and the remaining attributes;
+- the **source**: ``from/on/off/in/at`` + a receptacle and room phrase after the object (also after
+  ``that is`` / ``sitting``), and rooms named before the verb (*go to the kitchen and ...*);
+- the **destination**: rooms named after the source; *my/her bedroom*, *Ethan's office* mean the
+  recipient's own place;
+- the **recipient**: names (capitalised words the lexicon does not know), whether the requester is the
+  recipient (*bring it to me*, *for me*), and appearance words (after *wearing*, *in*, *with* ...).
+
+Object words are matched against the detector's camel-case type labels by their words, through the
+vocabulary's spellings, synonyms and shades; room words against the station's room names (numbers
+dropped, spellings and place phrases applied). A request with no object phrase naming any label raises
+``RequestParseError`` with the reason; the caller fails that task and goes on.
 """
 
 from __future__ import annotations
@@ -13,99 +33,208 @@ from __future__ import annotations
 import itertools
 import re
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 from gsr.building.prs import Station
+from gsr.categories import COLOR_SYNONYMS, COLORS, MATERIALS
+from gsr.language.lexicon import FILLER, Lexicon, build_lexicon, vocabulary
+from gsr.language.parse import CONTRACTIONS
+from gsr.scene_graph import SceneGraph
 
-FETCH_VERBS = (
-    "pick up|picking up|fetch|fetching|grab|grabbing|grasp|grasping|retrieve|retrieving|collect|collecting|"
-    "get|take|taking|bring|bringing|carry|carrying|transport|transporting|deliver|delivering|move|hand|"
-    "need|want|like"
-)
-#: What ends an object phrase: a preposition, a comma, or "and" + a verb ("red and white cake" goes on).
-PHRASE_END = (
-    r"(?:\s*[,;.]|\s+(?:from|on|off|in|inside|at|that|which|to|then|near|beside|located|sitting|placed|lying"
-    rf"|and\s+(?:then\s+)?(?:{FETCH_VERBS}|give|go|head|place|put|drop|leave))\b)"
-)
-STOP = frozenset(
-    [
-        "the",
-        "a",
-        "an",
-        "of",
-        "with",
-        "and",
-        "its",
-        "it",
-        "is",
-        "that",
-        "this",
-        "some",
-        "one",
-        "in",
-        "on",
-        "to",
-        "for",
-        "from",
-        "at",
-        "by",
-    ]
-)
-#: Request words -> the words detector labels use (a lexicon of object names, not of sentences).
-SYNONYMS: dict[str, tuple[str, ...]] = {
-    "phone": ("phone",),
-    "cellphone": ("mobile", "phone"),
-    "smartphone": ("mobile", "phone"),
-    "mobile": ("mobile",),
-    "gamepad": ("consolegaming", "pad"),
-    "controller": ("consolegaming", "pad"),
-    "console": ("consolegaming",),
-    "gaming": ("consolegaming",),
-    "joystick": ("consolegaming", "pad"),
-    "medicine": ("medication",),
-    "medicinal": ("medication",),
-    "vial": ("medication", "bottle"),
-    "injection": ("injectable",),
-    "chili": ("chill", "chili"),
-    "chilli": ("chill", "chili"),
-    "pepper": ("chill",),
-    "beans": ("beans",),
-    "bean": ("beans",),
-    "peas": ("pea",),
-    "tin": ("can",),
-    "mug": ("cup",),
-    "cake": ("cake",),
-    "lid": ("lid",),
-    "cap": ("lid",),
-}
+#: Word classes of the grounder that take an object to fetch or give (plus the vocabulary's search verbs).
+FETCH_CLASSES = frozenset({"PICK", "GET", "PLACE", "GIVE", "WANT", "FIND"})
+#: Classes that end an object phrase.
+NP_END = frozenset(
+    {"FROM", "ON", "OFF", "IN", "INSIDE", "AT", "NEAR", "TO", "THAT", "PLACED", "THEN", "PUNCT", "FOR", "BE",
+     "BEHIND", "UNDER", "BETWEEN", "PARTICIPLE", "AFTER", "BEFORE", "CONNECTIVE", "ALSO", "ENDUP", "PARTICLE"}
+)  # fmt: skip
+#: Prepositions that open a source phrase after the object.
+SOURCE_PREPS = frozenset({"FROM", "ON", "OFF", "IN", "INSIDE", "AT"})
+#: Classes that end a source phrase.
+SOURCE_END = frozenset({"AND", "THEN", "TO", "PUNCT", "FOR", "PARTICIPLE", "PARTICLE", "CONNECTIVE"})
+#: Determiner-like classes that open an object phrase.
+DETERMINERS = frozenset({"DET", "POSS", "THIS", "THAT", "ME", "PRON_POSS"})
+#: Content classes: a room word followed by one of these is a modifier (*kitchen counter*), not a room.
+CONTENT = frozenset({"NOUN", "COLORNOUN", "NAME", "WORD"})
+#: Function classes whose words are no attribute of an object (the grounder's closed classes).
+STOP_CLASSES = frozenset(
+    {"DET", "OF", "WITH", "AND", "IT", "BE", "THAT", "THIS", "ONE", "IN", "ON", "TO", "FOR", "FROM", "AT",
+     "BY", "POSS", "INSIDE", "THEM"}
+)  # fmt: skip
+#: Direction particles after a verb's object (*bring it over*, *take it back*).
+PARTICLES = frozenset({"over", "back", "along"})
+#: What the appearance of a person follows (*wearing*, *dressed in*, *in a*, *with*).
+APPEARANCE_OPENERS = frozenset({"wearing", "wears", "wear", "dressed", "has", "with", "in", "sporting"})
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    """One word (or lexicon phrase) of a request: its text, class and whether it is a proper name."""
+
+    text: str
+    cls: str
+    proper: bool = False
+
+
+@lru_cache(maxsize=1)
+def lexicon() -> Lexicon:
+    """The grounder's lexicon without a scene: function words, everyday verbs, colours, registered nouns."""
+    return build_lexicon(SceneGraph())
+
+
+@lru_cache(maxsize=1)
+def _extra_phrases() -> dict[tuple[str, ...], str]:
+    """Word sequences -> classes from the free-form sections of the vocabulary."""
+    v = vocabulary()
+    out: dict[tuple[str, ...], str] = {}
+    for w in v["search_verbs"]:
+        out[tuple(w.split())] = "FIND"
+    for w in v["participles"]:
+        out[(w,)] = "PARTICIPLE"
+    for w in v["pronouns"].get("requester", ()):
+        out[(w,)] = "ME"
+    for w in v["pronouns"].get("other", ()):
+        out[(w,)] = "PRON_POSS" if w in ("her", "his", "their") else "PRON"
+    for w in v["connectives"]:
+        out[(w,)] = "CONNECTIVE"
+    for w in PARTICLES:
+        out[(w,)] = "PARTICLE"
+    return out
+
+
+@lru_cache(maxsize=1)
+def stop_words() -> frozenset[str]:
+    """Function words that are no attribute of an object: the grounder's closed classes above."""
+    lex = lexicon()
+    return frozenset(k[0] for k, (cls, _) in lex.phrases.items() if len(k) == 1 and cls in STOP_CLASSES)
+
+
+STOP = stop_words()
+
+
+def spell(tokens: list[str]) -> list[str]:
+    """Tokens with the vocabulary's spellings and compounds applied (``bedroom`` -> bed room)."""
+    sp = vocabulary()["spellings"]
+    out: list[str] = []
+    for t in tokens:
+        out.extend(sp[t].split() if t in sp else (t,))
+    return out
+
+
+def place_phrases(tokens: list[str]) -> list[str]:
+    """Tokens with the vocabulary's place phrases replaced (``meeting room`` -> conference room)."""
+    phrases = sorted(
+        ((tuple(k.split()), v.split()) for k, v in vocabulary()["phrases"].items()),
+        key=lambda kv: -len(kv[0]),
+    )
+    out: list[str] = []
+    i = 0
+    while i < len(tokens):
+        for k, v in phrases:
+            if tuple(tokens[i : i + len(k)]) == k:
+                out.extend(v)
+                i += len(k)
+                break
+        else:
+            out.append(tokens[i])
+            i += 1
+    return out
+
+
+def _place_words(flat: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """``place_phrases`` over (word, class) pairs; a replaced phrase's words take the class of its last."""
+    phrases = sorted(
+        ((tuple(k.split()), v.split()) for k, v in vocabulary()["phrases"].items()),
+        key=lambda kv: -len(kv[0]),
+    )
+    out: list[tuple[str, str]] = []
+    i = 0
+    while i < len(flat):
+        for k, v in phrases:
+            if tuple(t for t, _ in flat[i : i + len(k)]) == k:
+                cls = flat[i + len(k) - 1][1]
+                out.extend((t, cls) for t in v)
+                i += len(k)
+                break
+        else:
+            out.append(flat[i])
+            i += 1
+    return out
 
 
 def words(text: str) -> list[str]:
-    """Lower-case word tokens (hyphens split words)."""
-    return re.findall(r"[a-z0-9]+", text.lower().replace("-", " "))
+    """Lower-case word tokens (hyphens split words; ``'s`` becomes the word ``s``), spellings applied."""
+    t = text.lower().replace("\u2019", "'").replace("-", " ").replace("'s ", " s ")
+    return spell(re.findall(r"[a-z0-9]+", t))
+
+
+def normalise(text: str) -> str:
+    """Lower-case words with spellings and place phrases applied (``bedroom`` -> ``bed room``,
+    ``officespace`` -> ``office space``, ``meeting room`` -> ``conference room``)."""
+    return " ".join(place_phrases(words(text + " ")))
 
 
 def label_words(label: str) -> list[str]:
     """A detector label's words: ``PlasticBottleWithGreenLid`` -> plastic bottle green lid."""
     parts = re.sub(r"(?<=[a-z])(?=[A-Z0-9])|_", " ", label).lower().split()
-    return [p for p in parts if p not in STOP and not p.isdigit()]
+    return [p for p in spell(parts) if p not in STOP and not p.isdigit()]
+
+
+def singular(word: str) -> str | None:
+    """The singular of a regular plural (``beans`` -> bean, ``boxes`` -> box), or None."""
+    if len(word) > 4 and word.endswith("ies"):
+        return word[:-3] + "y"
+    if len(word) > 4 and word.endswith(("ches", "shes", "xes", "sses")):
+        return word[:-2]
+    if len(word) > 3 and word.endswith("s") and not word.endswith("ss"):
+        return word[:-1]
+    return None
+
+
+def base_color(word: str) -> str | None:
+    """The base colour a colour word or shade is seen as (``navy`` -> blue, ``yellowish`` -> yellow)."""
+    shades = vocabulary()["shades"]
+    w = COLOR_SYNONYMS.get(word, word)
+    if w in COLORS:
+        return w
+    if word in shades:
+        return shades[word]
+    if word.endswith("ish") and len(word) > 5:  # reddish, bluish, yellowish, greenish
+        stem = word[:-3]
+        for cand in (stem, stem[:-1], stem + "e"):
+            c = base_color(cand) if cand != word else None
+            if c:
+                return c
+    return None
+
+
+def material_of(word: str) -> str | None:
+    """The material a word says (``wooden`` -> wood, ``marble`` -> stone), or None."""
+    for material, ws in vocabulary()["materials"].items():
+        if word in ws:
+            return material
+    return word if word in MATERIALS else None
 
 
 def expand(tokens: list[str]) -> set[str]:
-    """Tokens plus the label words their synonyms stand for (plural s dropped too)."""
+    """Tokens plus singular forms, the label words their synonyms stand for, and base colours."""
+    syn = vocabulary()["synonyms"]
     out: set[str] = set()
     for t in tokens:
-        out.add(t)
-        out.update(SYNONYMS.get(t, ()))
-        if t.endswith("s") and len(t) > 3:
-            out.add(t[:-1])
-            out.update(SYNONYMS.get(t[:-1], ()))
+        one = singular(t)
+        for f in (t, one) if one else (t,):
+            out.add(f)
+            out.update(syn.get(f, ()))
+            c = base_color(f)
+            if c:
+                out.add(c)
     return out
 
 
 def label_score(label: str, phrase_tokens: list[str]) -> float:
     """How well a detector label matches an object phrase: the fraction of the label's words the phrase
-    has, with a small bonus per matched word (so the more specific label wins), 0 if its head noun
-    (the label's last non-colour word) is missing."""
+    has, with a small bonus per matched word (so the more specific label wins) and per adjacent pair the
+    phrase keeps together (*green lid*); 0 when no word matches."""
     lw = label_words(label)
     if not lw:
         return 0.0
@@ -118,107 +247,136 @@ def label_score(label: str, phrase_tokens: list[str]) -> float:
     return len(matched) / len(lw) + 0.05 * len(matched) + 0.1 * bound
 
 
+def classify(sentence: str) -> list[Word]:
+    """The words of a sentence with their classes: the grounder's lexicon (longest phrase first), the
+    vocabulary's free-form sections, punctuation (``PUNCT``), possessive ``'s`` (``POSS_S``), fillers
+    (``FILLER``); unknown words are ``WORD``, and ``proper`` when capitalised inside the sentence."""
+    text = sentence.replace("\u2019", "'")
+    raw = re.findall(r"[A-Za-z0-9]+(?:'[A-Za-z]+)?|[,.;:!?]", text.replace("-", " "))
+    toks: list[tuple[str, bool]] = []  # (lower-case word, capitalised mid-sentence)
+    for k, r in enumerate(raw):
+        low = r.lower()
+        for pattern, full in CONTRACTIONS:
+            low = pattern.sub(full, low)
+        low = low.replace("'s", " s").replace("'", " ")
+        parts = low.split()
+        cap = r[:1].isupper() and k > 0 and raw[k - 1] not in ".!?"
+        for n, p in enumerate(spell(parts)):
+            toks.append((p, cap and n == 0))
+    lex, extra = lexicon(), _extra_phrases()
+    out: list[Word] = []
+    i = 0
+    while i < len(toks):
+        w, cap = toks[i]
+        if w in ",.;:!?":
+            out.append(Word(w, "PUNCT"))
+            i += 1
+            continue
+        if w == "s" and out and out[-1].cls != "PUNCT":
+            out.append(Word(w, "POSS_S"))
+            i += 1
+            continue
+        hit = None
+        for n in range(min(lex.max_phrase, len(toks) - i), 0, -1):
+            span = tuple(t for t, _ in toks[i : i + n])
+            if any(t in ",.;:!?" for t in span):
+                continue
+            if span in extra:
+                hit = (n, extra[span])
+                break
+            found = lex.lookup(span)
+            if found is not None and found[0] != "DROP":  # "for me" says who: kept as words
+                hit = (n, found[0])
+                break
+        if hit is None and singular(w):
+            found = lex.lookup((singular(w),))
+            if found is not None and found[0] in ("NOUN", "NAME"):
+                hit = (1, found[0])
+        if hit is not None and hit[0] == 1 and w in FILLER and hit[1] != "NOUN":
+            hit = (1, "FILLER")
+        if hit is None:
+            cls = "FILLER" if w in FILLER else "WORD"
+            out.append(Word(w, cls, proper=cap and cls == "WORD"))
+            i += 1
+            continue
+        n, cls = hit
+        out.append(Word(" ".join(t for t, _ in toks[i : i + n]), cls))
+        i += n
+    return out
+
+
+def _texts(ws: list[Word]) -> list[str]:
+    return [t for w in ws for t in w.text.split()]
+
+
 @dataclass
 class RoomMatcher:
-    """Room mentions -> room ids, from the station's room names (numbers dropped)."""
+    """Room mentions -> room ids, from the station's room names (numbers and the station's generic place
+    noun dropped: *lab room 2* is the *lab*; *office space* keeps *space*)."""
 
     station: Station
     heads: list[tuple[tuple[str, ...], list[str]]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         by_head: dict[tuple[str, ...], list[str]] = {}
+        # the station's generic place noun ("room" of "lab room 2"): a place noun in half its room names
+        names = [set(normalise(r.name).split()) for r in self.station.rooms]
+        nouns = {w for w in vocabulary()["place_nouns"] if 2 * sum(w in n for n in names) >= len(names)}
         for r in self.station.rooms:
-            toks = [t for t in normalise(r.name).split() if not t.isdigit() and t != "room"]
+            toks = [t for t in normalise(r.name).split() if not t.isdigit() and t not in nouns]
             if toks:
                 by_head.setdefault(tuple(toks), []).append(r.id)
         # longest heads first so 'office space' wins over 'office'
         self.heads = sorted(by_head.items(), key=lambda kv: -len(kv[0]))
 
-    def mentions(self, text: str) -> list[tuple[int, tuple[str, ...], list[str]]]:
+    def ids_of(self, head: tuple[str, ...]) -> list[str]:
+        """The rooms a head names."""
+        return next((ids for h, ids in self.heads if h == head), [])
+
+    def mentions(self, text: str | list[Word]) -> list[tuple[int, tuple[str, ...], list[str]]]:
         """``(position, head, room ids)`` for each room mention, in text order. A mention must end its
-        clause or be followed by ``room``/``area``/``space``, a possessive or a function word: *the kitchen
-        counter* and *a white lab coat* name furniture and clothes, not rooms."""
+        clause or be followed by a place noun (*room*, *area*), a possessive or a function word: *the
+        kitchen counter* and *a white lab coat* name furniture and clothes, not rooms."""
+        ws = classify(text) if isinstance(text, str) else text
+        # one entry per word (a lexicon phrase is split back into its words, keeping its class), with the
+        # vocabulary's place phrases applied across words ("shared office" -> office space)
+        flat = _place_words([(t, w.cls) for w in ws for t in w.text.split()])
+        place = set(vocabulary()["place_nouns"])
         found = []
-        for c, chunk in enumerate(re.split(r"[,;.!?:]", text)):
-            toks = normalise(chunk).split()
-            taken: set[int] = set()
-            for head, ids in self.heads:
-                n = len(head)
-                for k in range(len(toks) - n + 1):
-                    if tuple(toks[k : k + n]) != head or taken & set(range(k, k + n)):
-                        continue
-                    nxt = toks[k + n] if k + n < len(toks) else None
-                    if nxt is not None and nxt not in ROOM_FOLLOWERS:
-                        continue
-                    taken.update(range(k, k + n))
-                    found.append((1000 * c + k, head, ids))
+        taken: set[int] = set()
+        for head, ids in self.heads:
+            n = len(head)
+            for k in range(len(flat) - n + 1):
+                if tuple(t for t, _ in flat[k : k + n]) != head or taken & set(range(k, k + n)):
+                    continue
+                nxt = flat[k + n] if k + n < len(flat) else None
+                if nxt is not None and nxt[1] in CONTENT and nxt[0] not in place:
+                    continue
+                taken.update(range(k, k + n))
+                found.append((k, head, ids))
         return sorted(found)
 
 
-#: Words that may follow a room mention.
-ROOM_FOLLOWERS = frozenset(
-    [
-        "room",
-        "rooms",
-        "area",
-        "space",
-        "s",
-        "and",
-        "then",
-        "to",
-        "for",
-        "with",
-        "on",
-        "in",
-        "at",
-        "from",
-        "of",
-        "where",
-        "who",
-        "which",
-        "that",
-        "she",
-        "he",
-        "they",
-        "it",
-        "please",
-        "so",
-        "while",
-        "or",
-        "but",
-        "i",
-        "me",
-        "my",
-        "him",
-        "her",
-        "them",
-        "by",
-        "near",
-        "next",
-        "before",
-        "after",
-        "there",
-        "here",
-    ]
-)
+@dataclass
+class ObjectPhrase:
+    """The object a sentence asks for: its words and their roles."""
+
+    text: str
+    tokens: list[str]  # content words, in order
+    head: list[str]  # the words of the best-matching detector label
+    colors: list[str]  # base colours of the object (shades mapped)
+    lid_color: str | None  # the colour of its lid or cap (*a white bottle with a green lid*)
+    materials: list[str]
+    attributes: list[str]  # the other words (*sleek*, *stickered*, *round*)
 
 
-def normalise(text: str) -> str:
-    """Lower case, punctuation to spaces, ``bedroom`` -> ``bed room``, ``officespace`` -> ``office space``,
-    ``hallway`` -> ``hall``, ``dining`` kept."""
-    t = " " + re.sub(r"[^a-z0-9']+", " ", text.lower()) + " "
-    for a, b in (
-        (" bedroom", " bed room"),
-        (" bedrooms", " bed rooms"),
-        ("officespace", "office space"),
-        (" hallway", " hall"),
-        (" living area", " living room"),
-        (" meeting room", " conference room"),
-        (" shared office", " office space"),
-        ("'s ", " s "),
-    ):
-        t = t.replace(a, b)
-    return " ".join(t.split())
+@dataclass
+class Recipient:
+    """Who the object goes to, as the request says it."""
+
+    names: list[str] = field(default_factory=list)
+    requester: bool = False  # "bring it to me", "for me": the person who asks
+    appearance: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -232,6 +390,8 @@ class ParsedRequest:
     dest_heads: list[tuple[str, ...]]
     own_place: str | None  # 'bed' / 'office' when the request says my/her/his bedroom/office
     sentences: list[str]
+    objects: list[ObjectPhrase] = field(default_factory=list)
+    recipient: Recipient = field(default_factory=Recipient)
 
 
 class RequestParseError(ValueError):
@@ -244,46 +404,138 @@ def split_sentences(instruction: str) -> list[str]:
     return [p.strip() for p in parts if p.strip()]
 
 
-_OBJ = re.compile(
-    rf"\b(?:{FETCH_VERBS})\s+(?:me\s+)?(?:the|a|an|that|this|some)\s+(?P<obj>.+?)(?={PHRASE_END})", re.I
-)
-_SRC = re.compile(
-    r"(?:(?:that|which)\s+(?:is|are|was|sits|lies|stands)\s+|(?:sitting|lying|placed|located|resting|kept)\s+)?"
-    r"\b(?:from|on|off|in|at)\s+(?P<src>.+?)(?=\s+(?:and|then|to|for|over|back|brought|delivered)\b|[,;.?!]|$)",
-    re.I,
-)
+def _is_modifier(w: Word) -> bool:
+    """A colour, shade, size or material word: ``and`` before it continues a noun phrase."""
+    return w.cls in ("COLOR", "SIZE") or base_color(w.text) is not None or material_of(w.text) is not None
+
+
+def object_phrases(ws: list[Word]) -> list[tuple[int, int, int]]:
+    """``(verb, start, end)`` word spans of the noun phrases after fetch/give/search verbs."""
+    out = []
+    for v, w in enumerate(ws):
+        if w.cls not in FETCH_CLASSES:
+            continue
+        k = v + 1
+        while k < len(ws):  # "pick up the", "bring me the", "give Ada the", "deliver to her the"
+            c = ws[k].cls
+            if (
+                c == "TO"
+                and k + 1 < len(ws)
+                and (ws[k + 1].cls in ("ME", "PRON", "PRON_POSS") or ws[k + 1].proper)
+            ):
+                k += 1
+                continue
+            if c not in ("UP", "OUT", "ME", "PRON", "PRON_POSS", "FILLER", "PARTICLE") and not ws[k].proper:
+                break
+            if c in ("ME", "PRON", "PRON_POSS") and k + 1 < len(ws) and ws[k + 1].cls not in DETERMINERS:
+                break
+            k += 1
+        if k >= len(ws) or ws[k].cls not in DETERMINERS:
+            continue
+        start = k + 1
+        end = start
+        while end < len(ws):
+            c = ws[end].cls
+            if c == "AND":
+                if end + 1 < len(ws) and _is_modifier(ws[end + 1]):
+                    end += 1
+                    continue
+                break
+            if c in NP_END or (c in FETCH_CLASSES and end > start):
+                break
+            end += 1
+        if end > start:
+            out.append((v, start, end))
+    return out
+
+
+def describe_object(ws: list[Word], labels: list[str]) -> tuple[float, ObjectPhrase]:
+    """The best label score of an object phrase and its structure."""
+    toks = [t for t in _texts(ws) if t not in STOP]
+    scores = {lab: label_score(lab, toks) for lab in labels}
+    best = max(scores, key=lambda lab: scores[lab], default=None)
+    score = scores[best] if best else 0.0
+    head = label_words(best) if best and score > 0 else []
+    have_head = expand(head)
+    colors, materials, attrs = [], [], []
+    lid = None
+    for k, t in enumerate(toks):
+        c, m = base_color(t), material_of(t)
+        nxt = toks[k + 1] if k + 1 < len(toks) else None
+        if c and nxt is not None and "lid" in expand([nxt]):
+            lid = c
+        elif c:
+            colors.append(c)
+        elif m:
+            materials.append(m)
+        elif t not in have_head and not expand([t]) & set(head):
+            attrs.append(t)
+    text = " ".join(w.text for w in ws)
+    return score, ObjectPhrase(text, toks, head, colors, lid, materials, attrs)
+
+
+def _appearance(ws: list[Word], skip: set[str]) -> list[str]:
+    """Content words after an appearance opener (*wearing a white lab coat*, *in the black jacket*)."""
+    out: list[str] = []
+    on = False
+    for w in ws:
+        if w.text in APPEARANCE_OPENERS:
+            on = True
+            continue
+        if w.cls in ("PUNCT", "CONNECTIVE", "TO", "FROM") or w.cls in FETCH_CLASSES:
+            on = False
+            continue
+        if on and w.cls not in STOP_CLASSES and w.cls not in ("ME", "PRON", "PRON_POSS", "FILLER"):
+            out += [t for t in w.text.split() if t not in skip and t not in STOP]
+    return list(dict.fromkeys(out))
 
 
 def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> ParsedRequest:
-    """Object phrase, source and destination of a request; ``RequestParseError`` when no sentence has an
-    object phrase naming any detector label."""
+    """Object phrase, source, destination and recipient of a request; ``RequestParseError`` when no
+    sentence has an object phrase naming any detector label."""
     sentences = split_sentences(instruction)
     obj_tokens: list[str] = []
+    objects: list[ObjectPhrase] = []
     src_tokens: list[str] = []
     src_rooms: list[str] = []
     dest_rooms: list[str] = []
     dest_heads: list[tuple[str, ...]] = []
     own = None
+    recipient = Recipient()
+    room_words = {t for h, _ in rooms.heads for t in h}
     for s in sentences:
+        ws = classify(s)
         best = None
-        for m in _OBJ.finditer(s):
-            toks = [t for t in words(m.group("obj")) if t not in STOP]
-            score = max((label_score(lab, toks) for lab in labels), default=0.0)
+        for v, a, b in object_phrases(ws):
+            score, phrase = describe_object(ws[a:b], labels)
             if score > 0 and (best is None or score > best[0]):
-                best = (score, m, toks)
+                best = (score, v, a, b, phrase)
+        names = [w.text.title() for w in ws if w.proper and w.text not in room_words]
+        recipient.names += [n for n in names if n not in recipient.names]
         if best is None:
             continue
-        _, m, toks = best
-        obj_tokens += toks
-        rest = s[m.end("obj") :]
-        src = _SRC.match(rest.strip())
-        src_text = src.group("src") if src else ""
-        after = rest.strip()[src.end() :] if src else rest
-        before = s[: m.start()]
-        for _, _, ids in rooms.mentions(before + " " + src_text):
+        _, v, a, b, phrase = best
+        objects.append(phrase)
+        obj_tokens += phrase.tokens
+        # the source: [that is | sitting ...] from/on/in ... up to and/then/to/for or punctuation
+        k = b
+        while k < len(ws) and ws[k].cls in ("THAT", "BE", "PLACED"):
+            k += 1
+        src_end = k
+        if k < len(ws) and ws[k].cls in SOURCE_PREPS:
+            src_end = k + 1
+            while src_end < len(ws) and ws[src_end].cls not in SOURCE_END:
+                src_end += 1
+            src_words = ws[k + 1 : src_end]
+        else:
+            src_words, src_end = [], b
+        before = ws[:v]
+        person_first = any(w.proper for w in before)  # "Locate Ada in the gym and give her the ..."
+        for _, _, ids in rooms.mentions(([] if person_first else [*before, Word(",", "PUNCT")]) + src_words):
             src_rooms += [i for i in ids if i not in src_rooms]
-        src_tokens += words(src_text)
-        low = normalise(after)
+        src_tokens += _texts(src_words)
+        after = (before if person_first else []) + [Word(",", "PUNCT")] + ws[src_end:]
+        low = " ".join(normalise(w.text) for w in after)
         if re.search(r"\b(?:my|her|his|their)\s+bed\s+room", low):
             own = "bed"
         elif re.search(r"\b(?:my|her|his|their)\s+office\b", low) or re.search(r"\b[a-z]+ s office\b", low):
@@ -291,6 +543,14 @@ def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> Pa
         for _, head, ids in rooms.mentions(after):
             dest_heads.append(head)
             dest_rooms += [i for i in ids if i not in dest_rooms]
+        # "to me", "for me", "bring me the ...": the requester receives it
+        tail = ws[v + 1 : a] + after
+        if any(w.cls == "ME" and w.text in ("me", "us") for w in tail):
+            recipient.requester = True
+        skip = room_words | set(vocabulary()["place_nouns"])
+        recipient.appearance += [t for t in _appearance(after, skip) if t not in recipient.appearance]
     if not obj_tokens:
         raise RequestParseError("no object phrase naming a known object type")
-    return ParsedRequest(obj_tokens, src_tokens, src_rooms, dest_rooms, dest_heads, own, sentences)
+    return ParsedRequest(
+        obj_tokens, src_tokens, src_rooms, dest_rooms, dest_heads, own, sentences, objects, recipient
+    )

@@ -34,6 +34,8 @@ from gsr.building.prs_files import (
 )
 
 Cell = tuple[int, int]
+#: A point more than this far below the lowest calibrated floor is on no calibrated floor (metres).
+STOREY_M = 3.0
 
 
 @dataclass(frozen=True)
@@ -169,12 +171,13 @@ class Station:
         return self._rooms_by_id.get(rid) if rid else None
 
     def floor_of_height(self, y: float) -> int | None:
-        """The calibrated floor a world height belongs to (the highest floor not above ``y`` + 0.5 m)."""
+        """The calibrated floor a world height belongs to (the highest floor not above ``y`` + 0.5 m);
+        ``None`` more than ``STOREY_M`` below the lowest calibrated floor (an uncalibrated floor under it)."""
         known = [(f.transform.height, lvl) for lvl, f in self.floors.items() if f.transform is not None]
         below = [(h, lvl) for h, lvl in known if h <= y + 0.5]
         if below:
             return max(below)[1]
-        return min(known)[1] if known else None
+        return min(known)[1] if known and y > min(known)[0] - STOREY_M else None
 
     def locate(self, x: float, y: float, z: float) -> tuple[int, Cell] | None:
         """``(floor, cell)`` of a world point, or ``None`` when no floor is calibrated for it."""

@@ -11,6 +11,13 @@ code to the grid room where most of its observations fall, then fits again.
 
 This uses only station facts (where a schedule's named room is); it is run on the development task file,
 never on the tasks being evaluated.
+
+Floors without observations are *registered* to a fitted floor from the maps alone: PRS's floors share one
+navigation-mesh cell size (``accuracy``), and the floors of one building stack, so a floor's origin is the
+fitted floor's origin moved by the grid shift that best overlays the two floors' building outlines (the
+shift with the highest intersection-over-union of their non-obstacle cells). A floor whose best overlay is
+weaker than ``REGISTER_MIN_IOU`` stays uncalibrated, with its best IoU in the summary. A registered floor's
+world height is PRS's published floor height (``PRS_FLOOR_HEIGHTS``), which no map file states.
 """
 
 from __future__ import annotations
@@ -28,6 +35,13 @@ from gsr.building.prs_files import PrsDataError, read_json
 #: Fewer observations than this on a floor leave it uncalibrated (a transform from a handful of people
 #: would be a guess).
 MIN_OBSERVATIONS = 20
+#: A floor registers to a fitted floor only when their building outlines overlay at least this well (IoU).
+REGISTER_MIN_IOU = 0.75
+#: The largest grid shift (cells) tried when registering one floor's outline to another's.
+REGISTER_MAX_SHIFT = 40
+#: World heights (y, metres) of PRS's floors 0, 1, 2 (F1, F2, F3) as PRS's own map code sets them
+#: (``env/map_process.py``, ``RoomMap``); the fitted height of floor 2 agrees (-0.05 m).
+PRS_FLOOR_HEIGHTS = {0: -16.693447, 1: -5.2174, 2: -0.0499999}
 
 
 @dataclass(frozen=True)
@@ -165,8 +179,60 @@ def calibrate_station(station: Station, observations: list[Observation], rounds:
                 "observations": len(obs),
                 "reassigned_codes": dict(sorted(reassigned.items())),
             }
+    register_floors(station, summary)
     station.calibration = summary
     return summary
+
+
+def register_shift(
+    mask: np.ndarray, ref: np.ndarray, max_shift: int = REGISTER_MAX_SHIFT
+) -> tuple[int, int, float]:
+    """``(di, dj, iou)``: the shift putting cell ``(i, j)`` of ``mask`` on ``(i + di, j + dj)`` of ``ref``
+    with the highest intersection-over-union of their true cells."""
+    total = int(mask.sum()) + int(ref.sum())
+    best = (0, 0, -1.0)
+    for di in range(-max_shift, max_shift + 1):
+        i0, i1 = max(0, -di), min(mask.shape[0], ref.shape[0] - di)
+        if i1 <= i0:
+            continue
+        for dj in range(-max_shift, max_shift + 1):
+            j0, j1 = max(0, -dj), min(mask.shape[1], ref.shape[1] - dj)
+            if j1 <= j0:
+                continue
+            inter = int(np.count_nonzero(mask[i0:i1, j0:j1] & ref[i0 + di : i1 + di, j0 + dj : j1 + dj]))
+            iou = inter / max(1, total - inter)
+            if iou > best[2]:
+                best = (di, dj, iou)
+    return best
+
+
+def register_floors(station: Station, summary: dict) -> None:
+    """Give each floor without a transform the transform of the fitted floor whose outline overlays it
+    best (``register_shift``), when the overlay reaches ``REGISTER_MIN_IOU``; the summary says either way."""
+    fitted = {lvl: f for lvl, f in station.floors.items() if f.transform is not None}
+    summary.setdefault("registered", {})
+    for level, floor in sorted(station.floors.items()):
+        if floor.transform is not None or not fitted:
+            continue
+        mask = floor.grid != 0
+        best = None
+        for ref_level, ref in fitted.items():
+            di, dj, iou = register_shift(mask, ref.grid != 0)
+            if best is None or iou > best[3]:
+                best = (ref_level, di, dj, iou)
+        assert best is not None
+        ref_level, di, dj, iou = best
+        entry = {"reference_floor": ref_level, "shift": [di, dj], "iou": round(iou, 3)}
+        if iou >= REGISTER_MIN_IOU and level in PRS_FLOOR_HEIGHTS:
+            t = fitted[ref_level].transform
+            assert t is not None
+            floor.transform = GridTransform(
+                t.x0 + di * t.scale, t.z0 + dj * t.scale, t.scale, PRS_FLOOR_HEIGHTS[level]
+            )
+            entry.update(x0=floor.transform.x0, z0=floor.transform.z0, height=floor.transform.height)
+        else:
+            entry["uncalibrated"] = f"outline overlay IoU {iou:.2f} < {REGISTER_MIN_IOU}"
+        summary["registered"][level] = entry
 
 
 def schedule_agreement(station: Station, observations: list[Observation]) -> tuple[int, int]:

@@ -93,6 +93,17 @@ def vocabulary() -> dict[str, Any]:
         "drop": [str(w) for w in data.get("drop") or ()],
         "numbers": {str(k): int(v) for k, v in (data.get("numbers") or {}).items()},
         "nouns": {str(k): frozenset(map(str, v)) for k, v in (data.get("nouns") or {}).items()},
+        # read by the free-form request parser (gsr.benchmarks.delivery.prs_parse), not the phrase table
+        "spellings": {str(k): str(v) for k, v in (data.get("spellings") or {}).items()},
+        "phrases": {str(k): str(v) for k, v in (data.get("phrases") or {}).items()},
+        "synonyms": {str(k): tuple(map(str, v)) for k, v in (data.get("synonyms") or {}).items()},
+        "shades": {str(k): str(v) for k, v in (data.get("shades") or {}).items()},
+        "materials": {str(k): tuple(map(str, v)) for k, v in (data.get("materials") or {}).items()},
+        "search_verbs": [str(w) for w in data.get("search_verbs") or ()],
+        "participles": {str(k): str(v) for k, v in (data.get("participles") or {}).items()},
+        "pronouns": {str(k): tuple(map(str, v)) for k, v in (data.get("pronouns") or {}).items()},
+        "connectives": [str(w) for w in data.get("connectives") or ()],
+        "place_nouns": [str(w) for w in data.get("place_nouns") or ()],
     }
 
 

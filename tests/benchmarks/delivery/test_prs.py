@@ -295,3 +295,118 @@ def test_prs_dev_acceptance(shared_data: Path) -> None:
     check = compare(data / "eval.py", data / "delivery_tasks_dev.json", run["submission"])
     assert check["equal"], check
     assert check["eval.py"]["Task SR"] == 0 and check["simulator rule Task SR"]["prs"] >= 0.80
+
+
+# ---- the request parser on the language stack: constructions and paraphrases it was not tuned on --------
+
+LABELS = ["RedApple", "BlueMug", "MobilePhone", "PlasticBottleWithGreenLid", "PlasticBottleWithWhiteLid"]
+
+
+@pytest.mark.parametrize(
+    ("request_text", "label", "source", "dest"),
+    [
+        # verbs from the vocabulary's classes, particles, pronoun and name before the object
+        # "the kitchen counter" names furniture: no source room (the agent ranks rooms by their receptacles)
+        ("Would you obtain the red apple on the kitchen counter and hand it over to me in the bed room?",
+         "RedApple", [], ["bed room 0"]),
+        ("Kindly get me that cellphone lying on the desk of the shared office, then carry it to the kitchen.",
+         "MobilePhone", ["office space"], ["kitchen room"]),
+        ("Give Ann the navy mug which is on the table in the bedroom; she is in the kitchen area.",
+         "BlueMug", ["bed room 0"], ["kitchen room"]),
+        ("Track down the crimson apple resting on the counter inside the kitchen and transport it to Bob.",
+         "RedApple", ["kitchen room"], []),
+        ("Head over to the office space, collect a smartphone from the desk and deliver it to the bedroom.",
+         "MobilePhone", ["office space"], ["bed room 0"]),
+        ("Locate Bob in the office space, then deliver to him the white bottle with a greenish cap from the kitchen.",
+         "PlasticBottleWithGreenLid", ["kitchen room"], ["office space"]),
+    ],
+)  # fmt: skip
+def test_parser_handles_unseen_paraphrases(
+    folder: Path, request_text: str, label: str, source: list[str], dest: list[str]
+) -> None:
+    st = load_station(folder)
+    p = parse_request(request_text, RoomMatcher(st), LABELS)
+    assert max(LABELS, key=lambda lab: label_score(lab, p.object_tokens)) == label, p.object_tokens
+    assert [st.room(r).name for r in p.source_rooms] == source
+    assert [st.room(r).name for r in p.dest_rooms] == dest
+
+
+def test_parser_structure_colour_lid_material_recipient(folder: Path) -> None:
+    st = load_station(folder)
+    p = parse_request(
+        "Bring me the white plastic bottle with a green lid from the wooden counter in the kitchen."
+        "Take the white plastic bottle with a green lid to Ann in the bedroom; she is wearing a green scarf.",
+        RoomMatcher(st),
+        LABELS,
+    )
+    ob = p.objects[0]
+    assert ob.colors == ["white"] and ob.lid_color == "green" and ob.materials == ["plastic"]
+    assert ob.head == ["plastic", "bottle", "green", "lid"]
+    assert p.recipient.requester and p.recipient.names == ["Ann"]
+    assert {"green", "scarf"} <= set(p.recipient.appearance)
+    assert (
+        "wood" not in ob.materials and "wooden" in p.source_tokens
+    )  # the counter's material, not the bottle's
+
+
+def test_parser_words_come_from_the_language_vocabulary() -> None:
+    from gsr.benchmarks.delivery.prs_parse import base_color, classify, label_words, material_of, normalise
+
+    from gsr.language.lexicon import vocabulary
+
+    v = vocabulary()
+    assert "cellphone" in v["synonyms"] and "navy" in v["shades"] and "bedroom" in v["spellings"]
+    assert label_words("ConsolegamingPad") == ["console", "gaming", "pad"]  # a closed compound split
+    assert base_color("bluish") == "blue" and base_color("navy") == "blue" and base_color("sleek") is None
+    assert material_of("marble") == "stone" and material_of("wooden") == "wood"
+    assert normalise("the officespace's meeting room") == "the office space s conference room"
+    classes = [w.cls for w in classify("Please fetch me the cup, Ann.")]
+    assert classes == ["FILLER", "PICK", "ME", "DET", "NOUN", "PUNCT", "WORD", "PUNCT"]
+
+
+def test_request_without_an_object_names_the_reason(folder: Path) -> None:
+    from gsr.benchmarks.delivery.prs_parse import RequestParseError
+
+    st = load_station(folder)
+    with pytest.raises(RequestParseError, match="no object phrase"):
+        parse_request("Go to the kitchen and wait for Ann.", RoomMatcher(st), LABELS)
+
+
+def _paraphrase(sentence: str, k: int) -> str:
+    """A dev request said another way: another verb of the same class, another wording of its places."""
+    import re
+
+    verbs = ["Could you get", "I would like you to obtain", "Kindly retrieve", "Go ahead and grab"]
+    s = re.sub(
+        r"^(?:Please )?(?:fetch|grasp|retrieve|collect|grab|pick up|take)\b",
+        verbs[k % 4],
+        sentence,
+        flags=re.I,
+    )
+    s = re.sub(r"\bfrom the\b", ["that is sitting on the", "off the", "located on the", "from the"][k % 4], s)
+    s = s.replace("bedroom", "bed room").replace("office space", "shared office")
+    return s.replace("officespace", "office space")
+
+
+def test_prs_dev_requests_paraphrased_parse_alike(shared_data: Path) -> None:
+    """Dev requests rewritten with verbs and place wordings the parser's tests never saw: the object type,
+    source rooms and destination rooms agree with the original parse on at least 95 % of them."""
+    data = shared_data / "prs"
+    if not (data / "delivery_tasks_dev.json").is_file():
+        pytest.skip(f"PRS data not found at {data}")
+    st = load_station(data, None)
+    tasks = json.loads((data / "delivery_tasks_dev.json").read_text())
+    labels = sorted({t["target_object_type"] for t in tasks.values()})
+    rooms = RoomMatcher(st)
+    same = total = 0
+    for k, t in enumerate(tasks.values()):
+        a = parse_request("".join(t["directive"]), rooms, labels)
+        b = parse_request("".join(_paraphrase(s, k) for s in t["directive"]), rooms, labels)
+        best = [max(labels, key=lambda lab: label_score(lab, p.object_tokens)) for p in (a, b)]
+        total += 1
+        same += (
+            best[0] == best[1] == t["target_object_type"]
+            and set(a.source_rooms) == set(b.source_rooms)
+            and set(a.dest_rooms) == set(b.dest_rooms)
+        )
+    assert same >= 0.95 * total, f"{same} / {total}"

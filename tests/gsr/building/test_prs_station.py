@@ -110,3 +110,39 @@ def test_objects_placed_by_geometry(folder: Path) -> None:
     assert next(r.name for r in st.receptacles if r.id == apple.receptacle) == "kitchen counter"
     x, z = world(5, 14)  # middle of the kitchen floor, no furniture within two cells
     assert place_object(st, "Cup_9", "Cup", (x, 0.0, z)).receptacle is None
+
+
+def test_register_shift_recovers_a_moved_outline() -> None:
+    import numpy as np
+
+    from gsr.building.prs_calibrate import register_shift
+
+    rng = np.random.default_rng(3)
+    ref = np.zeros((60, 80), dtype=bool)
+    ref[5:50, 8:70] = True
+    ref[20:30, 30:60] = False  # a courtyard
+    ref &= rng.random(ref.shape) > 0.05  # furniture
+    moved = np.zeros_like(ref)
+    moved[0:57, 0:76] = ref[3:60, 4:80]  # cell (i, j) of moved is (i + 3, j + 4) of ref
+    di, dj, iou = register_shift(moved, ref, max_shift=10)
+    assert (di, dj) == (3, 4) and iou > 0.9
+    other = np.zeros_like(ref)
+    other[30:58, 2:30] = True  # a different building
+    assert register_shift(other, ref, max_shift=10)[2] < 0.75
+
+
+def test_prs_floors_without_observations_register_from_the_maps(shared_data: Path) -> None:
+    """Floors 0 and 1 have no dev task: floor 1 takes floor 2's transform through the maps' overlay (its
+    outline matches floor 2's at shift (0, 0)), with PRS's floor height; floor 0's basement outline matches
+    no calibrated floor and stays uncalibrated, with the reason."""
+    data = shared_data / "prs"
+    if not (data / "delivery_tasks_dev.json").is_file():
+        pytest.skip(f"PRS data not found at {data}")
+    st = load_station(data)
+    reg = st.calibration["registered"]
+    f1, f2 = st.floors[1].transform, st.floors[2].transform
+    assert f1 is not None and f2 is not None and reg[1]["shift"] == [0, 0] and reg[1]["iou"] >= 0.75
+    assert (f1.x0, f1.z0, f1.scale) == (f2.x0, f2.z0, f2.scale) and f1.height < f2.height - 3
+    assert st.floors[0].transform is None and "IoU" in reg[0]["uncalibrated"]
+    assert st.locate(f2.x0 + 50 * f2.scale, -5.2, f2.z0 + 60 * f2.scale) == (1, (50, 60))
+    assert st.locate(0.0, -16.7, 0.0) is None  # below every calibrated floor: no floor, not floor 1
