@@ -37,6 +37,11 @@ UNKNOWN = "unknown"
 OVERLAP_VOXEL = 0.01
 #: Share of the smaller cloud's voxels (after one voxel of dilation) that must be shared to merge.
 MERGE_OVERLAP = 0.3
+#: Two views' part detections merge only when their height ranges overlap this much (IoU): stacked
+#: drawers are different parts, and a detection spanning two of them is no match for either.
+PART_Z_IOU = 0.6
+#: Ground categories: their pieces at one height are one ground, whatever the view.
+GROUNDS = ("table", "floor")
 _VIEW_KEY = re.compile(r"_f(\d+)m-?\d+$")
 
 
@@ -100,6 +105,10 @@ def _candidates(instances: list[Instance]) -> tuple[np.ndarray, np.ndarray]:
     dist = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
     near = (cats[:, None] == cats[None, :]) & (z_overlap > 0) & (dist <= reach)
     allowed = (views[:, None] != views[None, :]) & (part[:, None] == part[None, :])
+    # parts stack (drawers): two views' part detections are one part only if their heights mostly agree
+    z_union = np.maximum(hi[:, None, 2], hi[None, :, 2]) - np.minimum(lo[:, None, 2], lo[None, :, 2])
+    z_iou = np.clip(z_overlap, 0.0, None) / np.maximum(z_union, 1e-6)
+    allowed &= ~(part[:, None] & part[None, :]) | (z_iou >= PART_Z_IOU)
     upper = np.triu(np.ones((len(instances),) * 2, dtype=bool), 1)
     return allowed & upper & (touch | near), near
 
@@ -142,6 +151,19 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             continue  # one camera's detections stay apart, even through a third view
         root[rj] = ri
         views_of[ri] |= views_of.pop(rj)
+    # the ground is one surface: its pieces (split by the objects on it, in one view or several) are one
+    grounds = [i for i, inst in enumerate(instances) if inst.label.category in GROUNDS]
+    tops = {i: float(np.percentile(instances[i].points[:, 2], 98.0)) for i in grounds}
+    for a, i in enumerate(grounds):
+        for j in grounds[a + 1 :]:
+            ri, rj = find(i), find(j)
+            if (
+                ri != rj
+                and instances[i].label.category == instances[j].label.category
+                and abs(tops[i] - tops[j]) <= 0.02
+            ):
+                root[rj] = ri
+                views_of[ri] |= views_of.pop(rj)
     groups: dict[int, list[Instance]] = {}
     for i in range(n):
         groups.setdefault(find(i), []).append(instances[i])
@@ -225,6 +247,31 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
         k = counts[(best.key, part.label.category)] = counts.get((best.key, part.label.category), 0) + 1
         part.label = dataclasses.replace(part.label, parent=best.key)
         part.key = f"{best.key}/{part.label.category}_{k}"
+    spanning = spanning_parts(instances)
+    if spanning:
+        instances[:] = [i for i in instances if id(i) not in spanning]
+
+
+def spanning_parts(instances: list[Instance]) -> set[int]:
+    """Part detections one camera saw as one piece that other views split into several stacked parts (two
+    drawers read as one): a single-view part whose height range holds the centres of two other parts of
+    the same parent. Their box would only blur the real parts' levels and openings, so they are dropped."""
+    out: set[int] = set()
+    parts = [i for i in instances if i.label.parent is not None and is_part_category(i.label.category)]
+    for p in parts:
+        if p.views > 1:
+            continue
+        inside = [
+            q
+            for q in parts
+            if q is not p
+            and q.label.parent == p.label.parent
+            and p.aabb_min[2] - 0.005 <= q.center[2] <= p.aabb_max[2] + 0.005
+            and q.size[2] < 0.75 * p.size[2]
+        ]
+        if len(inside) >= 2:
+            out.add(id(p))
+    return out
 
 
 # ------------------------------------------------------------------ identities across time

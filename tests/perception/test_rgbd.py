@@ -201,3 +201,32 @@ def test_overlapping_detections_go_to_the_higher_score(rendered):
     assert frame.labels[frame.masks[160, 160]].category == "cube"
     assert frame.labels[frame.masks[240, 240]].category == "bowl"
     assert all(lab.id is None for lab in frame.labels.values())
+
+
+def _inst(key: str, category: str, lo, hi, parent: str | None = None, views: int = 1):
+    from gsr.perception.frame import InstanceLabel
+    from gsr.perception.geometry import Instance, fit_boxes
+
+    rng = np.random.default_rng(0)
+    pts = rng.uniform(lo, hi, size=(400, 3))
+    inst = Instance(
+        key, InstanceLabel(category=category, parent=parent), pts, np.full((400, 3), 128, np.uint8), views
+    )
+    fit_boxes(inst)
+    return inst
+
+
+def test_ground_pieces_of_one_view_are_one_ground_and_spanning_parts_are_dropped():
+    from gsr.perception.geometry import GeometryParams
+    from gsr.perception.track import fuse_views, spanning_parts
+
+    left = _inst("table_f0m0", "table", (0.0, -0.5, -0.01), (0.4, 0.0, 0.0))
+    right = _inst("table_f0m1", "table", (0.0, 0.05, -0.01), (0.4, 0.5, 0.0))
+    shelf = _inst("table_f1m0", "table", (0.0, -0.5, 0.3), (0.4, 0.5, 0.31))  # another height: another ground
+    fused = fuse_views([left, right, shelf], GeometryParams(voxel=0))
+    assert sorted(len(f.points) for f in fused) == [400, 800]
+    low = _inst("d1", "drawer", (0.0, 0.0, 0.0), (0.1, 0.3, 0.1), parent="cab", views=2)
+    high = _inst("d2", "drawer", (0.0, 0.0, 0.11), (0.1, 0.3, 0.2), parent="cab", views=2)
+    both = _inst("d3", "drawer", (0.0, 0.0, 0.0), (0.1, 0.3, 0.2), parent="cab")
+    assert spanning_parts([low, high, both]) == {id(both)}
+    assert spanning_parts([low, both]) == set()  # one part inside is no evidence of a merge
