@@ -302,9 +302,15 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         # (an object put "on the table" must not land "on" a region by accident)
         tlo, thi = world.body_aabb(world.table_body)
         ee = world.robot.ee_pose()[0]
-        lo = np.array([max(tlo[0] + 0.05, ee[0] - 0.25), max(tlo[1] + 0.05, ee[1] - 0.25), thi[2]])
-        hi = np.array([min(thi[0] - 0.05, ee[0] + 0.25), min(thi[1] - 0.05, ee[1] + 0.25), thi[2]])
-        return _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True)
+        # near the hand first; the whole table when nothing near it is free (beside a cabinet whose
+        # drawer is open over the table)
+        for reach in (0.25, 2.0):
+            lo = np.array([max(tlo[0] + 0.05, ee[0] - reach), max(tlo[1] + 0.05, ee[1] - reach), thi[2]])
+            hi = np.array([min(thi[0] - 0.05, ee[0] + reach), min(thi[1] - 0.05, ee[1] + reach), thi[2]])
+            spot = _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True)
+            if spot[2] <= thi[2] + 1e-6:
+                break
+        return spot
     lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
     if world.objects[loc.object_id].model.fixed:
         # a fixture's top (stove, rack, cabinet top): a level spot that supports the whole footprint,
@@ -339,6 +345,10 @@ def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple
     if lo[k] >= hi[k]:
         raise SkillError(Failure.BLOCKED, f"{target} is not open far enough to put anything in")
     return lo, hi
+
+
+#: Room kept between an object set on the bare table and a fixture's parts (m): the hand's half width.
+FIXTURE_HAND_ROOM = 0.05
 
 
 def _free_spot(
@@ -380,7 +390,17 @@ def _free_spot(
         ylo = yhi = (lo[1] + hi[1]) / 2
     others = []
     for o in world.objects.values():
-        if o.id == obj.id or o.model.fixed:
+        if o.id == obj.id:
+            continue
+        if o.model.fixed:
+            if avoid_regions:
+                # the bare table: a fixture's parts (an open drawer over the table, the carcass) are
+                # obstacles too, with room for the hand beside them
+                for link in range(-1, p.getNumJoints(o.body, physicsClientId=world.client)):
+                    alo, ahi = world.aabb(o.body, link)
+                    if ahi[2] > z + 0.005:
+                        half = (ahi[:2] - alo[:2]) / 2 + FIXTURE_HAND_ROOM
+                        others.append(((alo[:2] + ahi[:2]) / 2, half, float(ahi[2])))
             continue
         alo, ahi = world.body_aabb(o.body)
         if ahi[2] > z - 0.005 and alo[2] < z + 0.15 and support_of(world, o.id) != ("held", ""):
