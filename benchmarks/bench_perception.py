@@ -1,7 +1,8 @@
 """Perception speed and accuracy: frames/s of ``perceive`` alone, and F1 against depth noise / mask erosion.
 
 Run: ``python benchmarks/bench_perception.py [--frames 30] [--scenes 30] [--seed 0] [--json]``
-(``--only fps`` or ``--only noise`` for one part). Frames are 640x480 renders of random scenes (both
+(``--only fps`` or ``--only noise`` for one part; ``--only detect [--weights DIR]`` times the no-oracle
+detector: segmentation, detection and the whole no-oracle pipeline per frame over 4-camera scenes). Frames are 640x480 renders of random scenes (both
 worlds, see benchmarks/perception_eval.py); they are rendered first, then each is perceived
 ``--repeats`` times and the median time per frame is kept, so rendering never enters the timing. The
 machine's load average is printed with the figures because the development machine is shared.
@@ -62,6 +63,59 @@ def bench_fps(frames: int, seed: int, repeats: int, world: str) -> dict[str, Any
     }
 
 
+def bench_detect(scenes: int, seed: int, repeats: int, weights: str | None = None) -> dict[str, Any]:
+    """The no-oracle detector (gsr.perception.detect) per 640x480 frame: segmentation alone, detection
+    (segmentation + recognition) and the whole no-oracle pipeline (detection + fusion + relations) over the
+    4 default views of ``scenes`` skills-world scenes. Median of ``repeats`` per frame, then the mean."""
+    from gsr.perception.detect import load_detector
+    from gsr.perception.rgbd import View, perceive_rgbd
+
+    detector = load_detector(weights)
+    seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence([seed, 5]).spawn(scenes)]
+    scenes_frames = [skills_scene(s, 4, 640, 480)[0] for s in seeds]
+    f0 = scenes_frames[0][0]
+    detector.detect(f0.rgb, f0.depth, f0.camera)  # one-off imports
+    load_before = os.getloadavg()[0]
+
+    def timed(fn) -> tuple[float, float]:
+        walls, cpus = [], []
+        for _ in range(repeats):
+            start, start_cpu = time.perf_counter(), time.process_time()
+            fn()
+            walls.append(time.perf_counter() - start)
+            cpus.append(time.process_time() - start_cpu)
+        return statistics.median(walls), statistics.median(cpus)
+
+    seg_t, det_t, pipe_t = [], [], []
+    for frames in scenes_frames:
+        for f in frames:
+            seg_t.append(timed(lambda f=f: detector.segments(f.rgb, f.depth, f.camera)))
+            det_t.append(timed(lambda f=f: detector.detect(f.rgb, f.depth, f.camera)))
+        views = [View(rgb=f.rgb, depth=f.depth, camera=f.camera) for f in frames]
+        wall, cpu = timed(lambda views=views: perceive_rgbd(views, detector))
+        pipe_t.append((wall / len(frames), cpu / len(frames)))
+
+    def row(ts: list[tuple[float, float]]) -> dict[str, float]:
+        wall = sum(t[0] for t in ts) / len(ts)
+        cpu = sum(t[1] for t in ts) / len(ts)
+        return {
+            "ms_wall": round(1000 * wall, 1),
+            "ms_cpu": round(1000 * cpu, 1),
+            "fps": round(1 / wall, 1),
+            "fps_cpu": round(1 / cpu, 1),
+        }
+
+    return {
+        "frames": sum(len(f) for f in scenes_frames),
+        "model": "trained" if getattr(detector, "model", None) is not None else "rules (no weights)",
+        "segmentation": row(seg_t),
+        "detection": row(det_t),
+        "pipeline_4_views_per_frame": row(pipe_t),
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
+        "cpus": os.cpu_count(),
+    }
+
+
 def bench_noise(scenes: int, seed: int, world: str) -> list[dict[str, Any]]:
     """Relation F1 and state accuracy for each depth-noise level and mask erosion."""
     rows = []
@@ -109,10 +163,13 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--scenes", type=int, default=30)
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--only", choices=("fps", "noise"), default=None)
+    ap.add_argument("--only", choices=("fps", "noise", "detect"), default=None)
+    ap.add_argument("--weights", default=None, help="detector weights for --only detect (default: shipped)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     out: dict[str, Any] = {}
+    if args.only == "detect":
+        out["detect"] = bench_detect(max(1, args.frames // 4), args.seed, args.repeats, args.weights)
     if args.only in (None, "fps"):
         out["fps"] = [bench_fps(args.frames, args.seed, args.repeats, w) for w in ("procedural", "skills")]
     if args.only in (None, "noise"):
@@ -130,6 +187,17 @@ def main() -> None:
         )
     if "noise" in out:
         print(markdown(out["noise"]))
+    if "detect" in out:
+        d = out["detect"]
+        for part in ("segmentation", "detection", "pipeline_4_views_per_frame"):
+            r = d[part]
+            print(
+                f"{part:>27}: {r['ms_cpu']} ms CPU ({r['fps_cpu']} frames per CPU-second), {r['ms_wall']} ms wall "
+                f"({r['fps']} frames/s) per 640x480 frame"
+            )
+        print(
+            f"{d['frames']} frames, model: {d['model']}; load average {d['load_average']} on {d['cpus']} CPUs"
+        )
 
 
 if __name__ == "__main__":

@@ -166,8 +166,9 @@ def run_training(
     from gsr.perception.train import TrainConfig, evaluate, save_model, train
 
     total = scenes * views
-    merge_frames = max(1, min(total // 3, 240))
-    config = TrainConfig(merge_frames=merge_frames, threads=threads, seed=seed)
+    link_frames = max(1, total // 6)
+    merge_frames = max(1, total // 4)
+    config = TrainConfig(link_frames=link_frames, merge_frames=merge_frames, threads=threads, seed=seed)
     if epochs is not None:
         config = replace(config, epochs=epochs)
     note = (

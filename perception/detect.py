@@ -7,8 +7,9 @@ Contract (used by the no-oracle pipeline):
   ``score``, ``color`` and ``size`` words and free ``attributes``.
 - :class:`Detector` — ``detect(rgb, depth, camera) -> list[Detection]``.
 - :func:`load_detector` — the default detector: geometric segmentation (support-plane removal and
-  edge-aware clustering, gsr.perception.segment) plus the trained model (merging of over-segmented
-  pieces, recognition of category and colour) when its weights are found; without weights, geometry
+  edge-aware clustering, gsr.perception.segment) plus the trained model (object boundaries between
+  neighbouring pixels, merging of over-segmented pieces, recognition of category and colour) when its
+  weights are found; without weights, geometry
   alone with a shape rule for the category (``attributes["category_source"] == "rule"``).
 
 Weights are the ``gsr perceive-train`` output folder (``model.npz`` + ``model.json`` + ``MODEL_CARD.md``);
@@ -35,7 +36,7 @@ from gsr.perception.recognize import (
     size_word,
 )
 from gsr.perception.recognize_parts import Part, split_drawer_fronts
-from gsr.perception.segment import SegmentParams, Segments, segment, upsample
+from gsr.perception.segment import LINK_FEATURE_NAMES, SegmentParams, Segments, segment, upsample
 
 from gsr.errors import GSRError
 
@@ -107,6 +108,12 @@ class Model:
     unknown_threshold: float
     reference_volume: dict[str, float]
     card: dict[str, Any]
+    link: MLP | None = None  # boundary model for neighbouring pixels; None: the segmenter's thresholds
+
+    def link_score(self, feats: np.ndarray) -> np.ndarray:
+        """Probability that an object boundary separates each pair of neighbouring pixels."""
+        assert self.link is not None
+        return 1.0 / (1.0 + np.exp(-self.link(feats)[:, 0]))
 
     def merge_score(self, feats: np.ndarray) -> np.ndarray:
         """Probability that each adjacent pair of pieces is one object."""
@@ -147,7 +154,7 @@ def load_model(path: str | Path) -> Model:
             arrays = {k: z[k] for k in z.files}
     except (ValueError, OSError) as exc:
         raise GSRError(f"{folder / 'model.npz'}: not a readable weights file ({exc})") from None
-    if meta.get("features") != list(FEATURE_NAMES):
+    if meta.get("features") != list(FEATURE_NAMES) or meta.get("link_features") != list(LINK_FEATURE_NAMES):
         raise GSRError(
             f"{folder}: the model was trained on other features; retrain with `gsr perceive-train`"
         )
@@ -160,6 +167,7 @@ def load_model(path: str | Path) -> Model:
             unknown_threshold=float(meta["unknown_threshold"]),
             reference_volume={k: float(v) for k, v in meta.get("reference_volume", {}).items()},
             card=meta,
+            link=_mlp_from(arrays, "link"),
         )
     except KeyError as exc:
         raise GSRError(f"{folder / 'model.json'}: missing field {exc}") from None
@@ -177,8 +185,15 @@ class RGBDDetector:
 
     def segments(self, rgb: np.ndarray, depth: np.ndarray, camera: Camera) -> Segments:
         """The merged segmentation of one frame (strided grid)."""
-        scorer = self.model.merge_score if self.model is not None else None
-        seg, _ = segment(rgb, depth, camera, self.params, merge_scorer=scorer)
+        model = self.model
+        seg, _ = segment(
+            rgb,
+            depth,
+            camera,
+            self.params,
+            merge_scorer=model.merge_score if model is not None else None,
+            link_scorer=model.link_score if model is not None and model.link is not None else None,
+        )
         return seg
 
     def detect(self, rgb: np.ndarray, depth: np.ndarray, camera: Camera) -> list[Detection]:

@@ -64,7 +64,15 @@ def segment_features(seg: Segments, index: int) -> np.ndarray:
     return _features(seg, rows, cols)
 
 
+#: Shape and colour statistics of a large segment are read from at most this many of its pixels.
+MAX_FEATURE_PIXELS = 1500
+
+
 def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    pixels = len(rows)
+    if pixels > MAX_FEATURE_PIXELS:  # an even subsample (deterministic)
+        step = int(np.ceil(pixels / MAX_FEATURE_PIXELS))
+        rows, cols = rows[::step], cols[::step]
     pts = seg.points[rows, cols]
     ok = np.all(np.isfinite(pts), axis=1)
     pts = pts[ok]
@@ -104,7 +112,7 @@ def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     med = np.median(rgb, axis=0)
     cam = float(np.linalg.norm(pts - seg.camera_position, axis=1).mean())
     out[:] = (
-        np.log(n),
+        np.log(pixels * n / len(rows)),
         cam,
         span[1],
         span[0],

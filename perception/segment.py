@@ -9,7 +9,13 @@ Steps (all on a strided pixel grid, vectorised numpy/scipy):
    the support (the table); pixels below it are dropped.
 3. **Over-segmentation** of what stands above the plane: neighbouring pixels are linked unless a depth
    discontinuity (a jump that the neighbouring depth steps do not explain, so slanted surfaces stay whole),
-   a chromaticity edge or a strong brightness edge separates them; connected components of the links.
+   a chromaticity edge or a strong brightness edge separates them; connected components of the links,
+   sealed so that one stray link across a boundary cannot join two objects (the pixels lining the cuts
+   join a component only after the components are formed).
+   A trained link model (``gsr.perception.train``) can take the place of these thresholds: an MLP over
+   each link's local features (:data:`LINK_FEATURE_NAMES`) that says whether an object boundary cuts it,
+   which catches the boundaries the thresholds miss (an open drawer sticking out of its cabinet: same
+   colour, a step of a centimetre).
 4. **Merging**: adjacent segments are merged when a merge scorer says they are one object — a learned
    model (``gsr.perception.train``) when one is loaded, else a documented rule (similar colour and no depth
    jump along most of the shared boundary).
@@ -175,12 +181,38 @@ def fit_support_plane(
     return plane
 
 
+#: Features of a link between two neighbouring pixels (what the learned link model reads).
+LINK_FEATURE_NAMES = (
+    "step_rel",  # |depth step| / depth
+    "jump_rel",  # step not explained by the neighbouring steps (a slanted plane's are equal) / depth
+    "step",  # |depth step| (m)
+    "normal_dot",  # |n1 . n2|
+    "chroma_diff",
+    "bright_diff",
+    "dark",  # either pixel too dark for chromaticity
+    "depth",  # m
+    "up",  # mean |normal z| of the two pixels
+)
+
+#: A link scorer: link features (n, LINK_FEATURE_NAMES) -> probability that an object boundary cuts it.
+LinkScorer = Callable[[np.ndarray], np.ndarray]
+
+
 def _links(
-    z: np.ndarray, rgb: np.ndarray, active: np.ndarray, params: SegmentParams
+    z: np.ndarray,
+    rgb: np.ndarray,
+    normals: np.ndarray,
+    active: np.ndarray,
+    params: SegmentParams,
+    link_scorer: LinkScorer | None = None,
+    samples: list | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Right and down neighbour links among active pixels: (kept_right, kept_down, jump_right, jump_down).
 
-    ``kept`` means no edge separates the pair; ``jump`` marks a depth discontinuity (used by merging)."""
+    ``kept`` means no boundary cuts the pair: decided by ``link_scorer`` (a trained model) when given,
+    else by the thresholds (depth jump, chromaticity or brightness edge). ``jump`` marks a depth
+    discontinuity by the thresholds (a merge feature). With ``samples``, (features, mask) per direction
+    are appended for training."""
     f = rgb.astype(np.float32)
     s = f.sum(axis=-1) + 1e-3
     chroma = f / s[..., None]
@@ -190,19 +222,47 @@ def _links(
     for axis in (1, 0):
         d = np.diff(z, axis=axis)
         n = d.shape[axis]
+        first, second = np.arange(n), np.arange(1, n + 1)
         # the neighbouring steps along the same line: a slanted plane has equal steps, a jump does not
         prev = np.take(d, np.r_[0, np.arange(n - 1)], axis=axis)
         nxt = np.take(d, np.r_[np.arange(1, n), n - 1], axis=axis)
-        zmid = np.take(z, np.arange(n), axis=axis)
+        zmid = np.take(z, first, axis=axis)
         thr = params.depth_edge + params.depth_edge_rel * zmid
         jump = (np.abs(d) > thr) & (np.abs(d - prev) > thr) & (np.abs(d - nxt) > thr)
         jump |= np.abs(d) > 4 * thr  # a large step is a jump even on a steep slope
         dc = np.abs(np.diff(chroma, axis=axis)).sum(axis=-1)
-        either_dark = np.take(dark, np.arange(n), axis=axis) | np.take(dark, np.arange(1, n + 1), axis=axis)
-        color = (dc > params.chroma_edge) & ~either_dark
-        color |= np.abs(np.diff(bright, axis=axis)) > params.intensity_edge
-        both = np.take(active, np.arange(n), axis=axis) & np.take(active, np.arange(1, n + 1), axis=axis)
-        out.append((both & ~jump & ~color, both & jump))
+        db = np.abs(np.diff(bright, axis=axis))
+        either_dark = np.take(dark, first, axis=axis) | np.take(dark, second, axis=axis)
+        both = np.take(active, first, axis=axis) & np.take(active, second, axis=axis)
+        if link_scorer is None and samples is None:
+            color = ((dc > params.chroma_edge) & ~either_dark) | (db > params.intensity_edge)
+            out.append((both & ~jump & ~color, both & jump))
+            continue
+        n1, n2 = np.take(normals, first, axis=axis)[both], np.take(normals, second, axis=axis)[both]
+        zb = np.maximum(zmid[both], 1e-3)
+        step = np.abs(d[both])
+        feats = np.column_stack(
+            (
+                step / zb,
+                np.minimum(np.abs(d - prev)[both], np.abs(d - nxt)[both]) / zb,
+                step,
+                np.abs(np.nan_to_num((n1 * n2).sum(axis=1), nan=1.0)),
+                dc[both],
+                db[both],
+                either_dark[both],
+                zb,
+                np.nan_to_num((np.abs(n1[:, 2]) + np.abs(n2[:, 2])) / 2.0, nan=0.5),
+            )
+        )
+        if samples is not None:
+            samples.append((feats, both))
+        if link_scorer is None:
+            color = ((dc > params.chroma_edge) & ~either_dark) | (db > params.intensity_edge)
+            out.append((both & ~jump & ~color, both & jump))
+            continue
+        kept = np.zeros_like(both)
+        kept[both] = np.asarray(link_scorer(feats)) < 0.5
+        out.append((kept, both & jump))
     (kr, jr), (kd, jd) = out
     return kr, kd, jr, jd
 
@@ -220,6 +280,54 @@ def _components(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.ndarra
     _, comp = connected_components(graph, directed=False)
     comp = comp.reshape(h, w)
     comp = np.where(active, comp, -1)
+    return comp
+
+
+def _boundary_pixels(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.ndarray:
+    """Active pixels with a cut link to an active neighbour (they line every boundary)."""
+    both_r = active[:, :-1] & active[:, 1:]
+    both_d = active[:-1, :] & active[1:, :]
+    cut_r, cut_d = both_r & ~kr, both_d & ~kd
+    edge = np.zeros_like(active)
+    edge[:, :-1] |= cut_r
+    edge[:, 1:] |= cut_r
+    edge[:-1, :] |= cut_d
+    edge[1:, :] |= cut_d
+    return edge
+
+
+def _sealed_components(active: np.ndarray, kr: np.ndarray, kd: np.ndarray, rounds: int = 2) -> np.ndarray:
+    """Components that one stray kept link across a boundary cannot join.
+
+    The pixels lining the cuts are left out, components are formed from the rest, and the lining pixels
+    then join a neighbouring component through their kept links (``rounds`` steps); lining pixels that
+    reach none (thin structures that are all boundary) form components of their own."""
+    edge = _boundary_pixels(active, kr, kd)
+    inner = active & ~edge
+    comp = _components(inner, kr & inner[:, :-1] & inner[:, 1:], kd & inner[:-1, :] & inner[1:, :])
+    for _ in range(rounds):
+        todo = edge & (comp < 0)
+        if not todo.any():
+            break
+        new = comp.copy()
+        # neighbour labels through kept links, in a fixed order (right, left, down, up)
+        src = np.full_like(comp, -1)
+        src[:, :-1] = np.where(kr, comp[:, 1:], -1)
+        new = np.where(todo & (new < 0) & (src >= 0), src, new)
+        src = np.full_like(comp, -1)
+        src[:, 1:] = np.where(kr, comp[:, :-1], -1)
+        new = np.where(todo & (new < 0) & (src >= 0), src, new)
+        src = np.full_like(comp, -1)
+        src[:-1, :] = np.where(kd, comp[1:, :], -1)
+        new = np.where(todo & (new < 0) & (src >= 0), src, new)
+        src = np.full_like(comp, -1)
+        src[1:, :] = np.where(kd, comp[:-1, :], -1)
+        new = np.where(todo & (new < 0) & (src >= 0), src, new)
+        comp = new
+    rest = active & (comp < 0)
+    if rest.any():
+        extra = _components(rest, kr & rest[:, :-1] & rest[:, 1:], kd & rest[:-1, :] & rest[1:, :])
+        comp = np.where(rest, extra + comp.max() + 1, comp)
     return comp
 
 
@@ -314,10 +422,10 @@ def segment_stats(seg: Segments) -> dict[str, np.ndarray]:
     centroid = np.column_stack([np.bincount(ids, np.nan_to_num(pts[:, k]), n) for k in range(3)])
     centroid /= size[:, None]
     hgt = np.nan_to_num(seg.height.reshape(-1)[m])
-    bottom = np.full(n, np.inf)
-    top = np.full(n, -np.inf)
-    np.minimum.at(bottom, ids, hgt)
-    np.maximum.at(top, ids, hgt)
+    order = np.argsort(ids, kind="stable")
+    starts = np.searchsorted(ids[order], np.arange(n))
+    bottom = np.minimum.reduceat(hgt[order], starts)
+    top = np.maximum.reduceat(hgt[order], starts)
     return {
         "size": size,
         "chroma": chroma,
@@ -365,11 +473,15 @@ def segment(
     params: SegmentParams | None = None,
     merge_scorer: MergeScorer | None = None,
     merge: bool = True,
+    link_scorer: LinkScorer | None = None,
+    link_samples: list | None = None,
 ) -> tuple[Segments, tuple[np.ndarray, np.ndarray]]:
     """Segment one frame; returns the segments and the over-segmentation's (pairs, features) before merging.
 
     ``merge_scorer`` maps pair features to merge probabilities (a trained model); None uses
     :func:`rule_merge_score`. With ``merge=False`` the over-segmentation is returned unmerged (training).
+    ``link_scorer`` decides which neighbouring pixels a boundary separates (a trained model; None: the
+    thresholds of ``params``); ``link_samples`` collects link features for training (see :func:`_links`).
     """
     params = params or SegmentParams()
     rgb, depth = check_inputs(rgb, depth, camera)
@@ -392,8 +504,8 @@ def segment(
         height = np.where(valid, points[..., 2] - np.nanmin(np.where(valid, points[..., 2], np.inf)), np.nan)
         support = np.zeros_like(valid)
         active = valid
-    kr, kd, jr, jd = _links(z, small_rgb, active, params)
-    labels = _relabel(_components(active, kr, kd), params.min_pixels)
+    kr, kd, jr, jd = _links(z, small_rgb, normals, active, params, link_scorer, link_samples)
+    labels = _relabel(_sealed_components(active, kr, kd), params.min_pixels)
     seg = Segments(
         stride=s,
         shape=(camera.height, camera.width),

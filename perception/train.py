@@ -1,6 +1,10 @@
 """Training of the no-oracle detector's learned parts from labelled frames, and its held-out evaluation.
 
-Two small models (torch on the CPU, exported as numpy arrays for :mod:`gsr.perception.detect`):
+Three small models (torch on the CPU, exported as numpy arrays for :mod:`gsr.perception.detect`):
+
+- **link** — an MLP over the local features of two neighbouring pixels
+  (:data:`gsr.perception.segment.LINK_FEATURE_NAMES`: depth step, unexplained jump, normals, colour) that
+  says whether an object boundary separates them; it replaces the segmenter's fixed thresholds.
 
 - **merge** — an MLP over the features of two adjacent pieces of the geometric over-segmentation
   (:data:`gsr.perception.segment.PAIR_FEATURE_NAMES`) that says whether they are one object. It decides
@@ -31,7 +35,7 @@ import numpy as np
 from gsr.perception.detect import MLP, Model, RGBDDetector, load_model
 from gsr.perception.frame import Frame
 from gsr.perception.recognize import FEATURE_NAMES, NONE, all_features
-from gsr.perception.segment import PAIR_FEATURE_NAMES, SegmentParams, Segments, segment
+from gsr.perception.segment import LINK_FEATURE_NAMES, PAIR_FEATURE_NAMES, SegmentParams, Segments, segment
 
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
@@ -44,7 +48,9 @@ MIN_TRUTH_PIXELS = 25
 class TrainConfig:
     """Sizes of the data and the models (defaults: the shipped model's recipe)."""
 
-    merge_frames: int = 240  # the first frames train the merge model
+    link_frames: int = 150  # the first frames train the link (boundary) model
+    merge_frames: int = 240  # the next ones the merge model, the rest recognition
+    link_samples: int = 3000  # links sampled per frame (a quarter of them boundaries, when there are)
     epochs: int = 600
     hidden: int = 96
     merge_hidden: int = 32
@@ -104,9 +110,46 @@ class Samples:
     seconds: float = 0.0
 
 
-def add_pairs(samples: Samples, frame: Frame, params: SegmentParams) -> None:
+def add_links(
+    xs: list[np.ndarray], ys: list[np.ndarray], frame: Frame, config: TrainConfig, rng: np.random.Generator
+) -> None:
+    """Sample a frame's pixel links: features and whether two different truth instances meet there."""
+    found: list = []
+    seg, _ = segment(frame.rgb, frame.depth, frame.camera, config.params, merge=False, link_samples=found)
+    truth = _strided_truth(frame, seg.stride)
+    if len(found) != 2:
+        return
+    (fr, br), (fd, bd) = found
+    cut = np.concatenate(((truth[:, :-1] != truth[:, 1:])[br], (truth[:-1, :] != truth[1:, :])[bd]))
+    feats = np.concatenate((fr, fd))
+    pos, neg = np.flatnonzero(cut), np.flatnonzero(~cut)
+    k = config.link_samples // 4
+    take = np.concatenate(
+        (
+            rng.choice(pos, min(k, len(pos)), replace=False),
+            rng.choice(neg, min(config.link_samples - k, len(neg)), replace=False),
+        )
+    )
+    xs.append(feats[take])
+    ys.append(cut[take].astype(np.float32))
+
+
+def _train_link(
+    xs: list[np.ndarray], ys: list[np.ndarray], config: TrainConfig, log: Callable[[str], None]
+) -> MLP:
+    x, y = np.concatenate(xs), np.concatenate(ys)
+    log(f"link: {len(y)} pixel links, {float(y.mean()):.3f} of them boundaries")
+    layers, mean, std = _fit(x, [y], [1], 16, config, binary=True)
+    return MLP(layers, mean, std)
+
+
+def add_pairs(
+    samples: Samples, frame: Frame, params: SegmentParams, link_scorer: Callable | None = None
+) -> None:
     """Over-segment a frame and record each adjacent pair's features and whether it is one object."""
-    seg, (pairs, feats) = segment(frame.rgb, frame.depth, frame.camera, params, merge=False)
+    seg, (pairs, feats) = segment(
+        frame.rgb, frame.depth, frame.camera, params, merge=False, link_scorer=link_scorer
+    )
     if len(pairs) == 0:
         return
     major, _ = majority(seg.labels, _strided_truth(frame, seg.stride), seg.count)
@@ -198,12 +241,23 @@ def train(
     log = log or (lambda _m: None)
     start_cpu, start = time.process_time(), time.perf_counter()
     merge_samples, seg_samples = Samples(), Samples()
+    link_x: list[np.ndarray] = []
+    link_y: list[np.ndarray] = []
+    link_model: MLP | None = None
     merge_model: MLP | None = None
+    rng = np.random.default_rng(config.seed)
     n = 0
     for frame in frames:
         n += 1
-        if n <= config.merge_frames:
-            add_pairs(merge_samples, frame, config.params)
+        if n <= config.link_frames:
+            add_links(link_x, link_y, frame, config, rng)
+            continue
+        if link_model is None:
+            if not link_y:
+                raise GSRError("perceive-train: the frames gave no pixel links (empty scenes?)")
+            link_model = _train_link(link_x, link_y, config, log)
+        if n <= config.link_frames + config.merge_frames:
+            add_pairs(merge_samples, frame, config.params, _scorer(link_model))
             if n % 50 == 0:
                 log(f"frames {n}: {sum(len(y) for y in merge_samples.pair_y)} pairs")
             continue
@@ -219,7 +273,8 @@ def train(
             log(f"frames {n}: {len(seg_samples.seg_cat)} segments")
     if merge_model is None:
         raise GSRError(
-            f"perceive-train: all {n} frames went to the merge model (merge_frames={config.merge_frames}); "
+            f"perceive-train: all {n} frames went to the link and merge models (link_frames="
+            f"{config.link_frames}, merge_frames={config.merge_frames}); "
             "give more frames for recognition"
         )
     if len(seg_samples.seg_cat) < 10:
@@ -238,7 +293,7 @@ def train(
         x[~val], [y_cat[~val], y_col_train[~val]], [len(categories), len(colors)], config.hidden, config
     )
     recog = MLP(layers, mean, std)
-    probe = Model(merge_model, recog, categories, colors, 0.0, {}, {})
+    probe = Model(merge_model, recog, categories, colors, 0.0, {}, {}, link_model)
     p_cat, p_col = probe.classify(x[val])
     pred = p_cat.argmax(axis=1)
     correct = pred == y_cat[val]
@@ -256,13 +311,16 @@ def train(
     card = {
         "features": list(FEATURE_NAMES),
         "pair_features": list(PAIR_FEATURE_NAMES),
+        "link_features": list(LINK_FEATURE_NAMES),
         "categories": categories,
         "colors": colors,
         "unknown_threshold": round(threshold, 4),
         "reference_volume": ref,
         "training": {
             "frames": n,
-            "merge_frames": min(n, config.merge_frames),
+            "link_frames": config.link_frames,
+            "link_samples": int(sum(len(y) for y in link_y)),
+            "merge_frames": config.merge_frames,
             "pairs": int(sum(len(y) for y in merge_samples.pair_y)),
             "segments": len(x),
             "segments_per_category": counts,
@@ -281,7 +339,7 @@ def train(
         },
     }
     log(f"validation: category accuracy {card['validation']['category_accuracy']}, threshold {threshold:.3f}")
-    return Model(merge_model, recog, categories, colors, threshold, ref, card)
+    return Model(merge_model, recog, categories, colors, threshold, ref, card, link_model)
 
 
 def _scorer(mlp: MLP) -> Callable[[np.ndarray], np.ndarray]:
@@ -307,6 +365,8 @@ def save_model(model: Model, out: str | Path, heldout: dict[str, Any] | None = N
     except OSError as exc:
         raise GSRError(f"{folder}: cannot create the output folder ({exc.strerror})") from None
     arrays = {**_arrays("merge", model.merge), **_arrays("recognize", model.recognize)}
+    if model.link is not None:
+        arrays.update(_arrays("link", model.link))
     fd, tmp = tempfile.mkstemp(dir=folder, suffix=".npz.tmp")
     os.close(fd)
     try:
@@ -338,9 +398,10 @@ def model_card(meta: dict[str, Any]) -> str:
         "",
         tr.get("data") or "(frames given by the caller)",
         "",
-        f"- frames: {tr['frames']} ({tr['merge_frames']} for the merge model, the rest for recognition)",
-        f"- adjacent piece pairs: {tr['pairs']}; segments: {tr['segments']}",
-        f"- MLPs: merge {len(PAIR_FEATURE_NAMES)}-32-32-1, recognition {len(FEATURE_NAMES)}-"
+        f"- frames: {tr['frames']} (the first {tr['link_frames']} for the link model, the next "
+        f"{tr['merge_frames']} for the merge model, the rest for recognition)",
+        f"- pixel links: {tr['link_samples']}; adjacent piece pairs: {tr['pairs']}; segments: {tr['segments']}",
+        f"- MLPs: link {len(LINK_FEATURE_NAMES)}-16-16-1, merge {len(PAIR_FEATURE_NAMES)}-32-32-1, recognition {len(FEATURE_NAMES)}-"
         f"{tr['hidden']}-{tr['hidden']}-({len(meta['categories'])} categories + {len(meta['colors'])} colours); "
         f"{tr['epochs']} full-batch AdamW epochs, seed {tr['seed']}",
         f"- cost: {tr['cpu_seconds']} CPU-s, {tr['wall_seconds']} s wall ({tr['threads']} torch thread(s))",

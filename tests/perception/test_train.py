@@ -33,7 +33,7 @@ def views():
 
 @pytest.fixture(scope="module")
 def tiny(views):
-    config = TrainConfig(merge_frames=3, epochs=250, hidden=32, threads=1)
+    config = TrainConfig(link_frames=2, merge_frames=2, epochs=250, hidden=32, threads=1)
     return train(iter(views), config)
 
 
@@ -97,4 +97,4 @@ def test_broken_model_folders_are_clear_errors(tiny, tmp_path):
 
 def test_training_needs_frames_for_recognition(views):
     with pytest.raises(GSRError, match="more frames"):
-        train(iter(views[:2]), TrainConfig(merge_frames=5, epochs=5))
+        train(iter(views[:2]), TrainConfig(link_frames=1, merge_frames=5, epochs=5))
