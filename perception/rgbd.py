@@ -87,9 +87,11 @@ def frame_from_detections(view: View, detections: Sequence[Any]) -> Frame:
             category = "unknown"
         masks[mask] = k
         color = det.color if isinstance(det.color, str) and det.color else None
-        labels[k] = InstanceLabel(
-            category=category, color=color, attributes={"confidence": round(float(det.score), 3)}
-        )
+        attrs: dict[str, Any] = {"confidence": round(float(det.score), 3)}
+        parent = (getattr(det, "attributes", None) or {}).get("parent_index")
+        if isinstance(parent, int) and not isinstance(parent, bool) and 0 <= parent < len(detections):
+            attrs["parent_detection"] = parent  # the detector's part -> object link (mask ids = indices)
+        labels[k] = InstanceLabel(category=category, color=color, attributes=attrs)
     present = set(np.unique(masks[masks >= 0]).tolist())
     labels = {k: v for k, v in labels.items() if k in present}
     return Frame(rgb=view.rgb, depth=view.depth, masks=masks, camera=view.camera, labels=labels)

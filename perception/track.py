@@ -187,9 +187,28 @@ def _vote(group: list[Instance], key: str) -> str | None:
     return max(sorted(weights), key=lambda v: weights[v]) if weights else None
 
 
+#: Helper label attributes (provenance for parent links); removed before nodes are made.
+MEMBERS, PARENT_MEMBERS, PARENT_DETECTION = "_members", "_parent_members", "parent_detection"
+
+
+def _provenance(group: list[Instance]) -> dict[str, tuple[str, ...]]:
+    """The detections (``f<view>m<mask>``) a fused instance is made of, and those its parts named as parent."""
+    members, parents = [], []
+    for g in group:
+        m = _VIEW_KEY.search(g.key)
+        tag = g.key[m.start() + 1 :] if m else g.key
+        members.append(tag)
+        p = g.label.attributes.get(PARENT_DETECTION)
+        if isinstance(p, int) and not isinstance(p, bool) and m:
+            parents.append(f"f{m.group(1)}m{p}")
+    return {MEMBERS: tuple(members), PARENT_MEMBERS: tuple(parents)}
+
+
 def _merge_group(group: list[Instance], params: GeometryParams) -> Instance | None:
     if len(group) == 1:
-        return group[0]
+        g = group[0]
+        g.label = dataclasses.replace(g.label, attributes={**g.label.attributes, **_provenance(group)})
+        return g
     base = group[0]
     category = _vote(group, "category") or base.label.category
     color = _vote(group, "color")
@@ -198,7 +217,7 @@ def _merge_group(group: list[Instance], params: GeometryParams) -> Instance | No
         for s in (g.label.attributes.get("confidence") for g in group)
         if isinstance(s, int | float) and not isinstance(s, bool)
     ]
-    attrs = dict(base.label.attributes)
+    attrs = {**base.label.attributes, **_provenance(group)}
     if scores:
         attrs["confidence"] = round(max(scores), 3)
     label = dataclasses.replace(base.label, category=category, color=color, attributes=attrs)
@@ -229,10 +248,17 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
         and i.label.category != UNKNOWN
     ]
     counts: dict[tuple[str, str], int] = {}
+    by_member = {m: i for i in objects for m in i.label.attributes.get(MEMBERS, ())}
     for part in instances:
         if part.label.id is not None or part.label.parent is not None:
             continue
         if not is_part_category(part.label.category):
+            continue
+        # the detector's own link (its parent's detection in the same view), by majority over the views
+        named = [by_member[m] for m in part.label.attributes.get(PARENT_MEMBERS, ()) if m in by_member]
+        if named:
+            best = max(named, key=lambda o: (named.count(o), float(o.size.prod())))
+            _adopt(part, best, counts)
             continue
         best, share = None, PART_IN_PARENT
         for obj in objects:
@@ -242,14 +268,22 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
             s = _box_contains_share(part, grown)
             if s > share or (best is not None and s == share and obj.size.prod() > best.size.prod()):
                 best, share = obj, s
-        if best is None:
-            continue
-        k = counts[(best.key, part.label.category)] = counts.get((best.key, part.label.category), 0) + 1
-        part.label = dataclasses.replace(part.label, parent=best.key)
-        part.key = f"{best.key}/{part.label.category}_{k}"
+        if best is not None:
+            _adopt(part, best, counts)
     spanning = spanning_parts(instances)
     if spanning:
         instances[:] = [i for i in instances if id(i) not in spanning]
+    for inst in instances:  # provenance was only needed here
+        attrs = inst.label.attributes
+        if any(k in attrs for k in (MEMBERS, PARENT_MEMBERS, PARENT_DETECTION)):
+            kept = {k: v for k, v in attrs.items() if k not in (MEMBERS, PARENT_MEMBERS, PARENT_DETECTION)}
+            inst.label = dataclasses.replace(inst.label, attributes=kept)
+
+
+def _adopt(part: Instance, parent: Instance, counts: dict[tuple[str, str], int]) -> None:
+    k = counts[(parent.key, part.label.category)] = counts.get((parent.key, part.label.category), 0) + 1
+    part.label = dataclasses.replace(part.label, parent=parent.key)
+    part.key = f"{parent.key}/{part.label.category}_{k}"
 
 
 def spanning_parts(instances: list[Instance]) -> set[int]:

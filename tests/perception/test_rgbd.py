@@ -230,3 +230,23 @@ def test_ground_pieces_of_one_view_are_one_ground_and_spanning_parts_are_dropped
     both = _inst("d3", "drawer", (0.0, 0.0, 0.0), (0.1, 0.3, 0.2), parent="cab")
     assert spanning_parts([low, high, both]) == {id(both)}
     assert spanning_parts([low, both]) == set()  # one part inside is no evidence of a merge
+
+
+def test_a_part_follows_the_detectors_parent_link_over_the_box_rule():
+    import dataclasses
+
+    from gsr.perception.geometry import GeometryParams
+    from gsr.perception.track import assign_parts, fuse_views
+
+    cabinet = _inst("cabinet_f0m0", "cabinet", (0.0, 0.0, 0.0), (0.3, 0.4, 0.4))
+    big = _inst("cabinet_f0m1", "cabinet", (-0.1, -0.1, 0.0), (0.5, 0.6, 0.5))  # holds the drawer's box too
+    drawer = _inst("drawer_f0m2", "drawer", (0.25, 0.05, 0.1), (0.3, 0.35, 0.2))
+    drawer.label = dataclasses.replace(drawer.label, parent=None, attributes={"parent_detection": 0})
+    fused = fuse_views([cabinet, big, drawer], GeometryParams(voxel=0))
+    assign_parts(fused)
+    part = next(i for i in fused if i.label.category == "drawer")
+    owner = next(
+        i for i in fused if len(i.points) == 400 and i.label.category == "cabinet" and i.aabb_max[2] < 0.45
+    )
+    assert part.label.parent == owner.key and part.key == f"{owner.key}/drawer_1"
+    assert all(not k.startswith("_") and k != "parent_detection" for i in fused for k in i.label.attributes)
