@@ -1,9 +1,9 @@
 """How much a ``gsr solve`` costs with the grounder backend: planner calls, prompts built, CPU per solve.
 
-    python benchmarks/bench_solve.py [--tasks 5] [--repeat 3]
+    python benchmarks/bench_solve.py [--tasks 5] [--repeat 3] [--steps N] [--suite gsr-bench-gen|rlbench|...]
 
-Picks the first generated GSR-Bench tasks (gsr-bench-gen, seed 0) that the grounder solves in 6 or more
-steps, counts ``plan_graph`` calls and prompts built during one solve, and times repeated solves (wall and
+Picks the first tasks of a suite (default: the generated GSR-Bench tasks, gsr-bench-gen, seed 0) that the grounder solves in 6 or more
+steps (exactly N with ``--steps N``), counts ``plan_graph`` calls and prompts built during one solve, and times repeated solves (wall and
 CPU time, medians: the machine may be shared, so CPU is the figure to compare). Figures: docs/performance.md (Reasoner).
 """
 
@@ -25,6 +25,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tasks", type=int, default=5)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--suite", default="gsr-bench-gen", help="task suite (seed 0)")
+    ap.add_argument("--steps", type=int, default=None, help="only tasks solved in exactly this many steps")
     args = ap.parse_args()
 
     calls = {"plan": 0, "prompt": 0}
@@ -39,14 +41,15 @@ def main() -> None:
         return real_prompt(*a, **k)
 
     picked = []
-    for task in get_suite("gsr-bench-gen").tasks(None, 0):
+    for task in get_suite(args.suite).tasks(None, 0):
         calls.update(plan=0, prompt=0)
         with (
             mock.patch.object(plan_api, "plan_graph", counting_plan),
             mock.patch.object(loop, "build_prompt", counting_prompt),
         ):
             result = solve(task.initial, task.instruction)
-        if result.status == "solved" and len(result.steps) >= 6:
+        wanted = len(result.steps) == args.steps if args.steps else len(result.steps) >= 6
+        if result.status == "solved" and wanted:
             picked.append((task, len(result.steps), dict(calls)))
         if len(picked) == args.tasks:
             break
