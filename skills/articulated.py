@@ -389,3 +389,55 @@ def push(world: World, m: Motion, node_id: str, to: str) -> dict | None:
     if got != ("on", to):
         raise SkillError(Failure.NOT_ACHIEVED, f"{node_id} ended {got}, not on {to}")
     return {"support": f"on {to}"}
+
+
+def roofed_opening(world: World, target: str, obj: SimObject) -> tuple[np.ndarray, np.ndarray] | None:
+    """For a container whose interior has a roof (a microwave): ``(staging spot, inward direction)``,
+    where the held ``obj`` is set down on the table in front of the opening (its bottom centre) and the
+    way it is then pushed in; None for containers open from above (or when the staging spot is taken).
+
+    A hand coming from above cannot reach under a roof, so the object is set down outside and slid in.
+    The opening is the model's front (local -x), where doors open.
+    """
+    import pybullet as p
+
+    if target not in world.objects:
+        return None
+    host = world.objects[target]
+    interior = host.model.interiors.get("")
+    if interior is None:
+        return None
+    link = host.links[interior.link]
+    centre = world.to_world(host.body, link, interior.center)
+    top = centre[2] + interior.size[2] / 2
+    hit = p.rayTest((centre[0], centre[1], top + 0.3), tuple(centre), physicsClientId=world.client)[0]
+    if hit[0] != host.body or hit[3][2] < top - 0.02:
+        return None  # open from above: nothing over the interior
+    yaw = world.yaw_of(host.body, link)
+    inward = np.array([math.cos(yaw), math.sin(yaw)])
+    front = centre[:2] - inward * interior.size[0] / 2
+    lo, hi = world.body_aabb(obj.body)
+    half = float(abs(inward[0]) * (hi[0] - lo[0]) / 2 + abs(inward[1]) * (hi[1] - lo[1]) / 2)
+    spot = front - inward * (half + 0.035)
+    z = world.layout.table_height
+    # the staging spot must be free table: nothing there but the table
+    ray = p.rayTest((spot[0], spot[1], z + 0.3), (spot[0], spot[1], z - 0.01), physicsClientId=world.client)[
+        0
+    ]
+    if ray[0] != world.table_body:
+        return None
+    return np.array([spot[0], spot[1], z]), inward
+
+
+def push_in(world: World, m: Motion, obj: SimObject, inward: np.ndarray, target: str) -> None:
+    """Slide ``obj`` (standing in front of ``target``'s opening) in along ``inward`` until most of it is
+    inside; the hand stays outside the opening (its wrist would meet the roof)."""
+    host = world.objects[target]
+    interior = host.model.interiors[""]
+    centre = world.to_world(host.body, host.links[interior.link], interior.center)
+    front = centre[:2] - inward * interior.size[0] / 2
+    lo, hi = world.body_aabb(obj.body)
+    half = float(abs(inward[0]) * (hi[0] - lo[0]) / 2 + abs(inward[1]) * (hi[1] - lo[1]) / 2)
+    # all of it past the opening ("in" needs half of it inside; the pushed object lags the hand)
+    goal = front + inward * (half + 0.01)
+    _push_leg(world, m, obj, goal, committed=True)

@@ -10,7 +10,7 @@ import math
 
 from gsr.skills.asset_model import Articulation, AssetModel, GraspSite, Interior
 from gsr.skills.shapes import METAL, WOOD, T, open_box, scale
-from gsr.skills.urdf import RGBA, Joint, Link, Vec, box, cylinder
+from gsr.skills.urdf import RGBA, Joint, Link, Shape, Vec, box, cylinder
 
 
 def make_cabinet(size: Vec | None, rgba: RGBA) -> AssetModel:
@@ -119,7 +119,9 @@ def make_microwave(size: Vec | None, rgba: RGBA) -> AssetModel:
     """A microwave: a cavity, a door hinged on its -y edge (revolute about z) and a power button on top."""
     sx, sy, sz = scale(size, (0.26, 0.36, 0.22))
     shapes = [
-        box((0, 0, T / 2), (sx, sy, T), rgba),
+        # a 2 mm floor with a ramp before the opening: what is set down there slides in over it
+        box((0, 0, 0.001), (sx, sy, 0.002), rgba),
+        Shape("box", (-sx / 2 - 0.02, 0, -0.0032), (0.05, sy - 2 * T, 0.004), rgba, rpy=(0.0, -0.16, 0.0)),
         box((sx / 2 - T / 2, 0, sz / 2), (T, sy, sz), rgba),
         box((0, -sy / 2 + T / 2, sz / 2), (sx, T, sz), rgba),
         box((0, sy / 2 - T / 2, sz / 2), (sx, T, sz), rgba),

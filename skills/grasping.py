@@ -477,8 +477,18 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     # the grasp offset as it is now: where the hand must be for the object's bottom centre to be at spot
     offset = ee - np.array([centre[0], centre[1], lo[2]])
     rot = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
-    packed = packed_spot(world, obj, target, math.atan2(rot[1, 1], rot[0, 1])) if relation == "in" else None
-    if packed is not None:
+    from gsr.skills.articulated import push_in, roofed_opening
+
+    # a container with a roof (a microwave): set the object down before its opening, then slide it in
+    opening = roofed_opening(world, target, obj) if relation == "in" else None
+    packed = (
+        packed_spot(world, obj, target, math.atan2(rot[1, 1], rot[0, 1]))
+        if relation == "in" and opening is None
+        else None
+    )
+    if opening is not None:
+        spot, delta = opening[0], 0.0
+    elif packed is not None:
         # containers: a spot in the container's frame, the wrist turned to line the object up with it
         spot, delta = packed
     else:
@@ -524,3 +534,5 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     m.move_line((np.array([pos[0], pos[1], pos[2] + APPROACH]), quat), check=False)
     m.ignore = set()
     m.step(60)
+    if opening is not None:
+        push_in(world, m, obj, opening[1], target)

@@ -17,8 +17,9 @@ from gsr.skills.world import SimObject, World
 
 #: Room kept free around the held object's footprint (m): the opening fingers and a little play.
 MARGIN = 0.012
-#: Rays meeting the surface at heights this far apart (m) mean it is not level there.
-LEVEL = 0.004
+#: Rays meeting the surface at heights this far apart (m) mean it is not level there (a burner plate
+#: 6 mm proud of a stove still carries a pan; a knob or a rack's rail does not).
+LEVEL = 0.008
 
 
 def _probe_points(c: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -78,6 +79,22 @@ def hand_crowding(world: World, obj: SimObject, z: float, turn: float = 0.0) -> 
     return crowded
 
 
+#: Room kept between a placed object's footprint and a handle or knob of the fixture it stands on (m).
+HANDLE_ROOM = 0.06
+
+
+def _handles(world: World, body: int) -> list[np.ndarray]:
+    """Where the handles and knobs of the object whose body is ``body`` are (x, y)."""
+    host = next((o for o in world.objects.values() if o.body == body), None)
+    if host is None:
+        return []
+    out = []
+    for art in host.model.articulations.values():
+        if art.handle is not None and art.handle.link in host.links:
+            out.append(world.to_world(body, host.links[art.handle.link], art.handle.xyz)[:2])
+    return out
+
+
 def surface_spot(
     world: World,
     obj: SimObject,
@@ -118,7 +135,11 @@ def surface_spot(
     n = len(_probe_points(np.zeros(2), half))
     middle = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     crowded_at = hand_crowding(world, obj, float(lo[2]))
-    good: list[tuple[tuple[int, float, float], np.ndarray, float]] = []
+    # the fixture's own handles and knobs stay free for the hand (a pan set down beside the stove's
+    # knob blocks turning it on)
+    handles = _handles(world, body)
+    reach = float(np.max(half)) + HANDLE_ROOM
+    good: list[tuple[tuple[int, int, float, float], np.ndarray, float]] = []
     for k, c in enumerate(candidates):
         rays = hits[k * n : (k + 1) * n]
         if any(r[0] != body or (links is not None and r[1] not in links) for r in rays):
@@ -127,11 +148,11 @@ def surface_spot(
         if max(zs) - min(zs) > LEVEL:
             continue  # not level under the footprint: a knob, a rail, an edge
         # the hand's whole footprint clear of tall neighbours first (a second moka pot beside the first)
-        crowded = int(crowded_at(c))
+        crowded = (int(crowded_at(c)), int(any(float(np.linalg.norm(c - h)) < reach for h in handles)))
         key = (
-            (crowded, round(float(c[0]), 4), round(abs(float(c[1] - middle[1])), 4))
+            (*crowded, round(float(c[0]), 4), round(abs(float(c[1] - middle[1])), 4))
             if prefer_near
-            else (crowded, round(float(np.linalg.norm(c - middle)), 4), 0.0)
+            else (*crowded, round(float(np.linalg.norm(c - middle)), 4), 0.0)
         )
         good.append((key, c, max(zs)))
     if not good:
