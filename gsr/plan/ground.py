@@ -36,8 +36,10 @@ from gsr.plan.effects import (
 )
 from gsr.plan.intern import axiom_action, ground_goal, intern_task
 from gsr.plan.normalize import (
+    EQUALS,
     Schema,
     normalize_action,
+    split_cases,
 )
 from gsr.plan.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
 from gsr.plan.simplify import ObjectsByType, Simplifier, free_variables
@@ -374,7 +376,11 @@ def _compile(domain: Domain) -> _Compiled:
             return compiled
     # Derived-predicate rules ground like actions that add their head (no deletes, no cost); the
     # interning step turns them into the Task's axioms (see axiom_action).
-    schemas = [normalize_action(a) for a in (*domain.actions.values(), *map(axiom_action, domain.axioms))]
+    schemas = [
+        case
+        for a in (*domain.actions.values(), *map(axiom_action, domain.axioms))
+        for case in split_cases(normalize_action(a))
+    ]
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     # Effect groups need only the fluent predicates (literal splitting, static guards).
     no_objects = Simplifier(ObjectsByType(domain, {}), fluent, ())
@@ -433,6 +439,10 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
     added: dict[str, list[tuple[str, ...]]] = {}  # reached atoms by predicate, in order of arrival
     for a in init:
         _index_atom(index, by_arg, a, added)
+    if any(atom.predicate == EQUALS for s in schemas for atom in s.join):
+        # Equalities of split cases join against (o, o) for every object (never a task atom).
+        for o in sorted(objects.objects):
+            _index_atom(index, by_arg, Atom(EQUALS, (o, o)))
     groups, alternatives, narrow, parts = (
         compiled.groups,
         compiled.alternatives,

@@ -211,6 +211,56 @@ def normalize_action(action: Action) -> Schema:
     )
 
 
+EQUALS = "="  # the join's name for equality: grounding indexes one (o, o) tuple per object
+
+
+def split_cases(schema: Schema) -> list[Schema]:
+    """A schema whose precondition is a case analysis, a top-level ``(or (and (= ?d up) ... (inc
+    ?y ?y2)) (and (= ?d down) ...) ...)``, becomes one schema per case (FD's translator splits every
+    disjunction the same way), so each case's atoms and equalities join like the schema's own.
+
+    The equalities become join atoms of the virtual predicate ``=`` (variables bound together, a
+    variable bound to a constant). On IPC folding's second pass (seven parameters over 23
+    coordinates) this lists a few thousand bindings instead of millions. Only disjunctions in
+    which every case is a conjunction holding an equality are split: other disjunctions (pick's
+    ``(or (on ?o ?from) (in ?o ?from))``) keep their own join (see gsr.plan.ground).
+    """
+    parts = _flatten_and(schema.residual)
+    for k, part in enumerate(parts):
+        if not isinstance(part, Or) or not part.parts:
+            continue
+        cases = [_flatten_and(case) for case in part.parts]
+        if not all(any(isinstance(q, Equals) for q in case) for case in cases):
+            continue
+        rest = parts[:k] + parts[k + 1 :]
+        out = []
+        for case in cases:
+            join = list(schema.join)
+            residual = list(rest)
+            for q in case:
+                if isinstance(q, Atom):
+                    join.append(q)
+                elif isinstance(q, Equals):
+                    join.append(Atom(EQUALS, (q.left, q.right)))
+                else:
+                    residual.append(q)
+            out.extend(
+                split_cases(
+                    Schema(
+                        schema.name,
+                        schema.params,
+                        schema.extra,
+                        tuple(join),
+                        And(tuple(residual)) if residual else TRUE,
+                        schema.effects,
+                        schema.costs,
+                    )
+                )
+            )
+        return out
+    return [schema]
+
+
 # ------------------------------------------------------------------ ground simplification
 
 
