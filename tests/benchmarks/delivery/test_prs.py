@@ -410,3 +410,18 @@ def test_prs_dev_requests_paraphrased_parse_alike(shared_data: Path) -> None:
             and set(a.dest_rooms) == set(b.dest_rooms)
         )
     assert same >= 0.95 * total, f"{same} / {total}"
+
+
+def test_task_on_an_uncalibrated_floor_fails_with_a_reason(folder: Path, tmp_path: Path) -> None:
+    """An object and person below every calibrated floor (an unregistered basement): that task fails with
+    its reason, the others run."""
+    data = json.loads((folder / "delivery_tasks_dev.json").read_text())
+    data["t2"]["target_object_name"] = data["t2"]["target_object_type"] + "_9"  # an object no other task has
+    data["t2"]["target_object_pos"]["y"] = -20.0
+    data["t2"]["npc_position"]["y"] = -20.0
+    f = tmp_path / "tasks.json"
+    f.write_text(json.dumps(data))
+    assert prs_command(folder, f, tmp_path / "out") == 0
+    recs = {r["task_id"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["tasks"]}
+    assert not recs["t2"]["success"] and recs["t2"]["failure_reason"]
+    assert sum(r["success"] for r in recs.values()) >= 38
