@@ -24,10 +24,10 @@ if TYPE_CHECKING:
 # the Python h_add is fast enough and numba's import (~0.3 s) would dominate. Environment variable
 # GSR_PLAN_JIT: "0" never, "1" always (when numba is installed), unset: by size.
 MIN_EDGES = 20_000
-# CPU seconds of h_FF in Python after which a smaller relaxation switches to the compiled path:
-# about what importing numba costs (~0.8 s), so a search that switches spends at most ~2x the
-# better of the two choices on heuristic evaluation (small searches never pay the import).
-JIT_AFTER = 1.0
+# Seconds of h_FF in Python after which a smaller relaxation switches to the compiled path (numba's
+# import costs ~0.8 s CPU). On the dev sets a search that has taken 0.5 s of h_FF nearly always goes
+# on for much longer (satellite p19: 857 evaluations at ~2.6 ms); small searches never pay the import.
+JIT_AFTER = 0.5
 UNREACHED = 1 << 62  # the kernel's cost of an unreached fact
 
 _kernels = None  # (hadd, ff) once compiled; False when numba is unavailable
