@@ -220,12 +220,22 @@ def split_cases(schema: Schema) -> list[Schema]:
     disjunction the same way), so each case's atoms and equalities join like the schema's own.
 
     The equalities become join atoms of the virtual predicate ``=`` (variables bound together, a
-    variable bound to a constant). On IPC folding's second pass (seven parameters over 23
+    variable bound to a constant), and so do the equalities at the top level of the precondition.
+    On IPC folding's second pass (seven parameters over 23
     coordinates) this lists a few thousand bindings instead of millions. Only disjunctions in
     which every case is a conjunction holding an equality are split: other disjunctions (pick's
     ``(or (on ?o ?from) (in ?o ?from))``) keep their own join (see gsr.plan.ground).
     """
     parts = _flatten_and(schema.residual)
+    if any(isinstance(q, Equals) for q in parts):
+        # Top-level equalities (labyrinth's (= ?yfrom ?yto), (= ?dfrom w)) join the same way.
+        join = (*schema.join, *(Atom(EQUALS, (q.left, q.right)) for q in parts if isinstance(q, Equals)))
+        rest = [q for q in parts if not isinstance(q, Equals)]
+        residual = And(tuple(rest)) if rest else TRUE
+        schema = Schema(
+            schema.name, schema.params, schema.extra, join, residual, schema.effects, schema.costs
+        )
+        parts = rest
     for k, part in enumerate(parts):
         if not isinstance(part, Or) or not part.parts:
             continue

@@ -27,6 +27,10 @@ GRID = """
           (and (= ?d left) (= ?y ?y2) (inc ?x2 ?x))
           (and (= ?d right) (= ?y ?y2) (inc ?x ?x2))))
     :effect (and (not (at ?x ?y)) (at ?x2 ?y2) (free ?x ?y) (not (free ?x2 ?y2))))
+  (:action slide
+    :parameters (?x ?y ?x2 ?y2 - coord)
+    :precondition (and (at ?x ?y) (free ?x2 ?y2) (= ?y ?y2) (inc ?x ?x2) (facing right))
+    :effect (and (not (at ?x ?y)) (at ?x2 ?y2) (free ?x ?y) (not (free ?x2 ?y2))))
   (:action turn
     :parameters (?d ?e - dir)
     :precondition (and (facing ?d) (not (= ?d ?e)))
@@ -50,8 +54,10 @@ def test_a_case_analysis_splits_into_one_schema_per_case_with_equalities_as_join
     for case in cases:
         preds = [a.predicate for a in case.join]
         assert preds.count(EQUALS) == 2 and "inc" in preds
-    # no case analysis: unchanged
+    # no case analysis: one schema; a top-level equality joins too
     assert len(split_cases(normalize_action(domain.actions["turn"]))) == 1
+    (slide,) = split_cases(normalize_action(domain.actions["slide"]))
+    assert [a.args for a in slide.join if a.predicate == EQUALS] == [("?y", "?y2")]
 
 
 def test_split_cases_ground_the_same_operators_and_plan_validly(monkeypatch: pytest.MonkeyPatch) -> None:
