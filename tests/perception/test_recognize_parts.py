@@ -1,0 +1,73 @@
+"""Closed drawers from their handles (gsr.perception.recognize_parts) on a hand-built point grid."""
+
+from __future__ import annotations
+
+import numpy as np
+from gsr.perception.recognize_parts import Part, split_drawer_fronts
+from gsr.perception.segment import Segments
+
+
+def _grid(handle_x: float) -> tuple[Segments, np.ndarray, np.ndarray]:
+    """A cabinet front (x = 0.5, facing -x, z 0.01..0.40) and two handles ``0.5 - handle_x`` in front."""
+    h, w = 40, 36
+    pts = np.full((h, w, 3), np.nan)
+    nrm = np.full((h, w, 3), np.nan)
+    rows, cols = np.mgrid[0:h, 0:30]
+    pts[:, :30] = np.stack((np.full(rows.shape, 0.5), cols * 0.01, 0.4 - rows * 0.01), axis=-1)
+    nrm[:, :30] = (-1.0, 0.0, 0.0)
+    handle_low = np.zeros((h, w), bool)
+    handle_high = np.zeros((h, w), bool)
+    for mask, z in ((handle_low, 0.1), (handle_high, 0.25)):
+        row = round((0.4 - z) / 0.01)
+        r = slice(row - 2, row + 3)
+        mask[r, 31:34] = True
+        rr, cc = np.nonzero(mask)
+        pts[rr, cc] = np.column_stack((np.full(rr.size, handle_x), 0.15 + (cc - 32) * 0.01, 0.4 - rr * 0.01))
+        nrm[rr, cc] = (-1.0, 0.0, 0.0)
+    labels = np.full((h, w), -1, np.int32)
+    labels[:, :30] = 0
+    labels[handle_low] = 1
+    labels[handle_high] = 2
+    seg = Segments(
+        stride=1,
+        shape=(h, w),
+        labels=labels,
+        support=np.zeros((h, w), bool),
+        plane=np.array([0.0, 0.0, 1.0, 0.0]),
+        points=pts,
+        rgb=np.zeros((h, w, 3), np.uint8),
+        normals=nrm,
+        height=pts[..., 2],
+        camera_position=np.array([-0.5, 0.15, 0.5]),
+    )
+    return seg, handle_low, handle_high
+
+
+def _parts(seg: Segments) -> list[Part]:
+    return [
+        Part(seg.labels == 0, "cabinet", 0.9, None, 0),
+        Part(seg.labels == 1, "drawer", 0.9, None, 1),
+        Part(seg.labels == 2, "drawer", 0.9, None, 2),
+    ]
+
+
+def test_face_behind_handles_is_cut_into_one_band_per_drawer():
+    seg, low, high = _grid(0.455)  # a pull bar 4.5 cm off the front
+    parts = split_drawer_fronts(seg, _parts(seg))
+    z = seg.points[..., 2]
+    face = seg.labels == 0
+    mid = (0.1 + 0.25) / 2
+    assert parts[1].parent == 0 and parts[2].parent == 0
+    assert np.array_equal(parts[1].mask & face, face & (z < mid))
+    assert np.array_equal(parts[2].mask & face, face & (z >= mid))
+    assert (parts[1].mask & low).sum() == low.sum()  # the handles stay with their drawers
+    assert (parts[2].mask & high).sum() == high.sum()
+    assert not (parts[0].mask & face).any()  # the whole front went to the drawers
+
+
+def test_a_handle_far_in_front_is_an_open_drawer_and_cuts_nothing():
+    seg, _, _ = _grid(0.3)  # 20 cm in front: pulled out, not flush
+    parts = split_drawer_fronts(seg, _parts(seg))
+    assert np.array_equal(parts[0].mask, seg.labels == 0)
+    assert np.array_equal(parts[1].mask, seg.labels == 1)
+    assert parts[1].parent == 0  # still the nearest host within reach
