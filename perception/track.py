@@ -28,7 +28,7 @@ from collections.abc import Iterable, Mapping
 import numpy as np
 from gsr.perception.geometry import GeometryParams, Instance, clean_points, fit_boxes, number_anonymous
 
-from gsr.categories import is_part_category
+from gsr.categories import affordances, is_part_category
 from gsr.scene_graph import Edge, Node, SceneGraph
 
 #: Category a detector gives to an object it cannot name (open set).
@@ -39,7 +39,7 @@ OVERLAP_VOXEL = 0.01
 MERGE_OVERLAP = 0.3
 #: Two views' part detections merge only when their height ranges overlap this much (IoU): stacked
 #: drawers are different parts, and a detection spanning two of them is no match for either.
-PART_Z_IOU = 0.6
+PART_Z_IOU = 0.5
 #: Ground categories: their pieces at one height are one ground, whatever the view.
 GROUNDS = ("table", "floor")
 _VIEW_KEY = re.compile(r"_f(\d+)m-?\d+$")
@@ -246,8 +246,10 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
         if not is_part_category(i.label.category)
         and i.label.category not in ground
         and i.label.category != UNKNOWN
+        and can_have_parts(i.label.category)
     ]
     counts: dict[tuple[str, str], int] = {}
+    adopted: list[Instance] = []
     by_member = {m: i for i in objects for m in i.label.attributes.get(MEMBERS, ())}
     for part in instances:
         if part.label.id is not None or part.label.parent is not None:
@@ -259,6 +261,7 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
         if named:
             best = max(named, key=lambda o: (named.count(o), float(o.size.prod())))
             _adopt(part, best, counts)
+            adopted.append(part)
             continue
         best, share = None, PART_IN_PARENT
         for obj in objects:
@@ -270,14 +273,45 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
                 best, share = obj, s
         if best is not None:
             _adopt(part, best, counts)
+            adopted.append(part)
     spanning = spanning_parts(instances)
     if spanning:
         instances[:] = [i for i in instances if id(i) not in spanning]
+    carve_parts(instances, adopted)
     for inst in instances:  # provenance was only needed here
         attrs = inst.label.attributes
         if any(k in attrs for k in (MEMBERS, PARENT_MEMBERS, PARENT_DETECTION)):
             kept = {k: v for k, v in attrs.items() if k not in (MEMBERS, PARENT_MEMBERS, PARENT_DETECTION)}
             inst.label = dataclasses.replace(inst.label, attributes=kept)
+
+
+def carve_parts(instances: list[Instance], parts: list[Instance], margin: float = 0.03) -> None:
+    """Remove from each parent the points inside its detected parts' boxes (grown by ``margin``).
+
+    A camera whose detector saw no drawer leaves the pulled-out drawer in the cabinet's segment; fused,
+    the cabinet's front would then be the drawer's front and every drawer would measure closed."""
+    present = {id(i) for i in instances}
+    keep = {id(p) for p in parts if id(p) in present}
+    by_key = {i.key: i for i in instances}
+    for parent_key in {p.label.parent for p in parts if id(p) in keep}:
+        parent = by_key.get(parent_key or "")
+        if parent is None:
+            continue
+        inside = np.zeros(len(parent.points), dtype=bool)
+        for p in parts:
+            if id(p) in keep and p.label.parent == parent_key:
+                lo, hi = p.aabb_min - margin, p.aabb_max + margin
+                inside |= np.all((parent.points >= lo) & (parent.points <= hi), axis=1)
+        if inside.any() and (~inside).sum() >= 8:
+            parent.points, parent.rgb = parent.points[~inside], parent.rgb[~inside]
+            fit_boxes(parent)
+
+
+def can_have_parts(category: str) -> bool:
+    """Furniture and appliances have parts (drawers, doors), and so do movable containers (a lidded box's
+    lid, a caddy's compartments); a movable non-container (a bottle, a mug) has none."""
+    aff = affordances(category)
+    return "movable" not in aff or "container" in aff
 
 
 def _adopt(part: Instance, parent: Instance, counts: dict[tuple[str, str], int]) -> None:
