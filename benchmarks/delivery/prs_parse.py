@@ -4,8 +4,9 @@ Words are classified by the grounder's own lexicon (``gsr.language.lexicon.build
 words and word classes, everyday verbs, colours, registered nouns, fillers) plus the sections of the
 everyday vocabulary (``data/language/vocabulary.yaml``) written for free-form requests: spellings and
 compounds, place-name phrases, object-name synonyms, colour shades, materials, search verbs, irregular
-participles, pronouns (``me`` = the requester) and connectives. Nothing here is keyed to a sentence, a
-task, a person or an object of PRS's data: the constructions are general ones.
+participles, pronouns (``me`` = the requester), connectives, place nouns, particles and appearance
+words. Nothing here is keyed to a sentence, a task, a person or an object of PRS's data: the
+constructions are general ones.
 
 From each sentence of a request:
 
@@ -61,10 +62,6 @@ STOP_CLASSES = frozenset(
     {"DET", "OF", "WITH", "AND", "IT", "BE", "THAT", "THIS", "ONE", "IN", "ON", "TO", "FOR", "FROM", "AT",
      "BY", "POSS", "INSIDE", "THEM"}
 )  # fmt: skip
-#: Direction particles after a verb's object (*bring it over*, *take it back*).
-PARTICLES = frozenset({"over", "back", "along"})
-#: What the appearance of a person follows (*wearing*, *dressed in*, *in a*, *with*).
-APPEARANCE_OPENERS = frozenset({"wearing", "wears", "wear", "dressed", "has", "with", "in", "sporting"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,7 +94,7 @@ def _extra_phrases() -> dict[tuple[str, ...], str]:
         out[(w,)] = "PRON_POSS" if w in ("her", "his", "their") else "PRON"
     for w in v["connectives"]:
         out[(w,)] = "CONNECTIVE"
-    for w in PARTICLES:
+    for w in v["particles"]:
         out[(w,)] = "PARTICLE"
     return out
 
@@ -478,8 +475,9 @@ def _appearance(ws: list[Word], skip: set[str]) -> list[str]:
     """Content words after an appearance opener (*wearing a white lab coat*, *in the black jacket*)."""
     out: list[str] = []
     on = False
+    openers = set(vocabulary()["appearance"])
     for w in ws:
-        if w.text in APPEARANCE_OPENERS:
+        if w.text in openers:
             on = True
             continue
         if w.cls in ("PUNCT", "CONNECTIVE", "TO", "FROM") or w.cls in FETCH_CLASSES:

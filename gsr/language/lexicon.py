@@ -104,6 +104,8 @@ def vocabulary() -> dict[str, Any]:
         "pronouns": {str(k): tuple(map(str, v)) for k, v in (data.get("pronouns") or {}).items()},
         "connectives": [str(w) for w in data.get("connectives") or ()],
         "place_nouns": [str(w) for w in data.get("place_nouns") or ()],
+        "particles": [str(w) for w in data.get("particles") or ()],
+        "appearance": [str(w) for w in data.get("appearance") or ()],
     }
 
 
