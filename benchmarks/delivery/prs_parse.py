@@ -488,6 +488,41 @@ def _appearance(ws: list[Word], skip: set[str]) -> list[str]:
     return list(dict.fromkeys(out))
 
 
+def _own_place(ws: list[Word]) -> str | None:
+    """'bed' / 'office' when words say *my/her/his bedroom*, *my office*, *Ethan's office*."""
+    low = " ".join(normalise(w.text) for w in ws)
+    if re.search(r"\b(?:my|her|his|their|our)\s+bed\s+room", low):
+        return "bed"
+    if re.search(r"\b(?:my|her|his|their|our)\s+office\b", low) or re.search(r"\b[a-z]+ s office\b", low):
+        return "office"
+    return None
+
+
+def _merge_own(own: str | None, new: str | None) -> str | None:
+    """The recipient's own place so far and a newly said one: a bedroom wins over an office."""
+    return new if new == "bed" or own is None else own
+
+
+def _pronoun_source(ws: list[Word]) -> tuple[int, int] | None:
+    """The span of the place phrase of a statement where the object is: *it is on the desk in the office*,
+    *it should be sitting on ...*, *you will find it in the kitchen* (``it``/``them`` + a form of *be* or a
+    placing participle, or a search verb before ``it``; then a source preposition, up to the clause's
+    end). A command (*put it in the kitchen*) is no such statement."""
+    for k, w in enumerate(ws):
+        if w.cls not in ("IT", "THEM"):
+            continue
+        j = k + 1
+        while j < len(ws) and ws[j].cls in ("BE", "PLACED", "FILLER", "MODAL"):
+            j += 1
+        stated = j > k + 1 or (k > 0 and ws[k - 1].cls == "FIND")
+        if stated and j < len(ws) and ws[j].cls in SOURCE_PREPS:
+            end = j + 1
+            while end < len(ws) and ws[end].cls not in SOURCE_END:
+                end += 1
+            return (j + 1, end)
+    return None
+
+
 def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> ParsedRequest:
     """Object phrase, source, destination and recipient of a request; ``RequestParseError`` when no
     sentence has an object phrase naming any detector label."""
@@ -510,7 +545,28 @@ def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> Pa
                 best = (score, v, a, b, phrase)
         names = [w.text.title() for w in ws if w.proper and w.text not in room_words]
         recipient.names += [n for n in names if n not in recipient.names]
-        if best is None:
+        if best is None:  # "It is on the desk in the office." / "I'm in my bedroom."
+            span = _pronoun_source(ws)
+            src_words = ws[span[0] : span[1]] if span else []
+            people = any(w.cls in ("ME", "PRON") or w.proper for w in ws)
+            rest: list[Word] = []
+            if not src_words and not people and describe_object(ws, labels)[0] > 0:
+                # "The desk in the office has a blue mug on it: take it to ...": where the object is, up to
+                # the first verb or "to"
+                cut = next((k for k, w in enumerate(ws) if w.cls in FETCH_CLASSES or w.cls == "TO"), len(ws))
+                src_words, rest = ws[:cut], ws[cut:]
+            if src_words:
+                for _, _, ids in rooms.mentions(src_words):
+                    src_rooms += [i for i in ids if i not in src_rooms]
+                src_tokens += _texts(src_words)
+                for _, head, ids in rooms.mentions(rest):
+                    dest_heads.append(head)
+                    dest_rooms += [i for i in ids if i not in dest_rooms]
+            else:
+                own = _merge_own(own, _own_place(ws))
+                for _, head, ids in rooms.mentions(ws):
+                    dest_heads.append(head)
+                    dest_rooms += [i for i in ids if i not in dest_rooms]
             continue
         _, v, a, b, phrase = best
         objects.append(phrase)
@@ -520,7 +576,11 @@ def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> Pa
         while k < len(ws) and ws[k].cls in ("THAT", "BE", "PLACED"):
             k += 1
         src_end = k
-        if k < len(ws) and ws[k].cls in SOURCE_PREPS:
+        said = _pronoun_source(ws[b:])  # "I need the cup in my office; it is on the kitchen table"
+        if said:
+            src_words = ws[b + said[0] : b + said[1]]
+            src_end = b
+        elif k < len(ws) and ws[k].cls in SOURCE_PREPS:
             src_end = k + 1
             while src_end < len(ws) and ws[src_end].cls not in SOURCE_END:
                 src_end += 1
@@ -533,11 +593,10 @@ def parse_request(instruction: str, rooms: RoomMatcher, labels: list[str]) -> Pa
             src_rooms += [i for i in ids if i not in src_rooms]
         src_tokens += _texts(src_words)
         after = (before if person_first else []) + [Word(",", "PUNCT")] + ws[src_end:]
-        low = " ".join(normalise(w.text) for w in after)
-        if re.search(r"\b(?:my|her|his|their)\s+bed\s+room", low):
-            own = "bed"
-        elif re.search(r"\b(?:my|her|his|their)\s+office\b", low) or re.search(r"\b[a-z]+ s office\b", low):
-            own = own or "office"
+        if said:  # the statement's place is the source, not a destination
+            after = (before if person_first else []) + [Word(",", "PUNCT")] + ws[b : b + said[0]]
+            after += ws[b + said[1] :]
+        own = _merge_own(own, _own_place(after))
         for _, head, ids in rooms.mentions(after):
             dest_heads.append(head)
             dest_rooms += [i for i in ids if i not in dest_rooms]

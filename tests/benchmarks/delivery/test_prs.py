@@ -199,7 +199,7 @@ def test_crossfit_calibrates_each_fold_on_the_others(folder: Path, tmp_path: Pat
     [
         (
             "Could you bring me the red apple that is on the counter in the kitchen? I'm in my bedroom.",
-            "RedApple", ["kitchen room"], [],
+            "RedApple", ["kitchen room"], ["bed room 0"],
         ),
         (
             "I need the blue mug from the desk in the office space brought to the kitchen.",
@@ -317,6 +317,9 @@ LABELS = ["RedApple", "BlueMug", "MobilePhone", "PlasticBottleWithGreenLid", "Pl
          "RedApple", ["kitchen room"], []),
         ("Head over to the office space, collect a smartphone from the desk and deliver it to the bedroom.",
          "MobilePhone", ["office space"], ["bed room 0"]),
+        # the object's place in a sentence of its own
+        ("Can you bring the blue mug to Ann in the kitchen? It should be sitting on the desk in the office space.",
+         "BlueMug", ["office space"], ["kitchen room"]),
         ("Locate Bob in the office space, then deliver to him the white bottle with a greenish cap from the kitchen.",
          "PlasticBottleWithGreenLid", ["kitchen room"], ["office space"]),
     ],
@@ -425,3 +428,45 @@ def test_task_on_an_uncalibrated_floor_fails_with_a_reason(folder: Path, tmp_pat
     recs = {r["task_id"]: r for r in json.loads((tmp_path / "out" / "results.json").read_text())["tasks"]}
     assert not recs["t2"]["success"] and recs["t2"]["failure_reason"]
     assert sum(r["success"] for r in recs.values()) >= 38
+
+
+def test_prs_dev_requests_restructured_parse_alike(shared_data: Path) -> None:
+    """Dev requests of the form *fetch the X from the Y and take it to Z* said in other sentence structures
+    (the object's place in a statement of its own: *Can you bring the X to Z? It is on the Y.*, *I need the
+    X in Z; you will find it in the Y.*, *The Y has a X on it: kindly transport it to Z.*): object type,
+    source and destination rooms agree with the original parse on at least 90 % of them."""
+    import re
+
+    data = shared_data / "prs"
+    if not (data / "delivery_tasks_dev.json").is_file():
+        pytest.skip(f"PRS data not found at {data}")
+    st = load_station(data, None)
+    tasks = json.loads((data / "delivery_tasks_dev.json").read_text())
+    labels = sorted({t["target_object_type"] for t in tasks.values()})
+    rooms = RoomMatcher(st)
+    pattern = re.compile(
+        r"^(?:Please )?(?:fetch|grasp|retrieve|collect|grab|pick up|take) the (?P<obj>.+?) (?:from|on) the "
+        r"(?P<src>.+?),? (?:and|then) (?:take|bring|deliver) it to (?P<dest>.+?)\.$",
+        re.I,
+    )
+    same = total = 0
+    for k, t in enumerate(tasks.values()):
+        m = pattern.match(t["directive"][0])
+        if not m:
+            continue
+        obj, src, dest = m.group("obj"), m.group("src"), m.group("dest").replace(" for me", "")
+        first = [
+            f"Can you bring the {obj} to {dest}? It is on the {src}.",
+            f"I need the {obj} in {dest}; you will find it in the {src}.",
+            f"The {src} has a {obj} on it: kindly transport it to {dest}.",
+        ][k % 3]
+        a = parse_request("".join(t["directive"]), rooms, labels)
+        b = parse_request(first + t["directive"][1], rooms, labels)
+        best = [max(labels, key=lambda lab: label_score(lab, p.object_tokens)) for p in (a, b)]
+        total += 1
+        same += (
+            best[0] == best[1] == t["target_object_type"]
+            and set(a.source_rooms) == set(b.source_rooms)
+            and set(a.dest_rooms) == set(b.dest_rooms)
+        )
+    assert total >= 200 and same >= 0.9 * total, f"{same} / {total}"
