@@ -16,8 +16,9 @@ GSR runs in-process; on IPC sets its time covers parsing, grounding and search, 
 is ``PlanResult.time`` (grounding + search; the problem is built from the scene graph beforehand).
 With ``--isolate`` GSR runs each IPC problem in a fresh subprocess like FD (interpreter start-up
 included, a hard wall limit of 1.5 x the timeout + 10 s, since grounding is not interruptible) and
-both report their peak resident memory (the largest child process's ru_maxrss; FD's driver,
-translator and search are children of one wrapper).
+both report their peak resident memory (GSR's read after planning, before its plan is validated;
+FD's the largest child process's ru_maxrss: its driver, translator and search are children of one
+wrapper).
 pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
 with PYTHONHASHSEED=0. Every GSR plan is checked with gsr.validate.validate_plan (not timed); an
 invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
@@ -133,7 +134,7 @@ def _one(system: str, domain_file: Path, problem_file: Path, timeout: float, pla
     """The child side of run_isolated: the row plus peak memory."""
     if system == "gsr":
         row = run_gsr_files(domain_file, problem_file, timeout, planner)
-        return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_SELF)}
+        return {**row, "peak_mb": row.get("plan_peak_mb", _maxrss_mb(resource.RUSAGE_SELF))}
     row = run_fd(domain_file, problem_file, timeout)
     return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_CHILDREN)}
 
@@ -150,6 +151,8 @@ def _gsr_row(
     result = plan(domain, problem, planner=planner, timeout=timeout)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - cpu0
     row = {"status": result.status, "time": elapsed, "cpu": cpu, "plan_time": result.time, "length": None}
+    # Peak memory of planning, read before validation (checking a 1,000-step plan has its own cost).
+    row["plan_peak_mb"] = _maxrss_mb(resource.RUSAGE_SELF)
     if result.plan is not None:
         report = validate_plan(domain, problem, result.plan)
         if not report.valid:  # never count a wrong plan as solved

@@ -396,8 +396,9 @@ class Relaxation:
                     self._achievers[f].append(u)
         return self._achievers
 
-    def ff(self, state: int) -> tuple[float, list[int]]:
-        """FF heuristic (relaxed plan from h_add supporters) and the preferred operators it suggests."""
+    def ff(self, state: int, applicable: list[int] | None = None) -> tuple[float, list[int]]:
+        """FF heuristic (relaxed plan from h_add supporters) and the preferred operators it suggests
+        (``applicable``: the state's applicable operators, when the caller has them)."""
         task = self.task
         pre_mask, neg_mask = task.pre_mask, task.neg_mask
         jit = self._jit
@@ -407,6 +408,9 @@ class Relaxation:
                 return INF, []
             plan = jit.relaxed_plan()
             h = len(plan) if self.unit else sum(task.ops[o].cost for o in plan)
+            if applicable is not None and len(applicable) < len(plan):
+                in_plan = set(plan)
+                return h, [o for o in applicable if o in in_plan]
             return h, [o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
         if self._jit_open:
             if self._py_time > self._jit_check:

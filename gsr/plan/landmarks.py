@@ -15,6 +15,9 @@ operators are the applicable operators that add a landmark ready to be accepted 
 
 from __future__ import annotations
 
+from time import perf_counter
+
+from gsr.plan import relax_jit
 from gsr.plan.task import Task, bits
 
 
@@ -26,6 +29,8 @@ class Landmarks:
         self.facts: list[int] = []  # landmark index -> atom id
         self.parents: list[int] = []  # landmark index -> bitmask of landmarks ordered before it
         self.goal_mask = 0  # landmark indices that are goals
+        self._py_time = 0.0  # seconds of Python exploration (then the compiled one takes over)
+        self._compiled: relax_jit.CompiledReach | None = None
         self._unary: tuple[dict[int, list[int]], list[tuple[int, ...]], list[int], list[int]] | None = None
         if len(task.goals) != 1:  # a disjunctive goal: no fact is a landmark for sure
             return
@@ -76,7 +81,10 @@ class Landmarks:
         self.achievers = [adders.get(f, []) for f in self.facts]
         self.union = sum(self.fact_mask)  # the atoms that are landmarks
         self.goal_lms = [(k, self.fact_mask[k]) for k in bits(self.goal_mask)]
-        self._ready: dict[int, int] = {}  # accepted landmarks -> facts of the landmarks ready next
+        self.lm_adds: dict[int, list[int]] = {}  # operator -> the landmarks it adds
+        for k, ops in enumerate(self.achievers):
+            for i in ops:
+                self.lm_adds.setdefault(i, []).append(k)
 
     def _reachable_without(self, fact: int):
         """Which operators are applicable in the delete relaxation when ``fact`` is never added
@@ -88,6 +96,10 @@ class Landmarks:
         if self._unary is None:
             self._build_unary()
         pre_of, adds, npre, no_pre = self._unary
+        if self._compiled is not None:
+            reached = self._compiled.reached(fact)
+            return lambda i: reached & pre_mask[i] == pre_mask[i]
+        start = perf_counter()
         # Counter-based exploration (each precondition edge visited once, as in FF's h_add).
         unsat = npre[:]
         seen = bytearray(len(task.atoms))
@@ -111,6 +123,11 @@ class Landmarks:
         reached = 0
         for f in queue:
             reached |= 1 << f
+        self._py_time += perf_counter() - start
+        if self._py_time > relax_jit.JIT_AFTER and relax_jit.allowed() and relax_jit.kernels() is not None:
+            # Many landmarks on a large task (visitall: one per cell): the rest run compiled.
+            init = bits(task.init)
+            self._compiled = relax_jit.CompiledReach(len(task.atoms), init, pre_of, adds, npre, no_pre)
         return lambda i: reached & pre_mask[i] == pre_mask[i]
 
     def _build_unary(self) -> None:
@@ -161,21 +178,15 @@ class Landmarks:
         for k, mask in self.goal_lms:
             if accepted >> k & 1 and not state & mask:
                 h += 1
-        ready = self._ready.get(accepted)
-        if ready is None:
-            # Facts of the landmarks whose predecessors are all accepted (depends on accepted only).
-            ready = 0
-            parents, fact_mask = self.parents, self.fact_mask
-            for k in bits(missing):
-                if accepted & parents[k] == parents[k]:
-                    ready |= fact_mask[k]
-            if len(self._ready) > 100_000:
-                self._ready.clear()
-            self._ready[accepted] = ready
-        if not ready:
-            return h, []
+        # Preferred: applicable operators adding a landmark not accepted whose predecessors are.
         task = self.task
         if applicable is None:
             applicable = task.applicable(state)
-        add_mask = task.add_mask
-        return h, [i for i in applicable if add_mask[i] & ready]
+        parents, lm_adds = self.parents, self.lm_adds
+        preferred = []
+        for i in applicable:
+            for k in lm_adds.get(i, ()):
+                if not accepted >> k & 1 and accepted & parents[k] == parents[k]:
+                    preferred.append(i)
+                    break
+        return h, preferred

@@ -44,7 +44,7 @@ def wanted(edges: int) -> bool:
 
 
 def kernels():
-    """The compiled (hadd, ff) functions, or None when numba is not installed."""
+    """The compiled (hadd, relaxed_plan, reach_without) functions, or None without numba."""
     global _kernels
     if _kernels is None:
         try:
@@ -52,7 +52,7 @@ def kernels():
         except ImportError:
             _kernels = False
         else:
-            _kernels = (relax_kernels.hadd, relax_kernels.relaxed_plan)
+            _kernels = (relax_kernels.hadd, relax_kernels.relaxed_plan, relax_kernels.reach_without)
     return _kernels or None
 
 
@@ -71,7 +71,7 @@ class CompiledRelaxation:
     def __init__(self, relax: Relaxation) -> None:
         import numpy as np
 
-        self.hadd_kernel, self.plan_kernel = kernels()
+        self.hadd_kernel, self.plan_kernel, _ = kernels()
         n_facts, n_unary = relax.n_facts, len(relax.pre)
         self.n_atoms = len(relax.task.atoms)
         self.n_bytes = (self.n_atoms + 7) // 8 + 1
@@ -146,3 +146,40 @@ class CompiledRelaxation:
             self.out,
         )
         return self.out[:n].tolist()
+
+
+class CompiledReach:
+    """Landmarks' "reachable without this fact" exploration over flat arrays (see
+    gsr.plan.landmarks): the same reached facts as the Python exploration."""
+
+    def __init__(self, n_atoms: int, init_facts: list[int], pre_of, adds, npre, no_pre) -> None:
+        import numpy as np
+
+        self.np = np
+        self.kernel = kernels()[2]
+        self.first = np.array(init_facts, dtype=np.int64)
+        self.pre_of_ptr, self.pre_of_idx = _csr([pre_of.get(f, ()) for f in range(n_atoms)])
+        self.add_ptr, self.add_idx = _csr(adds)
+        self.npre = np.array(npre, dtype=np.int64)
+        self.no_pre = np.array(no_pre, dtype=np.int64)
+        self.unsat = np.empty(len(npre), dtype=np.int64)
+        self.seen = np.empty(n_atoms, dtype=np.uint8)
+        self.queue = np.empty(n_atoms, dtype=np.int64)
+
+    def reached(self, fact: int) -> int:
+        """The reached atoms as a bitset."""
+        np = self.np
+        self.kernel(
+            self.first,
+            fact,
+            self.pre_of_ptr,
+            self.pre_of_idx,
+            self.add_ptr,
+            self.add_idx,
+            self.npre,
+            self.no_pre,
+            self.unsat,
+            self.seen,
+            self.queue,
+        )
+        return int.from_bytes(np.packbits(self.seen, bitorder="little").tobytes(), "little")

@@ -171,3 +171,40 @@ def relaxed_plan(goal, sup, pre_ptr, pre_idx, owner, seen, mark, stamp, stack, o
                 stack[top] = g
                 top += 1
     return n_out
+
+
+@njit(cache=True, nogil=True)
+def reach_without(first, blocked, pre_of_ptr, pre_of_idx, add_ptr, add_idx, npre, no_pre, unsat, seen, queue):
+    """Relaxed exploration from the facts ``first`` that never adds ``blocked`` (landmarks'
+    first achievers); ``seen`` ends with the reached facts (``blocked`` excluded)."""
+    unsat[:] = npre
+    seen[:] = 0
+    seen[blocked] = 1
+    n = 0
+    for f in first:
+        if not seen[f]:
+            seen[f] = 1
+            queue[n] = f
+            n += 1
+    for u in no_pre:
+        for q in range(add_ptr[u], add_ptr[u + 1]):
+            g = add_idx[q]
+            if not seen[g]:
+                seen[g] = 1
+                queue[n] = g
+                n += 1
+    k = 0
+    while k < n:
+        f = queue[k]
+        k += 1
+        for e in range(pre_of_ptr[f], pre_of_ptr[f + 1]):
+            u = pre_of_idx[e]
+            unsat[u] -= 1
+            if unsat[u] == 0:
+                for q in range(add_ptr[u], add_ptr[u + 1]):
+                    g = add_idx[q]
+                    if not seen[g]:
+                        seen[g] = 1
+                        queue[n] = g
+                        n += 1
+    seen[blocked] = 0

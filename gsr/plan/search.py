@@ -247,11 +247,11 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         else:
             sid, pending = pending, None
             state = space.states[sid]
-        h_ff, pref_ff = ff(state)
+        succ_ops = applicable(state)
+        h_ff, pref_ff = ff(state, succ_ops)
         res.evaluated += 1
         if h_ff == INF:
             continue
-        succ_ops = applicable(state)
         h_lm, pref_lm = lm(accepted[sid], state, succ_ops)
         progress = False
         if h_ff < best[0]:

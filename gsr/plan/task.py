@@ -81,6 +81,7 @@ class Task:
     goal_masks: list[tuple[int, int]] = field(default_factory=list)
     by_fact: list[list[int]] = field(default_factory=list)  # ops indexed by one precondition fact
     always: list[int] = field(default_factory=list)  # ops without positive precondition
+    index_mask: int = 0  # facts with a non-empty by_fact bucket
     axioms: list[GroundOp] = field(default_factory=list)
     axiom_strata: list[int] = field(default_factory=list)
     derived_mask: int = 0
@@ -128,6 +129,9 @@ class Task:
                 self.by_fact[min(o.pre, key=lambda f: (freq[f], f))].append(i)
             else:
                 self.always.append(i)
+        # The facts that index some operator: a state's other true facts (visitall's visited
+        # cells) are never looked at by ``applicable``.
+        self.index_mask = mask(tuple(f for f, ops in enumerate(self.by_fact) if ops))
 
     def _build_axioms(self) -> None:
         """Evaluation tables of the axioms, stratum by stratum (see ``close``)."""
@@ -184,7 +188,7 @@ class Task:
         """Ids of the operators applicable in ``state``, ascending."""
         pre_mask, neg_mask, by_fact = self.pre_mask, self.neg_mask, self.by_fact
         out = [i for i in self.always if not state & neg_mask[i]]
-        s = state
+        s = state & self.index_mask
         while s:
             low = s & -s
             s ^= low

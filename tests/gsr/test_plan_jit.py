@@ -110,3 +110,30 @@ def test_python_relaxation_switches_to_the_compiled_path_after_jit_after_seconds
     assert again[0] == first[0] and sorted(again[1]) == sorted(first[1])
     monkeypatch.setenv("GSR_PLAN_JIT", "0")
     assert Relaxation(task, unit=True)._jit_open is False
+
+
+def test_compiled_landmark_exploration_gives_the_same_landmarks_and_values(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from gsr.plan.landmarks import Landmarks
+
+    for task in list(_tasks())[:2]:
+        monkeypatch.setenv("GSR_PLAN_JIT", "0")
+        python = Landmarks(task)
+        assert python._compiled is None
+        monkeypatch.setenv("GSR_PLAN_JIT", "1")
+        monkeypatch.setattr(relax_jit, "JIT_AFTER", 0.0)  # compiled from the second landmark on
+        compiled = Landmarks(task)
+        assert compiled._compiled is not None
+        assert (compiled.facts, compiled.parents, compiled.goal_mask) == (
+            python.facts,
+            python.parents,
+            python.goal_mask,
+        )
+        acc_p = acc_c = python.accept(0, task.init)
+        for state in _walk(task, 30, seed=3):
+            acc_p, acc_c = python.accept(acc_p, state), compiled.accept(acc_c, state)
+            assert acc_p == acc_c
+            h_p, pref_p = python.value(acc_p, state)
+            h_c, pref_c = compiled.value(acc_c, state, task.applicable(state))
+            assert h_p == h_c and sorted(pref_p) == sorted(pref_c)
