@@ -307,30 +307,33 @@ def separate_footprints(
                 )
         pos[oid] = keep_out(pos[oid], clipped)
 
+    def clash(a: str, b: str, pa: np.ndarray, pb: np.ndarray) -> tuple[np.ndarray, float] | None:
+        """The push separating ``b`` at ``pb`` from ``a`` at ``pa`` (unit direction a -> b, length), or None."""
+        d = pb - pa
+        if max(rad[a], rad[b]) > LARGE_FOOTPRINT:
+            d = d + off[b] - off[a]
+            # beside a tall fixture (a cabinet) the hand needs its own width to grasp
+            gap = HAND_CLEARANCE if {a, b} & tall else margin
+            # a box or cabinet: its rectangle, not its circumscribed circle (which would push
+            # neighbours off a 60 cm deep desk)
+            return _rect_overlap(d, rect[a], rect[b], gap)
+        dist = float(np.linalg.norm(d))
+        need = rad[a] + rad[b] + margin
+        if dist >= need:
+            return None
+        return (d / dist if dist > 1e-9 else np.array([0.0, 1.0])), need - dist + 1e-4
+
     for _ in range(rounds):
         moved = False
         for i, a in enumerate(items):
             for b in items[i + 1 :]:
                 if a.id in fixed and b.id in fixed:
                     continue
+                sep = clash(a.id, b.id, pos[a.id], pos[b.id])
+                if sep is None:
+                    continue
+                u, amount = sep
                 d = pos[b.id] - pos[a.id]
-                if max(rad[a.id], rad[b.id]) > LARGE_FOOTPRINT:
-                    d = d + off[b.id] - off[a.id]
-                    # beside a tall fixture (a cabinet) the hand needs its own width to grasp
-                    gap = HAND_CLEARANCE if {a.id, b.id} & tall else margin
-                    # a box or cabinet: its rectangle, not its circumscribed circle (which would push
-                    # neighbours off a 60 cm deep desk)
-                    sep = _rect_overlap(d, rect[a.id], rect[b.id], gap)
-                    if sep is None:
-                        continue
-                    u, amount = sep
-                else:
-                    dist = float(np.linalg.norm(d))
-                    need = rad[a.id] + rad[b.id] + margin
-                    if dist >= need:
-                        continue
-                    u = d / dist if dist > 1e-9 else np.array([0.0, 1.0])
-                    amount = need - dist + 1e-4
                 if a.id in fixed:
                     push(b.id, u * amount, d)
                 elif b.id in fixed:
@@ -341,6 +344,24 @@ def separate_footprints(
                 moved = True
         if not moved:
             break
+    # pushes that met the desk's edges from both sides (two mugs in a corner) leave overlaps: such an
+    # object moves to the nearest free spot on the desk instead
+    for o in items:
+        if o.id in fixed or all(
+            clash(o.id, q.id, pos[o.id], pos[q.id]) is None for q in items if q.id != o.id
+        ):
+            continue
+        spots = [
+            np.array([x, y])
+            for x in np.arange(-bound[o.id][0], bound[o.id][0] + 1e-9, 0.02)
+            for y in np.arange(-bound[o.id][1], bound[o.id][1] + 1e-9, 0.02)
+            if not any(x0 <= x <= x1 and y0 <= y <= y1 for x0, y0, x1, y1 in empty)
+        ]
+        spots.sort(key=lambda c: float(np.linalg.norm(c - pos[o.id])))
+        for c in spots:
+            if all(clash(o.id, q.id, c, pos[q.id]) is None for q in items if q.id != o.id):
+                pos[o.id] = c
+                break
     return {
         o.id: (round(float(pos[o.id][0] - o.position[0]), 4), round(float(pos[o.id][1] - o.position[1]), 4))
         for o in items

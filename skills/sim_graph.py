@@ -71,6 +71,28 @@ def container_volumes(world: World) -> list[tuple[str, np.ndarray, np.ndarray, f
     return sorted(out, key=lambda t: t[3])
 
 
+def _centre_inside(world: World, node_id: str, point: np.ndarray) -> bool:
+    """Whether ``point`` lies over the container's interior footprint in the interior's own frame (a box
+    turned by 45 degrees has a world bounding box half again as wide as itself)."""
+    import pybullet as p
+
+    if node_id in world.objects:
+        o, part = world.objects[node_id], ""
+    elif node_id in world.parts:
+        obj_id, part = world.parts[node_id]
+        o = world.objects[obj_id]
+    else:
+        return True
+    interior = o.model.interiors.get(part)
+    if interior is None:
+        return True
+    pos, orn = world.link_pose(o.body, o.links[interior.link])
+    inv = p.invertTransform(tuple(pos), tuple(orn))
+    local = np.array(p.multiplyTransforms(inv[0], inv[1], tuple(point), (0, 0, 0, 1))[0])
+    half = np.array(interior.size[:2]) / 2 + RIM_TOLERANCE
+    return bool(np.all(np.abs(local[:2] - np.array(interior.center[:2])) <= half))
+
+
 def _link_node(world: World, body: int, link: int) -> str | None:
     """The graph node a contact on (body, link) belongs to: a part node if the link is one, else the object."""
     if body == world.table_body:
@@ -117,6 +139,8 @@ def support_of(
     for node_id, blo, bhi, _, rim in vols:
         if node_id.split("/")[0] == object_id or _overlap_ratio(lo, hi, blo, bhi) < IN_RATIO:
             continue
+        if not _centre_inside(world, node_id, (lo + hi) / 2):
+            continue  # beside a turned box, inside its world-aligned bounding box only
         if lo[2] < rim - RIM_TOLERANCE:
             return ("in", node_id)
         above_rim.add(node_id)

@@ -43,6 +43,9 @@ PRIMITIVES: dict[str, tuple[str, tuple[float, float, float]]] = {
     "boxes": ("box", (0.17, 0.25, 0.085)),
     "boxes_with_lid": ("box_with_lid", (0.17, 0.25, 0.085)),
 }
+#: LIBERO assets whose size the benchmark's scenes bound (m): its book goes into closed lidded boxes
+#: (8.5 cm outside, 7.5 cm inside), so it is at most 7 cm tall; the other assets keep our default sizes.
+LIBERO_SIZES: dict[str, tuple[float, float, float]] = {"yellow_book": (0.03, 0.11, 0.07)}
 DESK_TOP = 0.02  # m: the benchmark's desk top above its origin (cube centres rest at y = 3.5 cm)
 #: Body centre to bottom (m) where it is not half the height: a box's floor reaches 4.5 cm below its centre
 CENTRE_TO_BOTTOM = {"boxes": 0.045, "boxes_with_lid": 0.045}
@@ -126,6 +129,7 @@ def _layout(config: Mapping[str, Any], graph: SceneGraph, where: str) -> tuple[L
                 asset=asset,
                 position=(x, y, 0.0 if on in (None, "table") else z),
                 yaw=float(entry.get("rotation") or 0.0),
+                size=LIBERO_SIZES.get(asset),
                 fixed=entry.get("category") == "articulated",
                 on=None if on in (None, "table") else on,
                 joint_states=drawers,
