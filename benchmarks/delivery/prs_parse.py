@@ -55,6 +55,8 @@ SOURCE_PREPS = frozenset({"FROM", "ON", "OFF", "IN", "INSIDE", "AT"})
 SOURCE_END = frozenset({"AND", "THEN", "TO", "PUNCT", "FOR", "PARTICIPLE", "PARTICLE", "CONNECTIVE"})
 #: Determiner-like classes that open an object phrase.
 DETERMINERS = frozenset({"DET", "POSS", "THIS", "THAT", "ME", "PRON_POSS"})
+#: Classes that may open a noun phrase without a determiner (*fetch red apples*, *grab two cups*).
+BARE_NP = frozenset({"COLOR", "COLORNOUN", "NOUN", "NAME", "WORD", "SIZE", "NUM", "POS", "SIDE"})
 #: Content classes: a room word followed by one of these is a modifier (*kitchen counter*), not a room.
 CONTENT = frozenset({"NOUN", "COLORNOUN", "NAME", "WORD"})
 #: Function classes whose words are no attribute of an object (the grounder's closed classes).
@@ -427,9 +429,14 @@ def object_phrases(ws: list[Word]) -> list[tuple[int, int, int]]:
             if c in ("ME", "PRON", "PRON_POSS") and k + 1 < len(ws) and ws[k + 1].cls not in DETERMINERS:
                 break
             k += 1
-        if k >= len(ws) or ws[k].cls not in DETERMINERS:
+        if k >= len(ws):
             continue
-        start = k + 1
+        if ws[k].cls in DETERMINERS:
+            start = k + 1
+        elif ws[k].cls in BARE_NP and not ws[k].proper:  # no determiner: "fetch red apples", "grab two cups"
+            start = k
+        else:
+            continue
         end = start
         while end < len(ws):
             c = ws[end].cls

@@ -317,6 +317,8 @@ LABELS = ["RedApple", "BlueMug", "MobilePhone", "PlasticBottleWithGreenLid", "Pl
          "RedApple", ["kitchen room"], []),
         ("Head over to the office space, collect a smartphone from the desk and deliver it to the bedroom.",
          "MobilePhone", ["office space"], ["bed room 0"]),
+        # no determiner
+        ("Fetch red apple from kitchen counter, bring to bedroom.", "RedApple", [], ["bed room 0"]),
         # the object's place in a sentence of its own
         ("Can you bring the blue mug to Ann in the kitchen? It should be sitting on the desk in the office space.",
          "BlueMug", ["office space"], ["kitchen room"]),
