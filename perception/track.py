@@ -113,6 +113,30 @@ def _candidates(instances: list[Instance]) -> tuple[np.ndarray, np.ndarray]:
     return allowed & upper & (touch | near), near
 
 
+#: Detections of different categories merge only when their boxes' volumes are within this factor.
+CROSS_CATEGORY_VOLUME = 4.0
+#: Two detections of one view are one object when they share the category and their boxes overlap this much.
+SAME_VIEW_IOU = 0.5
+
+
+def _same_view_duplicates(instances: list[Instance]) -> list[tuple[int, int]]:
+    out = []
+    for i, a in enumerate(instances):
+        if is_part_category(a.label.category) or a.label.category == UNKNOWN:
+            continue
+        for j in range(i + 1, len(instances)):
+            b = instances[j]
+            if view_of(a) != view_of(b) or a.label.category != b.label.category:
+                continue
+            lo, hi = np.maximum(a.aabb_min, b.aabb_min), np.minimum(a.aabb_max, b.aabb_max)
+            inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+            va = float(np.prod(np.maximum(a.aabb_max - a.aabb_min, 1e-3)))
+            vb = float(np.prod(np.maximum(b.aabb_max - b.aabb_min, 1e-3)))
+            if inter / (va + vb - inter) >= SAME_VIEW_IOU:
+                out.append((i, j))
+    return out
+
+
 def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instance]:
     """Merge detections of one object seen by several cameras (see the module docstring); numbered keys.
 
@@ -128,6 +152,13 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             i = root[i]
         return i
 
+    # one object the detector split within one view (a cabinet's front and top as two segments): same
+    # category, boxes overlapping at IoU >= SAME_VIEW_IOU; distinct objects of one kind do not overlap so
+    for i, j in _same_view_duplicates(instances):
+        ri, rj = find(i), find(j)
+        if ri != rj:
+            root[rj] = ri
+            views_of[ri] |= views_of.pop(rj)
     pairs: list[tuple[float, int, int]] = []
     if n > 1:
         cand, near = _candidates(instances)
@@ -138,14 +169,19 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
                 keys[i] = _voxel_keys(instances[i].points)
             return keys[i]
 
+        volume = [float(np.prod(np.maximum(x.aabb_max - x.aabb_min, 0.01))) for x in instances]
         for i, j in zip(*np.nonzero(cand), strict=True):
+            same = instances[i].label.category == instances[j].label.category
+            if not same and max(volume[i], volume[j]) > CROSS_CATEGORY_VOLUME * min(volume[i], volume[j]):
+                continue  # a small thing touching a big one (a mug by a cabinet) is not the same object
             small, large = (i, j) if len(instances[i].points) <= len(instances[j].points) else (j, i)
             overlap = _key_overlap(key(int(small)), key(int(large)))
             if near[i, j]:
                 overlap = max(overlap, MERGE_OVERLAP)
             if overlap >= MERGE_OVERLAP:
-                pairs.append((overlap, int(i), int(j)))
-    for _, i, j in sorted(pairs, reverse=True):
+                pairs.append((float(same), overlap, int(i), int(j)))
+    # views that agree on the category first, then the strongest overlap
+    for _, _, i, j in sorted(pairs, reverse=True):
         ri, rj = find(i), find(j)
         if ri == rj or views_of[ri] & views_of[rj]:
             continue  # one camera's detections stay apart, even through a third view
@@ -285,6 +321,11 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
             inst.label = dataclasses.replace(inst.label, attributes=kept)
 
 
+#: Parts whose box is larger than this share of their object's box are not carved out of it (a detector
+#: calling a whole cabinet seen from one side its "top" is a misread, not a part).
+PART_CARVE_MAX = 0.3
+
+
 def carve_parts(instances: list[Instance], parts: list[Instance], margin: float = 0.03) -> None:
     """Remove from each parent the points inside its detected parts' boxes (grown by ``margin``).
 
@@ -298,11 +339,14 @@ def carve_parts(instances: list[Instance], parts: list[Instance], margin: float 
         if parent is None:
             continue
         inside = np.zeros(len(parent.points), dtype=bool)
+        volume = float(np.prod(np.maximum(parent.aabb_max - parent.aabb_min, 1e-3)))
         for p in parts:
+            if float(np.prod(np.maximum(p.aabb_max - p.aabb_min, 1e-3))) > PART_CARVE_MAX * volume:
+                continue  # a "part" as large as its object is the object misread, not a part to carve
             if id(p) in keep and p.label.parent == parent_key:
                 lo, hi = p.aabb_min - margin, p.aabb_max + margin
                 inside |= np.all((parent.points >= lo) & (parent.points <= hi), axis=1)
-        if inside.any() and (~inside).sum() >= 8:
+        if inside.any() and (~inside).sum() >= max(8, 0.3 * len(inside)):
             parent.points, parent.rgb = parent.points[~inside], parent.rgb[~inside]
             fit_boxes(parent)
 
