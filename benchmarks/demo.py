@@ -59,6 +59,7 @@ def run_demo(
     from gsr.resources import load_builtin_domain
     from gsr.semantics import goal_holds
     from gsr.step import Step
+    from gsr.transition import StepRejected, apply_step
 
     path = task_path or default_task_path()
     if not path.is_file():
@@ -91,12 +92,12 @@ def run_demo(
         scene = PerceivedScene(world, oracle_masks=oracle_masks, detector=detector)
         perception_kind = "simulator masks" if oracle_masks else "detector, no oracle"
 
-        def observe(label: str) -> Any:
+        def observe(label: str, expected: Any = None) -> Any:
             picture = dataclasses.replace(
                 views["front"], width=640, height=480
             )  # larger, for the report only
             rec.images[f"rgb_{label}"] = render(world, picture).rgb
-            return scene.observe() if use_perception else scene_graph_from_sim(world)
+            return scene.observe(expected) if use_perception else scene_graph_from_sim(world)
 
         def in_world(step: Any) -> Any:
             """The step on the bodies its perceived nodes are (the arm reaches where perception saw them)."""
@@ -138,7 +139,13 @@ def run_demo(
                 lambda s=checked.step: run_step(world, in_world(s)),
                 lambda r: "ok" if r.ok else f"{r.failure}: {r.message}",
             )
-            belief = observe("after")  # closed loop: what the sensors show now (merged into the belief)
+            # closed loop: what the sensors show now, merged into the belief; the step's expected graph is
+            # the prior only for what no sensor shows (power states, a part the cameras do not pick out)
+            try:
+                expected = apply_step(belief, checked.step, domain)
+            except StepRejected:  # the belief moved away from the plan: no prior beyond the belief
+                expected = None
+            belief = observe("after", expected)
             missing = contradicted_effects(checked.diagnosis, belief, domain)
             rec.steps.append(
                 {

@@ -118,6 +118,7 @@ class PerceivedScene:
         observed = with_map_regions(observed, self.world, table_only=not self.oracle_masks)
         observed = with_held(observed, held, self.belief, None if not self.oracle_masks else self.world.graph)
         prior = expected if expected is not None else self.belief
+        observed = with_unseen_parts(observed, self.belief, prior)
         belief = with_unsensed_states(update_belief(self.belief, observed, frames), prior)
         self.belief = with_remembered_support(belief, held, prior)
         self.observations += 1
@@ -311,6 +312,31 @@ def with_held(
             "edges": tuple(sorted(set(edges), key=Edge.key)),
         }
     )
+
+
+def with_unseen_parts(graph: SceneGraph, belief: SceneGraph | None, prior: SceneGraph | None) -> SceneGraph:
+    """Parts of objects seen now that the cameras do not pick out this time stay, unobserved.
+
+    A drawer pushed shut is flush with its cabinet and need not show as a part of its own; the cabinet is
+    seen, so its drawer is still there. Its ``open``/``closed`` state comes from ``prior`` (what the robot's
+    own step should have done), else from the last belief; it is marked ``observed: False``, so the closed
+    loop does not count it as confirmed."""
+    if belief is None:
+        return graph
+    ids = {n.id for n in graph.nodes}
+    seen_now = {n.id for n in graph.nodes if n.attributes.get("observed", True) is not False}
+    before = prior.node_map() if prior is not None else {}
+    added = []
+    for n in belief.nodes:
+        if n.parent is None or n.id in ids or n.parent not in seen_now:
+            continue
+        states = before[n.id].states if n.id in before else n.states
+        added.append(
+            n.model_copy(update={"states": states, "attributes": {**n.attributes, "observed": False}})
+        )
+    if not added:
+        return graph
+    return graph.model_copy(update={"nodes": tuple(sorted((*graph.nodes, *added), key=lambda n: n.id))})
 
 
 def with_unsensed_states(graph: SceneGraph, prior: SceneGraph | None) -> SceneGraph:

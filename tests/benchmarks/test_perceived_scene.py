@@ -256,3 +256,19 @@ def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -
         assert "held" in scene.in_world_ids(held).node("akita_black_bowl_1").states
     finally:
         world.close()
+
+
+def test_a_part_of_a_seen_object_stays_when_the_cameras_do_not_pick_it_out() -> None:
+    from gsr.benchmarks.perceived_scene import with_unseen_parts
+
+    cab = _node("cabinet_1", "cabinet")
+    drawer = _node("cabinet_1/drawer_1", "drawer", parent="cabinet_1", states=("open",))
+    belief = _graph([cab, drawer, _node("bowl_1", "bowl")], [("bowl_1", "in", "cabinet_1/drawer_1")])
+    expected = _graph([cab, drawer.model_copy(update={"states": ("closed",)})], [])
+    now = _graph([cab], [])  # the drawer was pushed shut: flush, no segment of its own
+    out = with_unseen_parts(now, belief, expected).node_map()
+    assert out["cabinet_1/drawer_1"].states == ("closed",)  # the robot's own step, not a sensor
+    assert out["cabinet_1/drawer_1"].attributes["observed"] is False
+    assert "bowl_1" not in out  # objects are update_belief's business, not this rule's
+    gone = with_unseen_parts(_graph([], []), belief, expected)
+    assert not gone.nodes  # the cabinet itself is not seen: nothing is carried
