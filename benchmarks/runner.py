@@ -187,6 +187,9 @@ def run_episode(
         agent.reset(task, domain, eseed)
         feedback: Diagnosis | None = None
         tries = 0
+        # how often each step failed in this episode: a step that fails again after the steps between
+        # succeeded (pick, place fails, pick again, place fails ...) is not retried without end
+        failed: dict[str, int] = {}
         while True:
             if valid >= max_steps:
                 outcome_hint, reason = "planning_error", f"step limit {max_steps} reached"
@@ -204,7 +207,8 @@ def run_episode(
                 feedback, tries = diagnosis, 0
                 continue
             tries += 1
-            if tries > retries:
+            failed[str(step)] = failed.get(str(step), 0) + 1
+            if tries > retries or failed[str(step)] > retries:
                 failure = diagnosis.to_dict()
                 outcome_hint, reason = (
                     "planning_error",

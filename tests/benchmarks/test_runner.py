@@ -65,6 +65,33 @@ def test_retries_feed_the_diagnosis_back(task, domain) -> None:
     assert r0.outcome == "planning_error" and r0.valid == 0
 
 
+class _Looping:
+    """Repeats pick, a failing place_in, a recovery place_on: the failure never comes twice in a row."""
+
+    name = "looping"
+
+    def reset(self, task, domain, seed: int) -> None:
+        self.n = 0
+
+    def act(self, graph, instruction, feedback=None):
+        from gsr.step import Step
+
+        cycle = [
+            Step("pick", ("red_cube", "table")),
+            Step("place_in", ("red_cube", "box")),  # the box is closed: rejected
+            Step("place_on", ("red_cube", "table")),
+        ]
+        self.n += 1
+        return cycle[(self.n - 1) % 3]
+
+
+def test_a_step_that_keeps_failing_between_recoveries_ends_the_episode(task, domain) -> None:
+    r = run_episode(task, _Looping(), domain, retries=2)
+    # the place_in failed three times (retries + 1), each time after a successful recovery step
+    assert r.outcome == "planning_error" and "rejected" in r.reason
+    assert r.proposed == 8 and r.valid == 5
+
+
 def test_false_positive_and_goal_error(task, domain) -> None:
     r = run_episode(task, Scripted(GOOD), domain)
     # the open box does not satisfy the alternative; only 1 of 2 relations of the canonical goal
