@@ -45,6 +45,8 @@ from gsr.errors import GSRError
 MODEL_ENV = "GSR_PERCEPTION_MODEL"
 SHIPPED_MODEL = Path(__file__).resolve().parent / "model"
 MODEL_FILES = ("model.npz", "model.json")
+#: Under this colour-head probability the pixel-colour rule names the colour instead.
+COLOR_CONFIDENCE = 0.5
 
 
 @dataclass(frozen=True)
@@ -231,7 +233,9 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             if score < model.unknown_threshold:
                 category = UNKNOWN
             c = model.colors[int(np.argmax(col_p[i]))]
-            color = pixel_color(feats[i]) if category == UNKNOWN else (None if c == NONE else c)
+            color = None if c == NONE else c
+            if category == UNKNOWN or float(col_p[i].max()) < COLOR_CONFIDENCE:
+                color = pixel_color(feats[i])  # open set, or a colour the model is unsure of
             parts.append(Part(seg.labels == i, category, score, color, i))
         parts = split_drawer_fronts(seg, parts)
     first = len(out)

@@ -372,6 +372,7 @@ def save_model(model: Model, out: str | Path, heldout: dict[str, Any] | None = N
     try:
         with open(tmp, "wb") as fh:
             np.savez(fh, **arrays)
+        os.chmod(tmp, 0o644)  # mkstemp makes private files; weights are meant to be shared
         os.replace(tmp, folder / "model.npz")
     finally:
         if os.path.exists(tmp):
@@ -389,7 +390,7 @@ def model_card(meta: dict[str, Any]) -> str:
     """The model card (Markdown) from the model's metadata."""
     tr = meta["training"]
     lines = [
-        "# No-oracle detector: merge + recognition models",
+        "# No-oracle detector: link, merge and recognition models",
         "",
         "Trained by `gsr perceive-train` (gsr.perception.train) on the CPU; inference is numpy "
         "(gsr.perception.detect). No downloaded weights or data.",
@@ -445,12 +446,15 @@ def model_card(meta: dict[str, Any]) -> str:
         "- Unseen object kinds: categories are those of the project's asset library listed above; other "
         "objects are reported `unknown` only when the model is unsure, and can be forced into a known "
         "class with a similar shape and colour.",
-        "- Colour words follow the asset library's palette under the simulator's lighting; textured or "
-        "multi-coloured objects get their dominant colour.",
+        "- Colour words: the colour head knows only the words of the training objects ("
+        + ", ".join(c for c in meta["colors"] if c != NONE)
+        + "); when it is unsure (probability < 0.5) the detector reports the pixel-colour rule's word. "
+        "Textured or multi-coloured objects get their dominant colour.",
         "- Gravity must be world -z (the camera pose is needed): the support plane is the largest "
         "horizontal surface.",
-        "- Parts that show no geometric or colour boundary (closed drawers flush with their cabinet, a lid "
-        "of the same colour as its box) are not separated.",
+        "- Parts that show no geometric or colour boundary (an open drawer whose side is inset by a "
+        "centimetre from its cabinet's side, seen from that side; a lid of the box's colour) stay in their "
+        "parent's segment; closed drawers are found only through their visible handles.",
         "",
     ]
     return "\n".join(lines)
