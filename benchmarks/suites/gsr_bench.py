@@ -43,9 +43,15 @@ PRIMITIVES: dict[str, tuple[str, tuple[float, float, float]]] = {
     "boxes": ("box", (0.17, 0.25, 0.085)),
     "boxes_with_lid": ("box_with_lid", (0.17, 0.25, 0.085)),
 }
-#: LIBERO assets whose size the benchmark's scenes bound (m): its book goes into closed lidded boxes
-#: (8.5 cm outside, 7.5 cm inside), so it is at most 7 cm tall; the other assets keep our default sizes.
-LIBERO_SIZES: dict[str, tuple[float, float, float]] = {"yellow_book": (0.03, 0.11, 0.07)}
+#: LIBERO assets whose size the benchmark's tasks bound (m): the book goes into closed lidded boxes
+#: (7.5 cm inside) and the book, milk and popcorn into drawer layers of the short cabinet that are
+#: closed afterwards (our drawers are 7.9 cm tall), so these stand at most 6.5 cm tall; the other
+#: assets keep our default sizes.
+LIBERO_SIZES: dict[str, tuple[float, float, float]] = {
+    "yellow_book": (0.03, 0.11, 0.065),
+    "milk": (0.05, 0.05, 0.065),
+    "popcorn": (0.04, 0.07, 0.065),
+}
 DESK_TOP = 0.02  # m: the benchmark's desk top above its origin (cube centres rest at y = 3.5 cm)
 #: Body centre to bottom (m) where it is not half the height: a box's floor reaches 4.5 cm below its centre
 CENTRE_TO_BOTTOM = {"boxes": 0.045, "boxes_with_lid": 0.045}
