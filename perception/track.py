@@ -5,13 +5,17 @@ Three jobs, all on geometry that perception measured itself:
 * :func:`fuse_views` merges one object's detections from several cameras into one instance: two
   detections from *different* cameras are the same object when their clouds overlap in 3D (shared 1 cm
   voxels) or, for the same category, their centres lie within half the object's width (a cube's top
-  seen by one camera and its side by another share few voxels). Detections of one camera are never
-  merged (the detector already told them apart). The fused category is the score-weighted vote of the
-  views (``unknown`` only when no view named a category), and so is the colour.
+  seen by one camera and its side by another share few voxels); categories that differ merge only at
+  similar volumes, parts only with parts of their own category and height. One camera's detections
+  merge only as duplicates (same category, boxes at IoU >= 0.5) or as pieces of the ground at one height.
+  The fused category is the score-weighted vote of the views (``unknown`` only when no view named a
+  category), and so is the colour.
 * :func:`assign_parts` gives every part detection (a drawer, a door, a cabinet top) the object it belongs
-  to: the non-part object whose box contains most of the part's box. Its node id becomes
+  to: the detector's own link (``parent_index``) where it gave one, else the object (furniture,
+  appliance or container) whose box holds most of the part's box. Its node id becomes
   ``<parent>/<category>_<k>`` and its ``parent`` that object, so drawer levels, openings and the
-  grounder's "the bottom drawer of the cabinet" work as with labelled masks.
+  grounder's "the bottom drawer of the cabinet" work as with labelled masks; the object's points inside
+  its parts' boxes are carved out of it, and a one-view part spanning two stacked parts is dropped.
 * :class:`Tracker` keeps node ids stable between observations: a node of a new observation takes the id
   of the previous belief's node it matches — first by place (same category or one of them ``unknown``,
   centres close, sizes within 2.5x), then, for what moved, by appearance (same category and colour,
@@ -105,6 +109,8 @@ def _candidates(instances: list[Instance]) -> tuple[np.ndarray, np.ndarray]:
     dist = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=2)
     near = (cats[:, None] == cats[None, :]) & (z_overlap > 0) & (dist <= reach)
     allowed = (views[:, None] != views[None, :]) & (part[:, None] == part[None, :])
+    # parts merge only with parts of their own kind (a drawer is no cabinet top)
+    allowed &= ~(part[:, None] & part[None, :]) | (cats[:, None] == cats[None, :])
     # parts stack (drawers): two views' part detections are one part only if their heights mostly agree
     z_union = np.maximum(hi[:, None, 2], hi[None, :, 2]) - np.minimum(lo[:, None, 2], lo[None, :, 2])
     z_iou = np.clip(z_overlap, 0.0, None) / np.maximum(z_union, 1e-6)
