@@ -2,7 +2,8 @@
 
 Run: ``python benchmarks/bench_perception.py [--frames 30] [--scenes 30] [--seed 0] [--json]``
 (``--only fps`` or ``--only noise`` for one part; ``--only detect [--weights DIR]`` times the no-oracle
-detector: segmentation, detection and the whole no-oracle pipeline per frame over 4-camera scenes). Frames are 640x480 renders of random scenes (both
+detector: segmentation, detection and the whole no-oracle pipeline per frame over 4-camera scenes;
+``--only openset --scenes 6`` shows what it calls the procedural world's primitives, assets it never saw). Frames are 640x480 renders of random scenes (both
 worlds, see benchmarks/perception_eval.py); they are rendered first, then each is perceived
 ``--repeats`` times and the median time per frame is kept, so rendering never enters the timing. The
 machine's load average is printed with the figures because the development machine is shared.
@@ -116,6 +117,35 @@ def bench_detect(scenes: int, seed: int, repeats: int, weights: str | None = Non
     }
 
 
+def bench_openset(scenes: int, seed: int, weights: str | None = None) -> dict[str, dict[str, int]]:
+    """What the no-oracle detector calls objects of assets it was not trained on: the procedural world's
+    primitives (benchmarks/perception_scenes.py, other sizes and colours), 2 views per scene. Per truth
+    category: the category of the detection that matches it (mask IoU >= 0.5), or ``(not segmented)``."""
+    from gsr.perception.detect import load_detector
+    from gsr.perception.train import MIN_TRUTH_PIXELS, target_of
+
+    detector = load_detector(weights)
+    out: dict[str, dict[str, int]] = {}
+    for ss in np.random.SeedSequence([seed, 4242]).spawn(scenes):
+        frames, _ = procedural_scene(int(ss.generate_state(1)[0]), 2, 640, 480)
+        for frame in frames:
+            dets = [d for d in detector.detect(frame.rgb, frame.depth, frame.camera) if d.category != "table"]
+            ids, counts = np.unique(frame.masks[frame.masks >= 0], return_counts=True)
+            for i, n in zip(ids.tolist(), counts.tolist(), strict=True):
+                cat, _ = target_of(frame, i)
+                if cat == "none" or n < 4 * MIN_TRUTH_PIXELS:
+                    continue
+                truth = frame.masks == i
+                best, best_iou = "(not segmented)", 0.5
+                for d in dets:
+                    iou = float((d.mask & truth).sum()) / float((d.mask | truth).sum())
+                    if iou >= best_iou:
+                        best, best_iou = d.category, iou
+                row = out.setdefault(cat, {})
+                row[best] = row.get(best, 0) + 1
+    return out
+
+
 def bench_noise(scenes: int, seed: int, world: str) -> list[dict[str, Any]]:
     """Relation F1 and state accuracy for each depth-noise level and mask erosion."""
     rows = []
@@ -163,11 +193,13 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--scenes", type=int, default=30)
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--only", choices=("fps", "noise", "detect"), default=None)
+    ap.add_argument("--only", choices=("fps", "noise", "detect", "openset"), default=None)
     ap.add_argument("--weights", default=None, help="detector weights for --only detect (default: shipped)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     out: dict[str, Any] = {}
+    if args.only == "openset":
+        out["openset"] = bench_openset(args.scenes, args.seed, args.weights)
     if args.only == "detect":
         out["detect"] = bench_detect(max(1, args.frames // 4), args.seed, args.repeats, args.weights)
     if args.only in (None, "fps"):
@@ -187,6 +219,10 @@ def main() -> None:
         )
     if "noise" in out:
         print(markdown(out["noise"]))
+    for cat, row in out.get("openset", {}).items():
+        total = sum(row.values())
+        parts = ", ".join(f"{k} {v}" for k, v in sorted(row.items(), key=lambda kv: -kv[1]))
+        print(f"{cat:>10} ({total}): {parts}")
     if "detect" in out:
         d = out["detect"]
         for part in ("segmentation", "detection", "pipeline_4_views_per_frame"):
