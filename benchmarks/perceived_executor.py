@@ -12,6 +12,7 @@ physical success means the goal holds in the world, not in the agent's belief.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from gsr.benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
@@ -101,6 +102,22 @@ class RunnerSimExecutor(SimExecutor):
         self.outcomes = []
         return state_from_graph(self.ex.graph, domain)
 
+    def agent_task(self, task: TaskSpec) -> TaskSpec:
+        """The task as the agent may see it: with ``perceive``, the initial graph is the perceived one (not
+        the task's), and the goal formula (which only the planner agent reads: "goal given") names the
+        perceived nodes that are the goal's bodies (:attr:`PerceivedScene.binding`)."""
+        if not self.perceive or not isinstance(self.ex, PerceivingPhysicalExecutor):
+            return task
+        scene = self.ex.scene
+        back = {w: p for p, w in scene.binding.items()}
+        return task.model_copy(
+            update={
+                "initial": self.ex.graph,
+                "goal": rename_in_formula(task.goal, back),
+                "goal_alternatives": tuple(rename_in_formula(g, back) for g in task.goal_alternatives),
+            }
+        )
+
     def truth_state(self) -> State:
         """The simulator's ground-truth state now (what physical success is judged on)."""
         from gsr.skills.sim_graph import scene_graph_from_sim
@@ -120,3 +137,11 @@ class RunnerSimExecutor(SimExecutor):
         if isinstance(self.ex, PerceivingPhysicalExecutor):
             graph = self.ex.scene.in_world_ids(graph)
         return state_from_graph(graph, self.domain)
+
+
+_TOKEN = re.compile(r"[^\s()]+")
+
+
+def rename_in_formula(text: str, mapping: dict[str, str]) -> str:
+    """A PDDL formula's object names renamed by ``mapping`` (whole tokens only)."""
+    return _TOKEN.sub(lambda m: mapping.get(m.group(0), m.group(0)), text)

@@ -184,7 +184,9 @@ def run_episode(
     said_done = False
     outcome_hint, reason = "", ""
     try:
-        agent.reset(task, domain, eseed)
+        # an executor that perceives shows the agent its perceived initial graph, not the task's
+        shown = getattr(executor, "agent_task", None)
+        agent.reset(shown(task) if shown is not None else task, domain, eseed)
         feedback: Diagnosis | None = None
         tries = 0
         # how often each step failed in this episode: a step that fails again after the steps between

@@ -44,6 +44,8 @@ MERGE_OVERLAP = 0.3
 #: Two views' part detections merge only when their height ranges overlap this much (IoU): stacked
 #: drawers are different parts, and a detection spanning two of them is no match for either.
 PART_Z_IOU = 0.5
+#: A fixture (cabinet, stove, rack: not movable) whose box lies this much inside another's of its kind is it.
+FIXTURE_NESTED = 0.7
 #: Ground categories: their pieces at one height are one ground, whatever the view.
 GROUNDS = ("table", "floor")
 _VIEW_KEY = re.compile(r"_f(\d+)m-?\d+$")
@@ -193,6 +195,25 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             continue  # one camera's detections stay apart, even through a third view
         root[rj] = ri
         views_of[ri] |= views_of.pop(rj)
+    # furniture does not nest in furniture of its kind: a cabinet piece inside a cabinet's box is that cabinet
+    fixtures = [
+        i
+        for i, inst in enumerate(instances)
+        if not is_part_category(inst.label.category)
+        and inst.label.category not in GROUNDS
+        and inst.label.category != UNKNOWN
+        and "movable" not in affordances(inst.label.category)
+    ]
+    for a, i in enumerate(fixtures):
+        for j in fixtures[a + 1 :]:
+            x, y = instances[i], instances[j]
+            if x.label.category != y.label.category:
+                continue
+            share = max(_box_contains_share(x, y), _box_contains_share(y, x))
+            ri, rj = find(i), find(j)
+            if ri != rj and share >= FIXTURE_NESTED:
+                root[rj] = ri
+                views_of[ri] |= views_of.pop(rj)
     # the ground is one surface: its pieces (split by the objects on it, in one view or several) are one
     grounds = [i for i, inst in enumerate(instances) if inst.label.category in GROUNDS]
     tops = {i: float(np.percentile(instances[i].points[:, 2], 98.0)) for i in grounds}

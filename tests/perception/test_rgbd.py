@@ -239,7 +239,7 @@ def test_a_part_follows_the_detectors_parent_link_over_the_box_rule():
     from gsr.perception.track import assign_parts, fuse_views
 
     cabinet = _inst("cabinet_f0m0", "cabinet", (0.0, 0.0, 0.0), (0.3, 0.4, 0.4))
-    big = _inst("cabinet_f0m1", "cabinet", (-0.1, -0.1, 0.0), (0.5, 0.6, 0.5))  # holds the drawer's box too
+    big = _inst("stove_f0m1", "stove", (-0.1, -0.1, 0.0), (0.5, 0.6, 0.5))  # holds the drawer's box too
     drawer = _inst("drawer_f0m2", "drawer", (0.25, 0.05, 0.1), (0.3, 0.35, 0.2))
     drawer.label = dataclasses.replace(drawer.label, parent=None, attributes={"parent_detection": 0})
     fused = fuse_views([cabinet, big, drawer], GeometryParams(voxel=0))
