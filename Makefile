@@ -30,8 +30,9 @@ $(VENV)/.installed-test: pyproject.toml Makefile | $(PY)
 	$(PIP) install -e '.[dev,sim,vision,serve,llm,dist,fast]'
 	@touch $@ $(VENV)/.installed-demo
 
+# --oracle-masks: the detector (gsr demo's default) does not yet verify this goal (docs/performance.md, issue 22)
 demo: sysdeps $(VENV)/.installed-demo
-	$(VENV)/bin/gsr demo
+	$(VENV)/bin/gsr demo --oracle-masks
 
 test: sysdeps $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
