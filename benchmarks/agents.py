@@ -1,10 +1,11 @@
-"""Agents under evaluation: the protocol and the built-ins (planner, grounder, reasoner, random).
+"""Agents under evaluation: the built-ins (planner, grounder, reasoner, random) of the core's ``Agent`` protocol.
 
 An agent is reset on a task, then asked again and again for the next step given the current scene
 graph and the instruction; it answers a :class:`~gsr.step.Step` or ``None`` ("done"). When the checker
 rejects a step, the runner may ask again with the diagnosis as ``feedback``. To benchmark your own
-agent, implement the two methods and pass ``--agent package.module:factory`` (a class or a function
-returning an agent; keyword options come from ``--agent-opt key=value``).
+agent, implement :class:`gsr.episode.Agent` (``name``, ``reset``, ``act``) and pass
+``--agent package.module:factory`` (a class or a function returning an agent; keyword options come
+from ``--agent-opt key=value``).
 """
 
 from __future__ import annotations
@@ -13,33 +14,17 @@ import importlib
 import random
 from collections import deque
 from collections.abc import Callable
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 from gsr.benchmarks.scoring import any_goal
 
 from gsr.diagnosis import Diagnosis
+from gsr.episode import Agent, AgentFailure
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula
 from gsr.scene_graph import SceneGraph
 from gsr.step import Step
 from gsr.task_spec import TaskSpec
-
-
-@runtime_checkable
-class Agent(Protocol):
-    """Given the current scene graph and the instruction, return the next step or None (done)."""
-
-    name: str
-
-    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
-        """Start an episode of ``task`` (the agent may read anything in it; only oracles read the goal)."""
-
-    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
-        """The next step, or None when the agent considers the task done."""
-
-
-class AgentFailure(GSRError):
-    """The agent could not produce a step (no plan, grounding failed, model error)."""
 
 
 class _PlanningAgent:

@@ -105,8 +105,10 @@ def run(
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
     from gsr.benchmarks.report import results_document, write_reports
-    from gsr.benchmarks.runner import EpisodeOptions, RunConfig, run_tasks
+    from gsr.benchmarks.runner import RunConfig, run_tasks
     from gsr.benchmarks.suites import SUITES, get_suite
+
+    from gsr.episode import EpisodeOptions
 
     if trials < 1 or workers < 1 or max_steps < 1 or retries < 0:
         raise GSRError("--trials, --workers and --max-steps must be at least 1, --retries at least 0")

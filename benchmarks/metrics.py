@@ -6,7 +6,7 @@ import statistics
 from collections.abc import Iterable
 from typing import Any
 
-from gsr.benchmarks.runner import OUTCOMES, EpisodeResult
+from gsr.episode import OUTCOMES, EpisodeResult
 
 
 def summarize(results: Iterable[EpisodeResult]) -> dict[str, Any]:

@@ -1,6 +1,6 @@
 """The physical runner's executor: ``gsr.skills.SimExecutor`` with perceived graphs, saved frames and a truth verdict.
 
-``RunnerSimExecutor`` implements ``gsr.benchmarks.runner.Executor``. With ``perceive=False`` it is the
+``RunnerSimExecutor`` implements ``gsr.episode.Executor``. With ``perceive=False`` it is the
 simulator executor of ``skills`` (the agent observes the simulator's ground-truth graph). With
 ``perceive=True`` the agent's initial graph and the graph re-derived after every step come from
 :class:`gsr.benchmarks.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from gsr.benchmarks.metrics import by_cell, grouped, summarize
-from gsr.benchmarks.runner import OUTCOMES, EpisodeResult
 
+from gsr.episode import OUTCOMES, EpisodeResult
 from gsr.io import write_text_atomic
 
 _COLS = ("episodes", "success_rate", "score", "executability", "goal_recall", "mean_steps", "mean_time")

@@ -1,8 +1,9 @@
 """The episode runner: agents propose steps, the checker validates each, the goal is scored at the end.
 
-``executor`` is the seam for physical execution: the default :class:`SymbolicExecutor` applies a step
-through :func:`gsr.check.check_step`; a simulator executor (``skills``) implements the same three
-methods and returns the observed state. Episodes run in-process, in local worker processes
+The agent, executor and result types are the core's episode seams (:mod:`gsr.episode`). ``executor``
+is the seam for physical execution: the default :class:`SymbolicExecutor` applies a step through
+:func:`gsr.check.check_step`; a simulator executor (``skills``) implements the same
+:class:`~gsr.episode.Executor` protocol and returns the observed state. Episodes run in-process, in local worker processes
 (``backend="local"``, multiprocessing) or as Ray tasks (``backend="ray"``); every episode's random
 choices derive from (seed, task id, trial), so all backends give the same results for the same seed.
 """
@@ -13,13 +14,14 @@ import re
 import time
 import zlib
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import asdict, dataclass, field
-from typing import Any, Protocol
+from dataclasses import dataclass, field
+from typing import Any
 
-from gsr.benchmarks.agents import AgentFailure, make_agent
+from gsr.benchmarks.agents import make_agent
 from gsr.benchmarks.scoring import score_task
 
 from gsr.diagnosis import Diagnosis
+from gsr.episode import AgentFailure, EpisodeResult, Executor
 from gsr.errors import GSRError
 from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain
@@ -28,21 +30,6 @@ from gsr.semantics import holds
 from gsr.state import State
 from gsr.step import Step
 from gsr.task_spec import TaskSpec, task_from_dict
-
-OUTCOMES = ("true_success", "false_positive", "goal_error", "planning_error")
-
-
-class Executor(Protocol):
-    """Executes validated-or-not steps and reports what happened (symbolic or physical)."""
-
-    def reset(self, task: TaskSpec, domain: Domain) -> State:
-        """Set up the task's initial scene; the initial symbolic state."""
-
-    def execute(self, step: Step) -> Diagnosis:
-        """Check and execute one step; ``ok`` with ``next_state`` when it ran."""
-
-    def graph(self) -> SceneGraph:
-        """The current scene graph (what the agent observes)."""
 
 
 class SymbolicExecutor:
@@ -76,83 +63,6 @@ class SymbolicExecutor:
         if self._stale:
             self._graph, self._stale = graph_with_state(self._graph, self.state), False
         return self._graph
-
-
-@dataclass(frozen=True)
-class EpisodeOptions:
-    """What ``gsr bench run`` asks of an episode suite (paths as given; None = the suite's default)."""
-
-    agent: str | None = None
-    seed: int = 0
-    trials: int = 1
-    limit: int | None = None
-    source: str | None = None
-    tasks: str | None = None
-    split: str | None = None
-
-
-class EpisodeSuite(Protocol):
-    """A suite whose episodes are not PDDL-step tasks (e.g. in-building delivery).
-
-    It prepares its own per-episode payloads, runs each through a module-level job function on the
-    runner's pool (:func:`run_jobs`: local processes or Ray, results in job order) and turns the
-    records into its own metrics, results document and Markdown report.
-    """
-
-    name: str
-    agents: dict[str, str]  # agent name -> one-line description
-    default_agent: str
-
-    def prepare(self, options: EpisodeOptions) -> tuple[list[dict[str, Any]], Any]:
-        """Check the options; the payloads (each with an ``id``) and the picklable job config."""
-
-    def job(self) -> Callable[[dict[str, Any], int, Any], dict[str, Any]]:
-        """The module-level ``fn(payload, trial, config) -> record`` a worker runs per episode."""
-
-    def document(self, records: list[dict[str, Any]], config: Any, **meta: Any) -> dict[str, Any]:
-        """The results.json document (``suite``, ``agent``, ``success_rate``, ``metrics``, ``tasks``...)."""
-
-    def markdown(self, doc: dict[str, Any]) -> str:
-        """The Markdown report of a results document."""
-
-    def summary_text(self, doc: dict[str, Any]) -> str:
-        """A few lines for the terminal."""
-
-
-@dataclass
-class EpisodeResult:
-    """One episode's record (the rows of results.json)."""
-
-    id: str
-    suite: str
-    category: str
-    level: str | None
-    trial: int
-    seed: int
-    success: bool
-    score: float
-    recall: float
-    steps: int
-    proposed: int
-    valid: int
-    outcome: str
-    reason: str
-    time: float
-    best_alternative: int = 0
-    failure: dict[str, Any] | None = None
-    plan: list[str] = field(default_factory=list)
-    reference_steps: int | None = None
-    perceived_success: bool | None = None  # --perceive: the goal held in the agent's perceived graph
-    frames: list[str] = field(default_factory=list)  # RGB frames saved for the report (paths under --out)
-
-    @property
-    def executability(self) -> float:
-        """Valid steps / proposed steps (1.0 when nothing was proposed)."""
-        return self.valid / self.proposed if self.proposed else 1.0
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-friendly form."""
-        return {**asdict(self), "executability": round(self.executability, 6)}
 
 
 def episode_seed(seed: int, task_id: str, trial: int) -> int:

@@ -16,8 +16,8 @@ from typing import Any, ClassVar
 
 from gsr.benchmarks.delivery.prs_metrics import aggregate
 from gsr.benchmarks.delivery.prs_run import ensure_state, run_one, task_ids
-from gsr.benchmarks.runner import EpisodeOptions
 
+from gsr.episode import EpisodeOptions
 from gsr.errors import GSRError
 from gsr.resources import shared_data_dir
 

@@ -32,10 +32,11 @@ from gsr.benchmarks.delivery.metrics import (
 )
 from gsr.benchmarks.delivery.run import AGENTS, checked_building, make_agent, play
 from gsr.benchmarks.delivery.tasks import SPLITS, DeliveryTask, generate_tasks, load_tasks
-from gsr.benchmarks.runner import EpisodeOptions, episode_seed
+from gsr.benchmarks.runner import episode_seed
 
 from gsr.building.model import Building
 from gsr.building.navigation import BuildingMap
+from gsr.episode import EpisodeOptions
 from gsr.errors import GSRError
 
 OUTCOMES = (

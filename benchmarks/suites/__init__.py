@@ -4,7 +4,7 @@
 folder of BDDL task files), ``rlbench`` (100 generated RLBench-style tasks) and ``tasks`` (a folder or
 file of TaskSpec JSON/YAML, e.g. exported with ``gsr bench export``); ``delivery`` (in-building delivery)
 is an *episode suite*: it runs its own episodes on the runner's pool and scores them with its own
-metrics (``gsr.benchmarks.runner.EpisodeSuite``).
+metrics (``gsr.episode.EpisodeSuite``).
 """
 
 from __future__ import annotations
