@@ -3,9 +3,10 @@
 The agent, executor and result types are the core's episode seams (:mod:`gsr.episode`). ``executor``
 is the seam for physical execution: the default :class:`SymbolicExecutor` applies a step through
 :func:`gsr.check.check_step`; a simulator executor (``skills``) implements the same
-:class:`~gsr.episode.Executor` protocol and returns the observed state. Episodes run in-process, in local worker processes
-(``backend="local"``, multiprocessing) or as Ray tasks (``backend="ray"``); every episode's random
-choices derive from (seed, task id, trial), so all backends give the same results for the same seed.
+:class:`~gsr.episode.Executor` protocol and returns the observed state. Episodes run in-process, in
+local worker processes (``backend="local"``, multiprocessing) or as Ray tasks (``backend="ray"``);
+every episode's random choices derive from (seed, task id, trial), so all backends give the same
+results for the same seed.
 """
 
 from __future__ import annotations

@@ -1,11 +1,12 @@
 """The benchmark runner's executor seam, physically: ``reset`` builds the world, ``execute`` runs a step.
 
-``SimExecutor`` implements ``gsr.benchmarks.runner.Executor`` (``reset(task, domain) -> State``,
-``execute(step) -> Diagnosis``, ``graph() -> SceneGraph``) over :class:`gsr.skills.executor.PhysicalExecutor`:
-a step is first checked on the *observed* state (an invalid step moves nothing), then executed by its
-meta-skill; a skill failure or a divergence between the expected and the observed graph comes back as
-a non-ok ``Diagnosis`` whose message says what happened, and ``graph()`` is always what the simulator
-shows, so an agent that gets feedback replans from reality.
+``SimExecutor`` implements the core's episode seam :class:`gsr.episode.Executor`
+(``reset(task, domain) -> State``, ``execute(step) -> Diagnosis``, ``graph() -> SceneGraph``) over
+:class:`gsr.skills.executor.PhysicalExecutor`: a step is first checked on the *observed* state (an
+invalid step moves nothing), then executed by its meta-skill; a skill failure or a divergence between
+the expected and the observed graph comes back as a non-ok ``Diagnosis`` whose message says what
+happened, and ``graph()`` is always what the simulator shows, so an agent that gets feedback replans
+from reality.
 """
 
 from __future__ import annotations

@@ -5,21 +5,21 @@ runs a trained model with the reasoner's prompt but *without* the propose-check-
 answer is parsed and handed to the executor as is (claimed effects dropped, so only the action is
 judged), and the first inapplicable step ends the episode. Goals are resolved like the reasoner does
 (embedded grounder, else the model's goal answer). Comparing with ``--agent reasoner`` measures what
-the checker buys. Implements the benchmarks Agent protocol by duck typing (gsr never imports benchmarks).
+the checker buys. Implements the core's episode seam :class:`gsr.episode.Agent`.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
+from gsr.diagnosis import Diagnosis
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula
 from gsr.scene_graph import SceneGraph
 from gsr.step import Step
+from gsr.task_spec import TaskSpec
 
 
 class OpenLoopAgent:
-    """A model proposing steps with no checker between it and the world."""
+    """A model proposing steps with no checker between it and the world (a :class:`gsr.episode.Agent`)."""
 
     name = "open-loop"
 
@@ -38,7 +38,7 @@ class OpenLoopAgent:
         self.rejected_proposals = 0
         self.believed_goal: Formula | None = None
 
-    def reset(self, task: Any, domain: Domain, seed: int) -> None:
+    def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
         """Forget the last episode; resolve the goal from the instruction (grounder, else the model)."""
         self.domain = domain
         self.history = []
@@ -71,7 +71,7 @@ class OpenLoopAgent:
         ):  # GoalRejected and parse errors: no goal shown, as in the reasoner after failed repairs
             return None
 
-    def act(self, graph: SceneGraph, instruction: str, feedback: Any = None) -> Step | None:
+    def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
         """The model's next step, unchecked (None when it answers done or nothing parseable)."""
         from gsr.errors import ParseError
         from gsr.reason.backend import Query

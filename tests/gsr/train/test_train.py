@@ -89,11 +89,13 @@ def test_tiny_run_writes_a_folder_the_transformers_backend_loads(data, tmp_path)
         train(_cfg(data, out), log=lambda _: None)
     # the no-checker baseline agent runs the same checkpoint open loop, constrained or not
     from gsr.datagen.tasks import generated_tasks
+    from gsr.episode import Agent
     from gsr.train.openloop import OpenLoopAgent
 
     task = generated_tasks(data, "train", limit=1)[0]
     for constrained in (False, True):
         agent = OpenLoopAgent(backend=f"transformers:{out}", constrained=constrained)
+        assert isinstance(agent, Agent)  # the core's episode seam, checked at runtime
         agent.reset(task, load_builtin_domain(), 0)
         step = agent.act(task.initial, task.instruction)
         assert step is None or step.add is None  # claimed effects never reach the executor
