@@ -14,14 +14,16 @@ Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems
 
 GSR runs in-process; on IPC sets its time covers parsing, grounding and search, on tabletop sets it
 is ``PlanResult.time`` (grounding + search; the problem is built from the scene graph beforehand).
-With ``--isolate`` GSR runs each IPC problem in a fresh subprocess like FD (interpreter start-up
-included, a hard wall limit of 1.5 x the timeout + 10 s, since grounding is not interruptible) and
-both report their peak resident memory (GSR's read after planning, before its plan is validated;
-FD's the largest child process's ru_maxrss: its driver, translator and search are children of one
-wrapper).
+With ``--isolate`` GSR runs each IPC problem in a fresh subprocess (a hard wall limit of 1.5 x the
+timeout + 30 s, since grounding is not interruptible): its wall time runs from spawning the
+interpreter to the plan, its CPU time is the child's own from its start (start-up and imports
+included); FD's times are those of FD's own processes (driver, translator, search), as when FD is
+run directly, not of the benchmark's child around it. Both report their peak resident memory (GSR's
+read after planning, before validation; FD's the largest child process's ru_maxrss). Modules are
+byte-compiled once first, as pip does on install.
 pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
-with PYTHONHASHSEED=0. Every GSR plan is checked with gsr.validate.validate_plan (not timed); an
-invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
+with PYTHONHASHSEED=0. Every GSR plan, and with ``--isolate`` every FD plan, is checked with
+gsr.validate.validate_plan after the clock stops (``validate_s``); an invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 REPO = Path(__file__).resolve().parents[1]
 if str(REPO) not in sys.path:
@@ -49,10 +52,10 @@ from gsr.pddl.files import find_domain_file  # noqa: E402
 from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E402
 from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
 from gsr.plan import plan  # noqa: E402
-from gsr.plan.fast_downward import run_fast_downward  # noqa: E402
 from gsr.resources import data_dir, shared_data_dir  # noqa: E402
-from gsr.scene_graph import SceneGraph  # noqa: E402
-from gsr.validate import validate_plan  # noqa: E402
+
+if TYPE_CHECKING:  # an isolated GSR run imports only what planning needs before its clock stops
+    from gsr.scene_graph import SceneGraph
 
 # the IPC sets: the reference folder's pddl/ when present, else the same three sets shipped as test fixtures
 PDDL = (
@@ -108,22 +111,28 @@ def _maxrss_mb(who: int) -> float:
 
 
 def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
-    """One system on one problem in a fresh subprocess that reports its row and peak memory."""
+    """One system on one problem in a fresh subprocess that reports its row and peak memory.
+
+    GSR's time runs from spawning its interpreter to the plan (start-up, imports, parsing, grounding,
+    search; CPU from the child's own rusage); FD's is FD's own processes (driver, translator, search),
+    as when it is run directly. Plan validation (both systems) comes after and is reported apart."""
     cmd = [sys.executable, __file__, "--one", system, str(domain_file), str(problem_file)]
     cmd += ["--timeout", str(timeout), "--planner", planner]
     env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
-    hard = 1.5 * timeout + 10
-    start, cpu0 = time.perf_counter(), _children_cpu()
+    hard = 1.5 * timeout + 30
+    spawned = time.time()
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=hard, env=env)
     except subprocess.TimeoutExpired:
         return {"status": "timeout", "time": timeout, "cpu": timeout, "length": None, "killed": True}
-    elapsed, cpu = time.perf_counter() - start, _children_cpu() - cpu0
     lines = done.stdout.strip().splitlines()
     if done.returncode != 0 or not lines:
         tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
-        return {"status": "error", "time": elapsed, "cpu": cpu, "length": None, "message": tail}
+        elapsed = time.time() - spawned
+        return {"status": "error", "time": elapsed, "cpu": elapsed, "length": None, "message": tail}
     row = json.loads(lines[-1])
+    elapsed = row["done_at"] - spawned if "done_at" in row else row["time"]
+    cpu = row.get("cpu_total", row["cpu"])
     if row["status"] == "timeout" or elapsed > timeout:  # grounding past the limit is a timeout too
         row = {**row, "status": "timeout", "length": None}
         elapsed = cpu = timeout
@@ -131,12 +140,25 @@ def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: fl
 
 
 def _one(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
-    """The child side of run_isolated: the row plus peak memory."""
+    """The child side of run_isolated: the row plus peak memory (and, for GSR, when planning ended)."""
     if system == "gsr":
         row = run_gsr_files(domain_file, problem_file, timeout, planner)
         return {**row, "peak_mb": row.get("plan_peak_mb", _maxrss_mb(resource.RUSAGE_SELF))}
-    row = run_fd(domain_file, problem_file, timeout)
+    row = run_fd(domain_file, problem_file, timeout, validate=True)
     return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_CHILDREN)}
+
+
+def _validated(row: dict, domain: Domain, problem: Problem, found) -> dict:
+    """``row`` with the plan's length, or status 'invalid' (never count a wrong plan as solved);
+    the check's wall time in ``validate_s``."""
+    from gsr.validate import validate_plan
+
+    start = time.perf_counter()
+    report = validate_plan(domain, problem, found)
+    row = {**row, "validate_s": time.perf_counter() - start}
+    if not report.valid:
+        return {**row, "status": "invalid", "length": None, "message": str(report)}
+    return {**row, "length": len(found)}
 
 
 def _children_cpu() -> float:
@@ -151,13 +173,13 @@ def _gsr_row(
     result = plan(domain, problem, planner=planner, timeout=timeout)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - cpu0
     row = {"status": result.status, "time": elapsed, "cpu": cpu, "plan_time": result.time, "length": None}
-    # Peak memory of planning, read before validation (checking a 1,000-step plan has its own cost).
+    # When planning ended, this process's CPU since its start (interpreter and imports included) and
+    # its peak memory, all read before validation (checking a 1,000-step plan has its own cost).
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    row.update(done_at=time.time(), cpu_total=usage.ru_utime + usage.ru_stime)
     row["plan_peak_mb"] = _maxrss_mb(resource.RUSAGE_SELF)
     if result.plan is not None:
-        report = validate_plan(domain, problem, result.plan)
-        if not report.valid:  # never count a wrong plan as solved
-            return {**row, "status": "invalid", "message": str(report)}
-        row["length"] = len(result.plan)
+        row = _validated(row, domain, problem, result.plan)
     return {**row, "expanded": result.expanded}
 
 
@@ -201,8 +223,11 @@ def run_pyperplan(domain_file: Path, problem_file: Path, timeout: float) -> dict
         return {"status": "solved", "time": elapsed, "cpu": cpu, "length": len(steps)}
 
 
-def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
-    """Fast Downward --alias lama-first (driver, translator and search) as a subprocess."""
+def run_fd(domain_file: Path, problem_file: Path, timeout: float, validate: bool = False) -> dict:
+    """Fast Downward --alias lama-first (driver, translator and search) as a subprocess; with
+    ``validate``, its plan is checked like GSR's (after the clock stops)."""
+    from gsr.plan.fast_downward import run_fast_downward
+
     start, cpu0 = time.perf_counter(), _children_cpu()
     try:
         status, found, message = run_fast_downward(domain_file, problem_file, timeout, memory_limit=FD_MEMORY)
@@ -212,7 +237,13 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
     if status == "timeout":  # killed processes are not all reaped into RUSAGE_CHILDREN
         elapsed = cpu = timeout
     row = {"status": status, "time": min(elapsed, timeout), "cpu": cpu, "length": None}
-    if found is not None:
+    if found is not None and validate:
+        try:
+            domain = load_domain(domain_file)
+            row = _validated(row, domain, load_problem(problem_file, domain), found)
+        except GSRError as err:
+            row = {**row, "status": "invalid", "message": f"FD's plan cannot be checked: {err}"}
+    elif found is not None:
         row["length"] = len(found)
     elif status == "error":
         row["message"] = message
@@ -539,6 +570,12 @@ def main(argv: list[str] | None = None) -> int:
             f"unknown set(s)/system(s) {unknown}; sets: {', '.join(SETS)}; systems: gsr, pyperplan, fd"
         )
     pick = [float(f) for f in args.pick.split(",") if f] if args.pick else None
+    if args.isolate:  # byte-compile once, as pip does on install (else every child recompiles edited modules)
+        import compileall
+
+        for folder in ("gsr", "skills", "perception", "benchmarks"):
+            if (REPO / folder).is_dir():
+                compileall.compile_dir(REPO / folder, quiet=1)
     results = [
         bench_set(
             s,

@@ -7,6 +7,7 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula, Problem
@@ -15,8 +16,10 @@ from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
 from gsr.plan.task import Task
-from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Plan
+
+if TYPE_CHECKING:  # the scene graph (and pydantic) only for plan_graph's callers, not for PDDL files
+    from gsr.scene_graph import SceneGraph
 
 PLANNERS = ("lazy-ff", "lama", "gbfs-ff", "astar-lmcut", "astar-hmax", "astar-blind", "bfs", "fd")
 OPTIMAL = frozenset({"astar-lmcut", "astar-hmax", "astar-blind"})
