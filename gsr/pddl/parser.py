@@ -6,7 +6,9 @@ case-insensitive and the model stores lower-case names.
 
 from __future__ import annotations
 
+import contextlib
 import re
+import sys
 from collections.abc import Callable
 from functools import cache
 from pathlib import Path
@@ -83,7 +85,16 @@ Node = Tree | Token
 def _lark() -> Lark:
     """The compiled grammar (built once per process)."""
     grammar = Path(__file__).with_name("grammar.lark").read_text(encoding="utf-8")
-    return Lark(grammar, parser="lalr", start=_STARTS, propagate_positions=True, maybe_placeholders=False)
+    # Building the LALR tables costs ~0.2 s CPU per process; lark caches them in a file that records
+    # the grammar's, options' and lark's hash and is rebuilt when any differs. Beside the package's
+    # bytecode (not a shared temp dir, since the cache is a pickle); unwritable: built every time.
+    cache_dir = Path(__file__).parent / "__pycache__"
+    with contextlib.suppress(OSError):
+        cache_dir.mkdir(exist_ok=True)
+    cache = str(cache_dir / f"grammar.lark-py{sys.version_info[0]}{sys.version_info[1]}.cache")
+    return Lark(
+        grammar, parser="lalr", start=_STARTS, propagate_positions=True, maybe_placeholders=False, cache=cache
+    )
 
 
 @cache
