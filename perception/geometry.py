@@ -211,47 +211,6 @@ def _finish(inst: Instance, params: GeometryParams) -> bool:
     return True
 
 
-def aabb_iou(a: Instance, b: Instance) -> float:
-    """Intersection over union of two instances' axis-aligned boxes."""
-    lo, hi = np.maximum(a.aabb_min, b.aabb_min), np.minimum(a.aabb_max, b.aabb_max)
-    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
-    vol_a = float(np.prod(a.aabb_max - a.aabb_min))
-    vol_b = float(np.prod(b.aabb_max - b.aabb_min))
-    union = vol_a + vol_b - inter
-    return inter / union if union > 0 else 0.0
-
-
-def same_object(a: Instance, b: Instance, iou: float = 0.25) -> bool:
-    """Whether two views' instances are one object: same category and overlapping boxes or close centres.
-
-    Different cameras see different faces of a small object, so the boxes of its visible surfaces can
-    overlap little; their centres still lie within half the object's width of each other.
-    """
-    if a.label.category != b.label.category:
-        return False
-    if aabb_iou(a, b) >= iou:
-        return True
-    z_overlap = min(a.aabb_max[2], b.aabb_max[2]) - max(a.aabb_min[2], b.aabb_min[2])
-    reach = 0.5 * max(float(a.size[:2].max()), float(b.size[:2].max())) + 0.01
-    return z_overlap > 0 and float(np.linalg.norm(a.center[:2] - b.center[:2])) <= reach
-
-
-def fuse_anonymous(instances: list[Instance], params: GeometryParams, iou: float = 0.25) -> list[Instance]:
-    """Merge detector instances without node ids across views (see :func:`same_object`)."""
-    fused: list[Instance] = []
-    for inst in instances:
-        match = next((f for f in fused if same_object(f, inst, iou)), None)
-        if match is None:
-            fused.append(inst)
-            continue
-        match.points = np.concatenate((match.points, inst.points))
-        match.rgb = np.concatenate((match.rgb, inst.rgb))
-        match.views += 1
-        _finish(match, params)
-    number_anonymous(fused)
-    return fused
-
-
 def number_anonymous(instances: list[Instance]) -> None:
     """Give instances without a node id stable, readable keys: cube_1, cube_2, ... in order."""
     counts: dict[str, int] = {}
