@@ -158,26 +158,13 @@ def ground_goal(formula: Formula, state: State, domain: Domain) -> Formula:
             return (not inner) if isinstance(inner, bool) else Not(inner)
         if isinstance(f, Imply):
             return sub(Or((Not(f.condition), f.then)), b)
-        if isinstance(f, And | Forall):
+        if isinstance(f, And | Or | Forall | Exists):
             parts = (
                 [sub(p, b) for p in f.parts]
-                if isinstance(f, And)
+                if isinstance(f, And | Or)
                 else [sub(f.body, b | x) for x in bindings(f.params)]
             )
-            if any(p is False for p in parts):
-                return False
-            kept = _flatten([p for p in parts if p is not True], And)
-            return kept[0] if len(kept) == 1 else (And(tuple(kept)) if kept else True)
-        if isinstance(f, Or | Exists):
-            parts = (
-                [sub(p, b) for p in f.parts]
-                if isinstance(f, Or)
-                else [sub(f.body, b | x) for x in bindings(f.params)]
-            )
-            if any(p is True for p in parts):
-                return True
-            kept = _flatten([p for p in parts if p is not False], Or)
-            return kept[0] if len(kept) == 1 else (Or(tuple(kept)) if kept else False)
+            return _junction(parts, And if isinstance(f, And | Forall) else Or)
         raise CompactError(f"the compact format cannot express the goal part {type(f).__name__}")
 
     result = sub(formula, {})
@@ -193,6 +180,16 @@ def _flatten(parts: list, kind: type) -> list:
     for p in parts:
         out.extend(p.parts if isinstance(p, kind) else [p])
     return out
+
+
+def _junction(parts: list[Formula | bool], kind: type[And] | type[Or]) -> Formula | bool:
+    """``kind`` (And or Or) over simplified parts: a part equal to the absorbing constant (False for And,
+    True for Or) decides it, the neutral ones drop out, nested ``kind`` flattens, one part stands alone."""
+    neutral = kind is And
+    if any(p is (not neutral) for p in parts):
+        return not neutral
+    kept = _flatten([p for p in parts if p is not neutral], kind)
+    return kept[0] if len(kept) == 1 else (kind(tuple(kept)) if kept else neutral)
 
 
 def goal_tokens(
