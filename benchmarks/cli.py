@@ -178,7 +178,7 @@ def run(
 def run_episode_suite(
     hosted: Any, options: Any, workers: int, backend: str, address: str | None, out: str | None
 ) -> dict[str, Any]:
-    """Run an episode suite (``gsr.benchmarks.runner.EpisodeSuite``) on the runner's pool; write its reports."""
+    """Run an episode suite (``gsr.episode.EpisodeSuite``) on the runner's pool; write its reports."""
     from gsr.benchmarks.report import write_reports
     from gsr.benchmarks.runner import run_jobs
 

@@ -1,6 +1,6 @@
 """``gsr bench run delivery``: the delivery benchmark as an episode suite of the benchmark runner.
 
-Delivery episodes are not PDDL-step tasks, so the suite implements ``gsr.benchmarks.runner.EpisodeSuite``:
+Delivery episodes are not PDDL-step tasks, so the suite implements ``gsr.episode.EpisodeSuite``:
 it prepares one payload per task, the runner's pool (local processes or Ray, results in task order)
 runs :func:`delivery_job` on each, and the records become the PRS-style metrics (Task SR, parsing,
 manipulation and human-search SR, mean time) through the same code as ``gsr delivery run``
