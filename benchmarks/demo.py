@@ -114,12 +114,18 @@ def run_demo(
             lambda: observe("before"),
             summary,
         )
-        goal = _stage(
-            rec,
-            "ground instruction -> goal",
-            lambda: ground(task.instruction, before),
-            lambda g: write_formula(g.formula).replace("\n", " "),
-        )
+        try:
+            goal = _stage(
+                rec,
+                "ground instruction -> goal",
+                lambda: ground(task.instruction, before),
+                lambda g: write_formula(g.formula).replace("\n", " "),
+            )
+        except (
+            GSRError
+        ) as exc:  # the perceived scene lacks what the instruction names: a verdict, not a crash
+            rec.verdict = f"grounding failed on the perceived scene graph: {exc}"
+            return _finish(rec, out, before, None)
         rec.goal = " ".join(write_formula(goal.formula).split())
         reasoned = _stage(
             rec,

