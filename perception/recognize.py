@@ -39,6 +39,7 @@ FEATURE_NAMES = (
     "median_g",
     "median_b",
     "rgb_std",
+    "side_fourfold",
 )
 N_FEATURES = len(FEATURE_NAMES)
 #: The answer for a segment that is no object (robot arm, clutter of the background).
@@ -93,6 +94,10 @@ def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     bottom, top = np.percentile(hgt, 2), np.percentile(hgt, 98)
     up = np.abs(nrm[:, 2]) > 0.9
     side = np.abs(nrm[:, 2]) < 0.3
+    # how box-like the sides are: horizontal normal directions of a box cluster at one angle modulo 90
+    # degrees (|mean of exp(4i angle)| near 1), a cylinder's spread evenly (near 0)
+    theta = np.arctan2(nrm[side, 1], nrm[side, 0])
+    fourfold = float(np.abs(np.exp(4j * theta).mean())) if side.sum() >= 5 else 0.0
     rough = float(np.std(hgt[up])) if up.sum() > 3 else 0.0
     s = rgb.sum(axis=1) + 1e-6
     chroma = (rgb / s[:, None]).mean(axis=0)
@@ -131,6 +136,7 @@ def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
         *grey_hist,
         *med,
         float(rgb.std()),
+        fourfold,
     )
     return out
 

@@ -261,7 +261,12 @@ def _links(
             out.append((both & ~jump & ~color, both & jump))
             continue
         kept = np.zeros_like(both)
-        kept[both] = np.asarray(link_scorer(feats)) < 0.5
+        # links with no depth step and no colour change are kept without asking the model (speed)
+        plain = (feats[:, 0] < 0.004) & (feats[:, 4] < 0.02) & (feats[:, 5] < 0.05)
+        cut = np.zeros(len(feats), bool)
+        if (~plain).any():
+            cut[~plain] = np.asarray(link_scorer(feats[~plain])) >= 0.5
+        kept[both] = ~cut
         out.append((kept, both & jump))
     (kr, jr), (kd, jd) = out
     return kr, kd, jr, jd

@@ -27,7 +27,7 @@ import os
 import tempfile
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +51,7 @@ class TrainConfig:
     link_frames: int = 150  # the first frames train the link (boundary) model
     merge_frames: int = 240  # the next ones the merge model, the rest recognition
     link_samples: int = 3000  # links sampled per frame (a quarter of them boundaries, when there are)
+    link_epochs: int = 250
     epochs: int = 600
     hidden: int = 96
     merge_hidden: int = 32
@@ -139,7 +140,7 @@ def _train_link(
 ) -> MLP:
     x, y = np.concatenate(xs), np.concatenate(ys)
     log(f"link: {len(y)} pixel links, {float(y.mean()):.3f} of them boundaries")
-    layers, mean, std = _fit(x, [y], [1], 16, config, binary=True)
+    layers, mean, std = _fit(x, [y], [1], 16, replace(config, epochs=config.link_epochs), binary=True)
     return MLP(layers, mean, std)
 
 
