@@ -120,36 +120,28 @@ def spell(tokens: list[str]) -> list[str]:
     return out
 
 
+@lru_cache(maxsize=1)
+def _phrase_table() -> tuple[tuple[tuple[str, ...], list[str]], ...]:
+    """The vocabulary's place phrases as (words, replacement words), longest first."""
+    return tuple(
+        sorted(
+            ((tuple(k.split()), v.split()) for k, v in vocabulary()["phrases"].items()),
+            key=lambda kv: -len(kv[0]),
+        )
+    )
+
+
 def place_phrases(tokens: list[str]) -> list[str]:
     """Tokens with the vocabulary's place phrases replaced (``meeting room`` -> conference room)."""
-    phrases = sorted(
-        ((tuple(k.split()), v.split()) for k, v in vocabulary()["phrases"].items()),
-        key=lambda kv: -len(kv[0]),
-    )
-    out: list[str] = []
-    i = 0
-    while i < len(tokens):
-        for k, v in phrases:
-            if tuple(tokens[i : i + len(k)]) == k:
-                out.extend(v)
-                i += len(k)
-                break
-        else:
-            out.append(tokens[i])
-            i += 1
-    return out
+    return [t for t, _ in _place_words([(t, "") for t in tokens])]
 
 
 def _place_words(flat: list[tuple[str, str]]) -> list[tuple[str, str]]:
     """``place_phrases`` over (word, class) pairs; a replaced phrase's words take the class of its last."""
-    phrases = sorted(
-        ((tuple(k.split()), v.split()) for k, v in vocabulary()["phrases"].items()),
-        key=lambda kv: -len(kv[0]),
-    )
     out: list[tuple[str, str]] = []
     i = 0
     while i < len(flat):
-        for k, v in phrases:
+        for k, v in _phrase_table():
             if tuple(t for t, _ in flat[i : i + len(k)]) == k:
                 cls = flat[i + len(k) - 1][1]
                 out.extend((t, cls) for t in v)
