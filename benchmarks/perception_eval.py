@@ -157,6 +157,17 @@ def with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
     return dataclasses.replace(frame, labels=labels)
 
 
+def scored_relations(world: str, scenes: int, cameras: int) -> tuple[str, ...]:
+    """The relations scored in ``world``, after checking the run's arguments (ValueError when bad)."""
+    if world not in WORLDS:
+        raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
+    if scenes < 1:
+        raise ValueError("scenes must be >= 1")
+    if cameras < 1:
+        raise ValueError("cameras must be >= 1")
+    return ("on", "in") if world == "skills" else SCORED_RELATIONS
+
+
 def evaluate(
     scenes: int,
     seed: int = 0,
@@ -174,16 +185,10 @@ def evaluate(
 
     ``oracle=False`` is the no-oracle protocol (:func:`evaluate_no_oracle`): RGB-D and cameras only,
     ``detector`` (default :func:`gsr.perception.detect.load_detector`) finds and names the objects."""
-    if world not in WORLDS:
-        raise ValueError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
     if not oracle:
         return evaluate_no_oracle(scenes, seed, depth_noise, cameras, width, height, params, world, detector)
+    relations = scored_relations(world, scenes, cameras)
     make_scene = skills_scene if world == "skills" else procedural_scene
-    relations = ("on", "in") if world == "skills" else SCORED_RELATIONS
-    if scenes < 1:
-        raise ValueError("scenes must be >= 1")
-    if cameras < 1:
-        raise ValueError("cameras must be >= 1")
     score, seen = Score(), Score()
     truth_nodes = visible_truth_nodes = 0
     seconds = cpu_seconds = 0.0
@@ -296,11 +301,7 @@ def evaluate_no_oracle(
         from gsr.perception.detect import load_detector
 
         detector = load_detector()
-    relations = ("on", "in") if world == "skills" else SCORED_RELATIONS
-    if scenes < 1:
-        raise ValueError("scenes must be >= 1")
-    if cameras < 1:
-        raise ValueError("cameras must be >= 1")
+    relations = scored_relations(world, scenes, cameras)
 
     def make_scene(s: int, c: int, w: int, h: int) -> tuple[list[Frame], Any]:
         if world == "skills":
