@@ -7,6 +7,7 @@ case-insensitive and the model stores lower-case names.
 from __future__ import annotations
 
 import contextlib
+import os
 import re
 import sys
 from collections.abc import Callable
@@ -88,10 +89,13 @@ def _lark() -> Lark:
     # Building the LALR tables costs ~0.2 s CPU per process; lark caches them in a file that records
     # the grammar's, options' and lark's hash and is rebuilt when any differs. Beside the package's
     # bytecode (not a shared temp dir, since the cache is a pickle); unwritable: built every time.
+    # (lark logs a traceback when it cannot write the file, so an unwritable folder gets no cache at all.)
     cache_dir = Path(__file__).parent / "__pycache__"
     with contextlib.suppress(OSError):
         cache_dir.mkdir(exist_ok=True)
-    cache = str(cache_dir / f"grammar.lark-py{sys.version_info[0]}{sys.version_info[1]}.cache")
+    cache_file = cache_dir / f"grammar.lark-py{sys.version_info[0]}{sys.version_info[1]}.cache"
+    writable = os.access(cache_file if cache_file.exists() else cache_dir, os.W_OK)
+    cache = str(cache_file) if writable else False
     return Lark(
         grammar, parser="lalr", start=_STARTS, propagate_positions=True, maybe_placeholders=False, cache=cache
     )
