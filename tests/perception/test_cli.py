@@ -135,8 +135,18 @@ def test_bench_run_physical_perceive_writes_frames(tmp_path, libero_dir) -> None
     tasks = libero_dir / "libero_goal"
     out = tmp_path / "run"
     res = _gsr(
-        "bench", "run", "libero", "--source", str(tasks), "--physical", "--perceive", "--oracle-masks",
-        "--limit", "1", "--out", str(out),
+        "bench",
+        "run",
+        "libero",
+        "--source",
+        str(tasks),
+        "--physical",
+        "--perceive",
+        "--oracle-masks",
+        "--limit",
+        "1",
+        "--out",
+        str(out),
     )  # fmt: skip  (the labelled masks: this test is about the frames; the detector path is issue 22's)
     doc = json.loads((out / "results.json").read_text())
     assert res.returncode == (0 if doc["success_rate"] == 1.0 else 1)
