@@ -3,13 +3,16 @@
 Every import in the four packages is read from the source (module level, inside functions and under
 ``TYPE_CHECKING`` alike, plus string module names given to ``importlib.import_module`` or kept in lazy
 export tables), and none may name a package of a higher layer. A layer may use any layer below it.
-Command-line sub-apps of the upper layers reach the ``gsr`` command through entry points
-(``[project.entry-points."gsr.cli"]``), so the core never names them.
+Relative imports are resolved first. Command-line sub-apps of the upper layers reach the ``gsr``
+command only through the ``gsr.cli`` entry points of pyproject.toml, so the core never names them.
+No private name (``_x``) crosses from one project module to another.
 """
 
 from __future__ import annotations
 
 import ast
+import tomllib
+from importlib.metadata import entry_points
 from pathlib import Path
 
 import pytest
@@ -44,8 +47,9 @@ def _imports(path: Path) -> list[tuple[int, str]]:
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             out += [(node.lineno, a.name) for a in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            out.append((node.lineno, node.module))
+        elif isinstance(node, ast.ImportFrom):
+            module = _absolute(path, node)  # ``from . import x`` in gsr/ is gsr.x
+            out += [(node.lineno, module)] + [(node.lineno, f"{module}.{a.name}") for a in node.names]
         elif isinstance(node, ast.Constant) and isinstance(node.value, str):
             # "gsr.skills.camera"-style strings: lazy export tables and import_module arguments
             text = node.value
@@ -82,6 +86,7 @@ def test_no_upward_imports() -> None:
         ("from gsr.benchmarks.demo import run_demo\n", True),
         ("def f():\n    import gsr.skills.camera\n", True),
         ("LAZY = {'CameraSpec': 'gsr.skills.camera'}\n", True),
+        ("from gsr import skills\n", True),
         ("from gsr.scene_graph import SceneGraph\n", False),
         ("HELP = 'see skills. for more'\n", False),
         ("from skills.camera import CameraSpec\n", False),
@@ -93,24 +98,135 @@ def test_the_checker_sees_every_kind_of_import(tmp_path: Path, source: str, bad:
     assert any(_rank(m) and _rank(m) > 0 for _, m in _imports(f)) is bad
 
 
+def _module_path(module: str) -> Path | None:
+    """The repository file of a project module (``gsr.skills.camera`` -> ``skills/camera.py``)."""
+    rank = _rank(module)
+    if rank is None:
+        return None
+    layer = LAYERS[rank]
+    rest = module[len(IMPORT_NAMES[layer]) :].lstrip(".")
+    base = REPO / layer / Path(*rest.split(".")) if rest else REPO / layer
+    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _absolute(path: Path, node: ast.ImportFrom) -> str:
+    """The module an ``ImportFrom`` names, relative imports resolved against the file's package."""
+    if node.level == 0 or not path.is_relative_to(REPO):
+        return node.module or ""
+    rel = path.relative_to(REPO).with_suffix("")
+    layer = rel.parts[0]
+    package = [IMPORT_NAMES[layer], *rel.parts[1:-1]] if layer in IMPORT_NAMES else list(rel.parts[:-1])
+    package = package[: len(package) - (node.level - 1)] if node.level > 1 else package
+    return ".".join([*package, *([node.module] if node.module else [])])
+
+
+def private_crossings(path: Path) -> list[str]:
+    """Private names (``_x``) one file takes from another project module: ``from m import _x`` (absolute
+    or relative) and ``m._x`` on a module bound by ``import m [as n]`` or ``from pkg import m``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    where = path.relative_to(REPO) if path.is_relative_to(REPO) else path
+    found: list[str] = []
+    modules: dict[str, str] = {}  # local name -> project module it is bound to
+
+    def private(name: str) -> bool:
+        return name.startswith("_") and not name.startswith("__")
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if _rank(a.name) is not None:
+                    modules[a.asname or a.name] = a.name
+        elif isinstance(node, ast.ImportFrom):
+            module = _absolute(path, node)
+            if _rank(module) is None:
+                continue
+            for a in node.names:
+                if private(a.name):
+                    found.append(f"{where}:{node.lineno}: from {module} import {a.name}")
+                elif _module_path(f"{module}.{a.name}") is not None:
+                    modules[a.asname or a.name] = f"{module}.{a.name}"
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and private(node.attr):
+            chain, value = [node.attr], node.value
+            while isinstance(value, ast.Attribute):
+                chain.append(value.attr)
+                value = value.value
+            if isinstance(value, ast.Name) and value.id in modules:
+                found.append(f"{where}:{node.lineno}: {modules[value.id]}...{node.attr}")
+    return found
+
+
 def test_no_private_name_crosses_a_module() -> None:
-    """``from a.b import _x`` couples two modules through a name that promises nothing: make it public."""
-    problems = []
-    for layer in LAYERS:
-        for path in sorted((REPO / layer).rglob("*.py")):
-            tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
-            for node in ast.walk(tree):
-                if (
-                    isinstance(node, ast.ImportFrom)
-                    and node.level == 0
-                    and _rank(node.module or "") is not None
-                ):
-                    problems += [
-                        f"{path.relative_to(REPO)}:{node.lineno}: from {node.module} import {a.name}"
-                        for a in node.names
-                        if a.name.startswith("_") and not a.name.startswith("__")
-                    ]
+    """A private name taken from another module couples the two through a name that promises nothing:
+    make it public (or move the code that needs it)."""
+    problems = [
+        line
+        for layer in LAYERS
+        for path in sorted((REPO / layer).rglob("*.py"))
+        for line in private_crossings(path)
+    ]
     assert not problems, "private names imported across modules:\n" + "\n".join(problems)
+
+
+@pytest.mark.parametrize(
+    ("source", "bad"),
+    [
+        ("from gsr.pddl.writer import _inline\n", True),
+        ("def f():\n    from gsr.scene_graph import _NAME\n", True),
+        ("import gsr.facts as facts\nfacts._default_domain()\n", True),
+        ("from gsr import facts\nx = facts._default_domain\n", True),
+        ("from gsr.pddl.writer import write_domain as _write\n", False),
+        ("import numpy as np\nnp._NoValue\n", False),
+        ("from gsr.scene_graph import SceneGraph\nSceneGraph._private\n", False),
+    ],
+)
+def test_the_private_name_check_sees_every_kind(tmp_path: Path, source: str, bad: bool) -> None:
+    f = tmp_path / "m.py"
+    f.write_text(source)
+    assert bool(private_crossings(f)) is bad
+
+
+def _registered_commands() -> dict[str, str]:
+    """The ``gsr.cli`` entry points pyproject.toml declares: name -> ``module:function``."""
+    data = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))
+    return dict(data["project"].get("entry-points", {}).get("gsr.cli", {}))
+
+
+def test_upper_layers_reach_the_cli_only_through_the_registry() -> None:
+    """Each upper layer's ``register(app)`` is an entry point in a layer above the core, defined where the
+    entry point says; every such ``register`` is registered; the installed metadata matches pyproject
+    (a stale install would silently lose commands); and the core CLI names none of them."""
+    declared = _registered_commands()
+    assert declared, "pyproject.toml declares no gsr.cli entry points"
+    for name, target in declared.items():
+        module, _, function = target.partition(":")
+        assert function == "register", f"{name}: {target} is not a register(app) function"
+        rank = _rank(module)
+        assert rank is not None and rank > 0, f"{name}: {module} is not a module of an upper layer"
+        path = _module_path(module)
+        assert path is not None, f"{name}: {module} has no file in the repository"
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        assert any(isinstance(n, ast.FunctionDef) and n.name == "register" for n in tree.body), target
+    found = {
+        f"{IMPORT_NAMES[layer]}.{'.'.join(p.relative_to(REPO / layer).with_suffix('').parts)}:register"
+        for layer in LAYERS[1:]
+        for p in (REPO / layer).rglob("*.py")
+        if any(
+            isinstance(n, ast.FunctionDef) and n.name == "register"
+            for n in ast.parse(p.read_text(encoding="utf-8")).body
+        )
+    }
+    assert found == set(declared.values()), (
+        f"register(app) functions vs entry points: {found ^ set(declared.values())}"
+    )
+    installed = {ep.name: ep.value for ep in entry_points(group="gsr.cli")}
+    assert installed == declared, "the installed gsr.cli entry points are stale: pip install -e . again"
+    core_cli = (REPO / "gsr" / "cli.py").read_text(encoding="utf-8")
+    for target in declared.values():
+        assert target.partition(":")[0] not in core_cli, f"gsr/cli.py names {target}"
 
 
 def test_no_generic_top_level_import_names() -> None:
