@@ -93,7 +93,7 @@ def vocabulary() -> dict[str, Any]:
         "drop": [str(w) for w in data.get("drop") or ()],
         "numbers": {str(k): int(v) for k, v in (data.get("numbers") or {}).items()},
         "nouns": {str(k): frozenset(map(str, v)) for k, v in (data.get("nouns") or {}).items()},
-        # read by the free-form request parser (gsr.benchmarks.delivery.prs_parse), not the phrase table
+        # read by the delivery benchmark's free-form request parser, not by the phrase table
         "spellings": {str(k): str(v) for k, v in (data.get("spellings") or {}).items()},
         "phrases": {str(k): str(v) for k, v in (data.get("phrases") or {}).items()},
         "synonyms": {str(k): tuple(map(str, v)) for k, v in (data.get("synonyms") or {}).items()},
