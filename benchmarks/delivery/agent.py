@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from gsr.benchmarks.delivery.belief import Belief
+from gsr.benchmarks.delivery.knowledge import BuildingKnowledge
 from gsr.benchmarks.delivery.parser import InstructionParser
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from gsr.benchmarks.delivery.world import DeliveryWorld, Observation
@@ -72,9 +72,11 @@ class BaselineAgent:
         self.building, self.bmap, self.parser = building, bmap, parser
         self.use_routines = use_routines
         self.map_graph = building_graph(building, items=False, room_of_place=bmap.room_at)
-        self.belief = Belief(self.map_graph, building.cell_size)
+        self.knowledge = BuildingKnowledge(self.map_graph, building.cell_size)
         self.lookout: dict[str, Place] = {}
-        for room, (floor, cr, cc) in Belief(self.map_graph, building.cell_size).room_center.items():
+        for room, (floor, cr, cc) in BuildingKnowledge(
+            self.map_graph, building.cell_size
+        ).room_center.items():
             cells = bmap.free_cells(room)
             r, c = min(cells, key=lambda rc: ((rc[0] - cr) ** 2 + (rc[1] - cc) ** 2, rc))
             self.lookout[room] = (floor, r, c)
@@ -94,7 +96,9 @@ class BaselineAgent:
             trace.notes.append("no person matches the description")
             return trace
         trace.person = people[0]
-        self.belief = Belief(self.map_graph, self.building.cell_size)  # fresh knowledge per episode
+        self.knowledge = BuildingKnowledge(
+            self.map_graph, self.building.cell_size
+        )  # fresh knowledge per episode
         item = self._fetch(world, trace.parsed.object, trace)
         if item is None:
             return trace
@@ -104,11 +108,11 @@ class BaselineAgent:
 
     def _observe(self, world: DeliveryWorld) -> Observation:
         obs = world.look()
-        self.belief.observe(obs)
+        self.knowledge.observe(obs)
         return obs
 
     def _candidates(self, ref: ObjectRef, widen: bool) -> list[str]:
-        recs = self.belief.receptacles.values()
+        recs = self.knowledge.receptacles.values()
         if widen:
             return [r.id for r in recs]
         hinted = [
@@ -120,16 +124,16 @@ class BaselineAgent:
         if ref.room or ref.receptacle:
             return [r.id for r in hinted]
         kinds = set(OBJECTS[ref.category].rooms) if ref.category in OBJECTS else set()
-        kind = self.belief.room_kind
+        kind = self.knowledge.room_kind
         return [r.id for r in hinted if kind[r.room] in kinds] or [r.id for r in hinted]
 
     def _fetch(self, world: DeliveryWorld, ref: ObjectRef, trace: AgentTrace) -> str | None:
-        recs = self.belief.receptacles
+        recs = self.knowledge.receptacles
         checked: set[str] = set()
         looked_rooms: set[str] = set()
         widen = False
         while not world.done:
-            found = self.belief.items_matching(ref)
+            found = self.knowledge.items_matching(ref)
             if found:
                 iid, rec = found[0]
                 if not world.navigate(recs[rec].place):
@@ -140,7 +144,7 @@ class BaselineAgent:
                     if world.done:
                         return None
                 trace.notes.append(f"could not grasp {iid}")
-                self.belief.forget(iid)
+                self.knowledge.forget(iid)
                 continue
             todo = [r for r in self._candidates(ref, widen) if r not in checked]
             if not todo:
@@ -173,7 +177,7 @@ class BaselineAgent:
     def _room_order(self, world: DeliveryWorld, pid: str, ref: PersonRef, visited: set[str]) -> list[str]:
         person = self.building.person(pid)
         order: list[str] = []
-        sighting = self.belief.sighting(pid)
+        sighting = self.knowledge.sighting(pid)
         if sighting and world.time - sighting[0] <= SIGHTING_FRESH:
             room = self.bmap.room_at(sighting[1])
             if room:
@@ -202,7 +206,7 @@ class BaselineAgent:
     def _deliver(self, world: DeliveryWorld, pid: str, ref: PersonRef, trace: AgentTrace) -> None:
         visited: set[str] = set()
         while not world.done:
-            sighting = self.belief.sighting(pid)
+            sighting = self.knowledge.sighting(pid)
             if sighting and world.time - sighting[0] <= 1.0:
                 # just seen: approach and hand over, re-looking if they moved meanwhile
                 for _ in range(APPROACH_TRIES):
@@ -214,9 +218,9 @@ class BaselineAgent:
                     obs = self._observe(world)
                     if pid not in obs.people:
                         break
-                    sighting = self.belief.sighting(pid)
+                    sighting = self.knowledge.sighting(pid)
                 visited.discard(self.bmap.room_at(sighting[1]) or "")
-                self.belief.forget(pid)
+                self.knowledge.forget(pid)
             order = self._room_order(world, pid, ref, visited)
             if not order:
                 visited.clear()  # searched everywhere: start another round

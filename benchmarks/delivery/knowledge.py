@@ -1,8 +1,14 @@
-"""The agent's knowledge as a scene graph: the building's map graph plus what it has seen so far.
+"""The delivery agent's knowledge of a building as a scene graph: the map plus what it has seen so far.
 
 It starts as ``building_graph(items=False)`` (floors, rooms, receptacles with their access keypoints,
 connectors) and grows with every look: objects become nodes ``on``/``in`` their receptacle, people
 become ``person`` nodes ``in`` the room they were seen in, with the time and place of the sighting.
+
+This is a memory of sightings over a known map: nothing seen is ever dropped by a later look elsewhere,
+only replaced when seen again or forgotten on purpose (a failed grasp, a person not where expected).
+It is not the tabletop *object permanence* of ``gsr.perception.belief``, which merges one perceived
+frame into the last and keeps an unseen object only when a closed container or an occluder explains
+its absence (docs/architecture.md, "Where each concept lives").
 """
 
 from __future__ import annotations
@@ -29,7 +35,7 @@ class ReceptacleInfo:
     place: Place  # its access keypoint as a grid place
 
 
-class Belief:
+class BuildingKnowledge:
     """Map knowledge plus observations, kept as one ``SceneGraph``."""
 
     def __init__(self, map_graph: SceneGraph, cell_size: float) -> None:
