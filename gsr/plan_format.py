@@ -35,6 +35,10 @@ def load_plan(path: str | Path) -> Plan:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise GSRError(f"{path}: cannot read plan file ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise GSRError(
+            f"{path}: cannot read plan file (not UTF-8 text: {exc.reason} at byte {exc.start})"
+        ) from None
     return parse_plan(text, source=str(path))
 
 

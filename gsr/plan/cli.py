@@ -54,6 +54,9 @@ def plan_command(domain: Path | None, problem: Path, planner: str, timeout: floa
     from gsr.plan.api import plan
     from gsr.plan_format import write_plan
 
+    if not timeout >= 0:  # negative or NaN
+        print(f"error: --timeout must be a number of seconds >= 0, not {timeout:g}", file=sys.stderr)
+        return EXIT_ERROR
     try:
         dom, prob = load_task(Path(domain) if domain is not None else None, Path(problem))
         result = plan(dom, prob, planner=planner, timeout=timeout)

@@ -64,6 +64,12 @@ def test_bad_files_exit_1_with_one_line(tmp_path: Path, capsys) -> None:
     assert "bad.pddl" in err and err.count("\n") == 1
     assert plan_command(None, tmp_path / "p.pddl", "lazy-ff", 1.0, None) == 1
     assert plan_command(tmp_path / "bad.pddl", tmp_path / "p.pddl", "no-such", 1.0, None) == 1
+    capsys.readouterr()
+    (tmp_path / "d.pddl").write_text(TOY_DOMAIN)
+    for limit in (-1.0, float("nan")):
+        assert plan_command(tmp_path / "d.pddl", tmp_path / "p.pddl", "lazy-ff", limit, None) == 1
+        err = capsys.readouterr().err
+        assert err.startswith("error: --timeout") and err.count("\n") == 1
 
 
 BOWL_IN_DRAWER = (

@@ -225,3 +225,6 @@ def test_load_plan(tmp_path: Path) -> None:
     assert load_plan(path) == Plan((Step("pick-up", ("a",)),))
     with pytest.raises(GSRError, match="cannot read plan file"):
         load_plan(tmp_path / "missing")
+    (tmp_path / "binary").write_bytes(b"\xff\xfe(pick-up a)")
+    with pytest.raises(GSRError, match="not UTF-8 text"):
+        load_plan(tmp_path / "binary")
