@@ -13,15 +13,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from gsr.benchmarks.delivery.building.catalog import OBJECTS
+from gsr.benchmarks.delivery.building.graph import building_graph
+from gsr.benchmarks.delivery.building.model import Building, Person, Place
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
 from gsr.benchmarks.delivery.knowledge import BuildingKnowledge
 from gsr.benchmarks.delivery.parser import InstructionParser
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from gsr.benchmarks.delivery.world import DeliveryWorld, Observation
 
-from gsr.building.catalog import OBJECTS
-from gsr.building.graph import building_graph
-from gsr.building.model import Building, Person, Place
-from gsr.building.navigation import BuildingMap
 from gsr.errors import GSRError
 
 PICK_TRIES = 3

@@ -10,11 +10,10 @@ import argparse
 import time
 
 import numpy as np
+from gsr.benchmarks.delivery.building.navigation import BuildingMap, astar
+from gsr.benchmarks.delivery.building.people import PeopleClock
+from gsr.benchmarks.delivery.building.shipped import load_shipped_building
 from gsr.benchmarks.delivery.run import run_split
-
-from gsr.building.navigation import BuildingMap, astar
-from gsr.building.people import PeopleClock
-from gsr.building.shipped import load_shipped_building
 
 
 def bench(episodes: int = 200, pairs: int = 2000, seed: int = 0) -> list[tuple[str, str]]:

@@ -9,7 +9,8 @@ import json
 import sys
 from pathlib import Path
 
-from gsr.building.model import Building, save_building
+from gsr.benchmarks.delivery.building.model import Building, save_building
+
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
 
@@ -28,8 +29,8 @@ def _building(path: Path | None) -> Building:
 
 def generate_building_command(seed: int, out: Path, floors: int, people: int, name: str | None) -> int:
     """Generate a building, check its invariants, write it atomically and print a summary."""
-    from gsr.building.checks import building_problems
-    from gsr.building.generator import generate_building
+    from gsr.benchmarks.delivery.building.checks import building_problems
+    from gsr.benchmarks.delivery.building.generator import generate_building
 
     try:
         building = generate_building(seed, floors=floors, people=people, name=name)
@@ -136,8 +137,8 @@ def run_command(
 
 def schedule_command(person: str, seed: int, building_path: Path | None) -> int:
     """Print a person's routine and their actual day under a world seed."""
-    from gsr.building.navigation import BuildingMap
-    from gsr.building.people import PeopleClock
+    from gsr.benchmarks.delivery.building.navigation import BuildingMap
+    from gsr.benchmarks.delivery.building.people import PeopleClock
 
     try:
         building = _building(building_path)
@@ -173,8 +174,8 @@ def parse_clock(text: str) -> int:
 
 def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> int:
     """Print a floor's grid with everyone on it at a time of day (first letter of their name)."""
-    from gsr.building.navigation import BuildingMap
-    from gsr.building.people import PeopleClock
+    from gsr.benchmarks.delivery.building.navigation import BuildingMap
+    from gsr.benchmarks.delivery.building.people import PeopleClock
 
     try:
         t = parse_clock(at)
@@ -200,12 +201,11 @@ def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> i
 
 def episode_command(task_id: str, building_path: Path | None, agent: str) -> int:
     """Run one task (``test-0004``) and print what the agent understood and did, second by second."""
+    from gsr.benchmarks.delivery.building.navigation import BuildingMap
     from gsr.benchmarks.delivery.metrics import score_episode
     from gsr.benchmarks.delivery.run import AGENTS, parser_for
     from gsr.benchmarks.delivery.tasks import SPLITS, make_task
     from gsr.benchmarks.delivery.world import DeliveryWorld
-
-    from gsr.building.navigation import BuildingMap
 
     split, _, number = task_id.partition("-")
     if split not in SPLITS or not number.isdigit() or int(number) >= SPLITS[split][1]:

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from gsr.benchmarks.delivery.building.graph import place_of_point, point_of_place
+from gsr.benchmarks.delivery.building.model import Place
 from gsr.benchmarks.delivery.reference import ObjectRef
 from gsr.benchmarks.delivery.world import Observation
 
-from gsr.building.graph import place_of_point, point_of_place
-from gsr.building.model import Place
 from gsr.scene_graph import Edge, Node, Pose, SceneGraph
 
 

@@ -12,6 +12,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gsr.benchmarks.delivery.building.prs import Cell, Person, Room, Station
+from gsr.benchmarks.delivery.building.prs_graph import station_graph
 from gsr.benchmarks.delivery.prs_env import (
     REACH_M,
     SENSOR_RANGE_M,
@@ -35,9 +37,6 @@ from gsr.benchmarks.delivery.prs_parse import (
     words,
 )
 from scipy import ndimage
-
-from gsr.building.prs import Cell, Person, Room, Station
-from gsr.building.prs_graph import station_graph
 
 #: An object whose caption shares at least this fraction of the request's attribute words is taken at once.
 GOOD_CAPTION = 0.5

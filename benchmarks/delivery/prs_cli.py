@@ -113,7 +113,7 @@ def _floor_svg(grid, trace: dict, cell_px: int = 3) -> str:
 
 def render_report(run: dict, data: Path) -> str:
     """The HTML report: metrics, a failure-reason table and floor maps of a few tasks."""
-    from gsr.building.prs import load_station
+    from gsr.benchmarks.delivery.building.prs import load_station
 
     s = run["summary"]
     rec = run["records"]

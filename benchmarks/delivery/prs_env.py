@@ -25,10 +25,9 @@ from dataclasses import dataclass, field
 from datetime import timedelta
 
 import numpy as np
+from gsr.benchmarks.delivery.building.navigation import astar, path_cells_length
+from gsr.benchmarks.delivery.building.prs import Cell, Station
 from gsr.benchmarks.delivery.prs_tasks import PlacedObject, PrsTask
-
-from gsr.building.navigation import astar, path_cells_length
-from gsr.building.prs import Cell, Station
 
 ROBOT_SPEED_MPS = 1.0  # metres per second along the path
 OBSERVE_S = 3.0  # one look around (a turn in place)

@@ -36,7 +36,8 @@ import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from gsr.building.prs import Station
+from gsr.benchmarks.delivery.building.prs import Station
+
 from gsr.categories import COLOR_SYNONYMS, COLORS, MATERIALS
 from gsr.language.lexicon import FILLER, Lexicon, build_lexicon, vocabulary
 from gsr.language.parse import CONTRACTIONS

@@ -20,14 +20,14 @@ from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from gsr.benchmarks.delivery.building.prs import Station, load_station
+from gsr.benchmarks.delivery.building.prs_calibrate import Observation, calibrate_station
 from gsr.benchmarks.delivery.prs_agent import PrsAgent
 from gsr.benchmarks.delivery.prs_env import PrsEnv
 from gsr.benchmarks.delivery.prs_metrics import aggregate, score_entry
 from gsr.benchmarks.delivery.prs_parse import STOP, RequestParseError, RoomMatcher, label_words, parse_request
 from gsr.benchmarks.delivery.prs_tasks import PlacedObject, PrsTask, inventory, load_tasks
 
-from gsr.building.prs import Station, load_station
-from gsr.building.prs_calibrate import Observation, calibrate_station
 from gsr.errors import GSRError
 
 

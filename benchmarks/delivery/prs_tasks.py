@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 
-from gsr.building.prs import PlacedObject, Station, place_object
-from gsr.building.prs_files import PrsDataError, need, read_json
+from gsr.benchmarks.delivery.building.prs import PlacedObject, Station, place_object
+from gsr.benchmarks.delivery.building.prs_files import PrsDataError, need, read_json
 
 Point = tuple[float, float, float]
 

@@ -21,6 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from gsr.benchmarks.delivery.agent import AgentTrace, BaselineAgent
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
 from gsr.benchmarks.delivery.metrics import (
     EpisodeResult,
     Summary,
@@ -34,8 +36,6 @@ from gsr.benchmarks.delivery.run import AGENTS, checked_building, make_agent, pl
 from gsr.benchmarks.delivery.tasks import SPLITS, DeliveryTask, generate_tasks, load_tasks
 from gsr.benchmarks.runner import episode_seed
 
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
 from gsr.episode import EpisodeOptions
 from gsr.errors import GSRError
 

@@ -12,12 +12,12 @@ import json
 from pathlib import Path
 
 import numpy as np
+from gsr.benchmarks.delivery.building.catalog import COMMON_NEEDS, ROLES
+from gsr.benchmarks.delivery.building.model import Building, Item, Person
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
 from pydantic import BaseModel, ConfigDict
 
-from gsr.building.catalog import COMMON_NEEDS, ROLES
-from gsr.building.model import Building, Item, Person
-from gsr.building.navigation import BuildingMap
 from gsr.io import write_text_atomic
 
 SPLITS: dict[str, tuple[int, int]] = {"train": (11, 2000), "val": (12, 200), "test": (13, 1000)}
@@ -40,23 +40,23 @@ class DeliveryTask(BaseModel):
     time_limit: float = TIME_LIMIT
 
 
-def _room_text(building: Building, room_id: str) -> str:
+def room_text(building: Building, room_id: str) -> str:
+    """How an instruction names a room: its number as is (``room 204``), else with an article."""
     name = building.room(room_id).name
     return name if any(ch.isdigit() for ch in name) else f"the {name}"
 
 
-def _object_phrase(
-    building: Building, ref: ObjectRef, names: dict[str, str], rng: np.random.Generator
-) -> str:
+def object_phrase(building: Building, ref: ObjectRef, names: dict[str, str], rng: np.random.Generator) -> str:
+    """The object's phrase in an instruction: colour and name, then its receptacle and room if given."""
     text = "the " + (f"{ref.color} " if ref.color else "") + names[ref.category]
     if ref.receptacle:
         rec_name = ref.receptacle.replace("_", " ")
         lead = ["from", "that is on" if not _closed(building, ref) else "that is in"][int(rng.random() < 0.3)]
         text += f" {lead} the {rec_name}"
         if ref.room:
-            text += f" in {_room_text(building, ref.room)}"
+            text += f" in {room_text(building, ref.room)}"
     elif ref.room:
-        text += f" from {_room_text(building, ref.room)}"
+        text += f" from {room_text(building, ref.room)}"
     return text
 
 
@@ -64,7 +64,8 @@ def _closed(building: Building, ref: ObjectRef) -> bool:
     return any(r.category == ref.receptacle and r.relation == "in" for r in building.receptacles)
 
 
-def _person_phrase(building: Building, ref: PersonRef) -> str:
+def person_phrase(building: Building, ref: PersonRef) -> str:
+    """The recipient's phrase in an instruction, from the reference's name or description."""
     parts = []
     if ref.name:
         parts.append(building.person(ref.name).name)
@@ -79,7 +80,7 @@ def _person_phrase(building: Building, ref: PersonRef) -> str:
         parts.append(desc)
     text = ", ".join(parts)
     if ref.room:
-        text += f" in {_room_text(building, ref.room)}"
+        text += f" in {room_text(building, ref.room)}"
     return text
 
 
@@ -141,7 +142,8 @@ def _person_ref(building: Building, p: Person, hint_room: str | None, rng: np.ra
     return PersonRef(name=p.id, room=hint_room)
 
 
-_TEMPLATES = (
+#: Instruction sentences; ``{obj}`` and ``{person}`` take the phrases above.
+TEMPLATES = (
     "Fetch {obj} and deliver it to {person}.",
     "Get {obj} and bring it to {person}.",
     "Bring {obj} to {person}.",
@@ -171,18 +173,18 @@ def make_task(building: Building, bmap: BuildingMap, split: str, index: int, see
     start_time = int(rng.integers(*DAY_WINDOW))
     routine_room = next(s.room for s in person.routine if s.start <= start_time < s.end)
     pref = _person_ref(building, person, routine_room if rng.random() < 0.5 else None, rng)
-    template = _TEMPLATES[int(rng.integers(len(_TEMPLATES)))]
+    template = TEMPLATES[int(rng.integers(len(TEMPLATES)))]
     if "{where}" in template and oref.receptacle is None:
-        template = _TEMPLATES[0]
-    obj = _object_phrase(building, oref, names, rng)
+        template = TEMPLATES[0]
+    obj = object_phrase(building, oref, names, rng)
     bare = "the " + (f"{oref.color} " if oref.color else "") + names[oref.category]
     where = ""
     if oref.receptacle:
         rel = building.receptacle(item.receptacle).relation
         where = f"{rel} the {oref.receptacle.replace('_', ' ')}" + (
-            f" in {_room_text(building, oref.room)}" if oref.room else ""
+            f" in {room_text(building, oref.room)}" if oref.room else ""
         )
-    text = template.format(obj=obj, person=_person_phrase(building, pref), bare=bare, where=where)
+    text = template.format(obj=obj, person=person_phrase(building, pref), bare=bare, where=where)
     text = text[0].upper() + text[1:]
     rooms = [r for r in building.rooms if r.kind not in ("bedroom",)]
     room = rooms[int(rng.integers(len(rooms)))]

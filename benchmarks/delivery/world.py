@@ -17,12 +17,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from gsr.benchmarks.delivery.building.catalog import OBJECTS
+from gsr.benchmarks.delivery.building.model import Building, Place
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.people import PeopleClock
 from gsr.benchmarks.delivery.tasks import DeliveryTask
-
-from gsr.building.catalog import OBJECTS
-from gsr.building.model import Building, Place
-from gsr.building.navigation import BuildingMap
-from gsr.building.people import PeopleClock
 
 ROBOT_SPEED = 1.0  # m/s
 LOOK_SECONDS = 3.0

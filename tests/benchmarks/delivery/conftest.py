@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.shipped import load_shipped_building
 from gsr.benchmarks.delivery.parser import InstructionParser
 from gsr.benchmarks.delivery.run import parser_for
-
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
-from gsr.building.shipped import load_shipped_building
 
 
 @pytest.fixture(scope="session")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from gsr.benchmarks.delivery.building.model import load_building
 from typer.testing import CliRunner
 
-from gsr.building.model import load_building
 from gsr.cli import app
 
 runner = CliRunner()
@@ -69,7 +69,7 @@ def test_map() -> None:
 
 
 def test_unsound_building_is_refused(tmp_path: Path) -> None:
-    from gsr.building.shipped import shipped_building_path
+    from gsr.benchmarks.delivery.building.shipped import shipped_building_path
 
     data = json.loads(shipped_building_path().read_text())
     rec = data["receptacles"][0]
@@ -97,7 +97,7 @@ def test_episode_timeline() -> None:
 
 
 def test_documented_command_reproduces_the_shipped_building(tmp_path: Path) -> None:
-    from gsr.building.shipped import shipped_building_path
+    from gsr.benchmarks.delivery.building.shipped import shipped_building_path
 
     out = tmp_path / "three_floor.json"
     res = runner.invoke(

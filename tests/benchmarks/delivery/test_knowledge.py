@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
+from gsr.benchmarks.delivery.building.graph import building_graph
 from gsr.benchmarks.delivery.knowledge import BuildingKnowledge
 from gsr.benchmarks.delivery.reference import ObjectRef
 from gsr.benchmarks.delivery.world import Observation
-
-from gsr.building.graph import building_graph
 
 
 def test_map_knowledge(shipped) -> None:

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from gsr.benchmarks.delivery.building.graph import building_graph
 from gsr.benchmarks.delivery.parser import lexicon_from_graph
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef
 from gsr.benchmarks.delivery.tasks import generate_tasks
 
-from gsr.building.graph import building_graph
 from gsr.errors import GSRError
 
 

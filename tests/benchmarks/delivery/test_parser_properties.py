@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+from gsr.benchmarks.delivery.building.catalog import RECEPTACLES
+from gsr.benchmarks.delivery.building.shipped import load_shipped_building
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef
 from gsr.benchmarks.delivery.run import parser_for
-from gsr.benchmarks.delivery.tasks import _TEMPLATES, _object_phrase, _person_phrase, _room_text
+from gsr.benchmarks.delivery.tasks import TEMPLATES, object_phrase, person_phrase, room_text
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
-from gsr.building.catalog import RECEPTACLES
-from gsr.building.shipped import load_shipped_building
 
 BUILDING = load_shipped_building()
 PARSER = parser_for(BUILDING)
@@ -48,20 +47,20 @@ def persons(draw: st.DrawFn) -> PersonRef:
 
 
 @settings(max_examples=150, deadline=None)
-@given(obj=objects, person=persons(), template=st.sampled_from(_TEMPLATES), seed=st.integers(0, 2**16))
+@given(obj=objects, person=persons(), template=st.sampled_from(TEMPLATES), seed=st.integers(0, 2**16))
 def test_rendered_references_parse_back(obj: ObjectRef, person: PersonRef, template: str, seed: int) -> None:
     if "{where}" in template and obj.receptacle is None:
-        template = _TEMPLATES[0]
+        template = TEMPLATES[0]
     rng = np.random.default_rng(seed)
     bare = "the " + (f"{obj.color} " if obj.color else "") + NAMES[obj.category]
     where = ""
     if obj.receptacle:
         where = f"{RECEPTACLES[obj.receptacle].relation} the {obj.receptacle.replace('_', ' ')}"
         if obj.room:
-            where += f" in {_room_text(BUILDING, obj.room)}"
+            where += f" in {room_text(BUILDING, obj.room)}"
     text = template.format(
-        obj=_object_phrase(BUILDING, obj, NAMES, rng),
-        person=_person_phrase(BUILDING, person),
+        obj=object_phrase(BUILDING, obj, NAMES, rng),
+        person=person_phrase(BUILDING, person),
         bare=bare,
         where=where,
     )

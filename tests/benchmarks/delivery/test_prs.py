@@ -7,6 +7,8 @@ from datetime import datetime
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.delivery.building.prs import load_station
+from gsr.benchmarks.delivery.building.prs_files import PrsDataError
 from gsr.benchmarks.delivery.prs_cli import prs_command
 from gsr.benchmarks.delivery.prs_env import ActionError, PrsEnv
 from gsr.benchmarks.delivery.prs_metrics import aggregate, score_entry
@@ -14,9 +16,7 @@ from gsr.benchmarks.delivery.prs_parse import RoomMatcher, label_score, parse_re
 from gsr.benchmarks.delivery.prs_run import run_prs
 from gsr.benchmarks.delivery.prs_tasks import PrsTruth, inventory, load_tasks
 
-from gsr.building.prs import load_station
-from gsr.building.prs_files import PrsDataError
-from tests.gsr.building.prs_synthetic import make_folder
+from tests.benchmarks.delivery.building.prs_synthetic import make_folder
 
 
 @pytest.fixture

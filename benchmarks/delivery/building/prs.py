@@ -1,12 +1,12 @@
 """The PRS research station as a building model: floors, rooms, receptacles, free space, people, schedules.
 
-``load_station(folder)`` reads a PRS data folder (``gsr.building.prs_files``) into a ``Station``:
+``load_station(folder)`` reads a PRS data folder (``gsr.benchmarks.delivery.building.prs_files``) into a ``Station``:
 
 - each floor's semantic grid, the room of every cell (room tags of the grid, else the room extents of
   ``map_room_data.json``) and which cells a robot may stand on (accessible or room floor, not furniture);
 - rooms with their human names (``room_mapping.json``), receptacles with grid extents (``map_receptacle_data``);
 - people (description template, appearance, information) and their 24 hourly schedule slots;
-- per floor, the grid <-> world transform, which the data does not state: ``gsr.building.prs_calibrate``
+- per floor, the grid <-> world transform, which the data does not state: ``gsr.benchmarks.delivery.building.prs_calibrate``
   fits it (with the schedules' location codes -> grid rooms) from observed person positions;
 - ``place_object``: an object of the inventory (the objects a task file names) at its world position, with
   the floor, cell, room and receptacle it lies on, derived from that geometry.
@@ -22,8 +22,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
-
-from gsr.building.prs_files import (
+from gsr.benchmarks.delivery.building.prs_files import (
     PrsDataError,
     check_folder,
     floor_levels,
@@ -335,7 +334,7 @@ def load_station(folder: str | Path, calibrate_with: str | Path | None = "auto")
         dev = folder / "delivery_tasks_dev.json"
         calibrate_with = dev if dev.is_file() else None
     if calibrate_with is not None:
-        from gsr.building.prs_calibrate import calibrate_station, observations_from_tasks
+        from gsr.benchmarks.delivery.building.prs_calibrate import calibrate_station, observations_from_tasks
 
         calibrate_station(station, observations_from_tasks(station, Path(calibrate_with)))
     return station

@@ -2,7 +2,7 @@
 
 PRS (``PRS-Organization/prs-delivery``, ``env/data``) describes its research station in a handful of JSON
 files and one tab-separated semantic grid per floor. This module only reads and validates them; the
-station model built from them lives in ``gsr.building.prs``. No PRS file is shipped with GSR: the user
+station model built from them lives in ``gsr.benchmarks.delivery.building.prs``. No PRS file is shipped with GSR: the user
 names the folder.
 """
 

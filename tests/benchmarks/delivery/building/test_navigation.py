@@ -9,8 +9,12 @@ from collections import deque
 
 import numpy as np
 import pytest
-
-from gsr.building.navigation import BuildingMap, astar, connector_seconds, path_cells_length
+from gsr.benchmarks.delivery.building.navigation import (
+    BuildingMap,
+    astar,
+    connector_seconds,
+    path_cells_length,
+)
 
 
 def _bfs(free: np.ndarray, start, goal):

@@ -5,12 +5,11 @@ from __future__ import annotations
 from collections import Counter
 
 import numpy as np
-
-from gsr.building.checks import building_problems
-from gsr.building.generator import generate_building
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
-from gsr.building.shipped import SHIPPED_NAME, SHIPPED_SEED, shipped_building_path
+from gsr.benchmarks.delivery.building.checks import building_problems
+from gsr.benchmarks.delivery.building.generator import generate_building
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.shipped import SHIPPED_NAME, SHIPPED_SEED, shipped_building_path
 
 
 def test_regenerates_byte_for_byte() -> None:

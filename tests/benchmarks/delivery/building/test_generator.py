@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import pytest
-
-from gsr.building.checks import building_problems
-from gsr.building.generator import generate_building
-from gsr.building.model import Building
+from gsr.benchmarks.delivery.building.checks import building_problems
+from gsr.benchmarks.delivery.building.generator import generate_building
+from gsr.benchmarks.delivery.building.model import Building
 
 
 def test_same_seed_same_building() -> None:

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from gsr.building.model import Building, Place
+from gsr.benchmarks.delivery.building.model import Building, Place
+
 from gsr.scene_graph import BoundingBox, Edge, Keypoint, Node, SceneGraph, Vec3
 
 FLOOR_HEIGHT = 3.0  # metres between floor levels, for the z coordinate of graph geometry

@@ -9,12 +9,11 @@ from __future__ import annotations
 from collections import Counter
 
 import numpy as np
-
-from gsr.building.catalog import RECEPTACLES, ROOM_KINDS
-from gsr.building.furnish import place_receptacles, stock_items
-from gsr.building.layout import floor_name, plan_floor
-from gsr.building.model import Building, Connector, Door, Floor, Item, Receptacle, Room
-from gsr.building.people import make_people
+from gsr.benchmarks.delivery.building.catalog import RECEPTACLES, ROOM_KINDS
+from gsr.benchmarks.delivery.building.furnish import place_receptacles, stock_items
+from gsr.benchmarks.delivery.building.layout import floor_name, plan_floor
+from gsr.benchmarks.delivery.building.model import Building, Connector, Door, Floor, Item, Receptacle, Room
+from gsr.benchmarks.delivery.building.people import make_people
 
 #: Room programmes per floor type (8 rooms each): ground, work floors, residential top floor.
 GROUND = [

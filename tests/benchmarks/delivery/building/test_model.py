@@ -6,9 +6,9 @@ import json
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.delivery.building.model import load_building, save_building
+from gsr.benchmarks.delivery.building.shipped import shipped_building_path
 
-from gsr.building.model import load_building, save_building
-from gsr.building.shipped import shipped_building_path
 from gsr.errors import GSRError
 
 

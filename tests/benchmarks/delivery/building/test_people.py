@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import itertools
 
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
-from gsr.building.people import DAY_END, DAY_START, PeopleClock, daily_schedule
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.people import DAY_END, DAY_START, PeopleClock, daily_schedule
 
 
 def test_profiles(shipped: Building) -> None:

@@ -5,10 +5,9 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
-
-from gsr.building.catalog import OBJECTS, RECEPTACLES, ROLES, ROOM_KINDS
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.catalog import OBJECTS, RECEPTACLES, ROLES, ROOM_KINDS
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
 
 
 def _reachable(walkable: np.ndarray, start: tuple[int, int]) -> np.ndarray:

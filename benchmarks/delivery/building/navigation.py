@@ -14,8 +14,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-
-from gsr.building.model import WALKABLE, Building, Cell, Connector, Place
+from gsr.benchmarks.delivery.building.model import WALKABLE, Building, Cell, Connector, Place
 
 _SQRT2 = math.sqrt(2.0)
 _STEPS_8 = (

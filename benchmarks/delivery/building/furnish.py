@@ -9,8 +9,7 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
-
-from gsr.building.catalog import OBJECTS, RECEPTACLES, ROOM_KINDS
+from gsr.benchmarks.delivery.building.catalog import OBJECTS, RECEPTACLES, ROOM_KINDS
 
 
 def _connected(free: np.ndarray) -> bool:

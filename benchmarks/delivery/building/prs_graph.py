@@ -11,9 +11,9 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 import numpy as np
+from gsr.benchmarks.delivery.building.prs import Station
 from scipy import ndimage
 
-from gsr.building.prs import Station
 from gsr.scene_graph import BoundingBox, Edge, Node, SceneGraph, Vec3
 
 

@@ -10,8 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-
-from gsr.building.catalog import ROOM_KINDS
+from gsr.benchmarks.delivery.building.catalog import ROOM_KINDS
 
 CORRIDOR_ROWS = 4
 CONNECTOR_COLS = 3  # stairs / elevator shafts at the corridor ends

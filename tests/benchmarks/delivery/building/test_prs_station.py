@@ -6,11 +6,11 @@ import json
 from pathlib import Path
 
 import pytest
+from gsr.benchmarks.delivery.building.prs import load_station, location_key
+from gsr.benchmarks.delivery.building.prs_calibrate import observations_from_tasks, schedule_agreement
+from gsr.benchmarks.delivery.building.prs_files import PrsDataError
 
-from gsr.building.prs import load_station, location_key
-from gsr.building.prs_calibrate import observations_from_tasks, schedule_agreement
-from gsr.building.prs_files import PrsDataError
-from tests.gsr.building.prs_synthetic import SCALE, X0, Z0, make_folder
+from tests.benchmarks.delivery.building.prs_synthetic import SCALE, X0, Z0, make_folder
 
 
 @pytest.fixture
@@ -74,7 +74,7 @@ def test_prs_dev_person_positions_fall_in_scheduled_rooms(shared_data: Path) -> 
     hits, total = schedule_agreement(st, obs)
     assert total == 324 and hits / total >= 0.95
     # held-out check: calibrate on one half, measure on the other
-    from gsr.building.prs_calibrate import calibrate_station
+    from gsr.benchmarks.delivery.building.prs_calibrate import calibrate_station
 
     half = load_station(data, None)
     calibrate_station(half, obs[::2])
@@ -83,7 +83,7 @@ def test_prs_dev_person_positions_fall_in_scheduled_rooms(shared_data: Path) -> 
 
 
 def test_station_scene_graph(folder: Path) -> None:
-    from gsr.building.prs_graph import room_adjacency, station_graph
+    from gsr.benchmarks.delivery.building.prs_graph import room_adjacency, station_graph
 
     st = load_station(folder)
     g = station_graph(
@@ -100,8 +100,9 @@ def test_station_scene_graph(folder: Path) -> None:
 
 
 def test_objects_placed_by_geometry(folder: Path) -> None:
-    from gsr.building.prs import place_object
-    from tests.gsr.building.prs_synthetic import world
+    from gsr.benchmarks.delivery.building.prs import place_object
+
+    from tests.benchmarks.delivery.building.prs_synthetic import world
 
     st = load_station(folder)
     x, z = world(2, 6)
@@ -114,8 +115,7 @@ def test_objects_placed_by_geometry(folder: Path) -> None:
 
 def test_register_shift_recovers_a_moved_outline() -> None:
     import numpy as np
-
-    from gsr.building.prs_calibrate import register_shift
+    from gsr.benchmarks.delivery.building.prs_calibrate import register_shift
 
     rng = np.random.default_rng(3)
     ref = np.zeros((60, 80), dtype=bool)

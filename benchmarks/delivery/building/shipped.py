@@ -5,7 +5,8 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
-from gsr.building.model import Building, load_building
+from gsr.benchmarks.delivery.building.model import Building, load_building
+
 from gsr.errors import GSRError
 from gsr.resources import data_dir
 

@@ -15,10 +15,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
-from gsr.building.catalog import COLORS, ROLES
-from gsr.building.model import Appearance, Building, Cell, Person, Place, Slot
-from gsr.building.navigation import BuildingMap, path_cells_length
+from gsr.benchmarks.delivery.building.catalog import COLORS, ROLES
+from gsr.benchmarks.delivery.building.model import Appearance, Building, Cell, Person, Place, Slot
+from gsr.benchmarks.delivery.building.navigation import BuildingMap, path_cells_length
 
 MOVE_EVERY = 180  # seconds a person stays on one spot inside a room
 WALK_SPEED = 1.2  # m/s when walking between rooms

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from gsr.building.graph import building_graph
-from gsr.building.model import Building
-from gsr.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.graph import building_graph
+from gsr.benchmarks.delivery.building.model import Building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+
 from gsr.scene_graph import SceneGraph
 
 
@@ -41,7 +42,7 @@ def test_map_only_graph_has_no_objects(shipped: Building) -> None:
 
 
 def test_geometry_round_trips_to_grid_places(shipped: Building) -> None:
-    from gsr.building.graph import place_of_point, point_of_place
+    from gsr.benchmarks.delivery.building.graph import place_of_point, point_of_place
 
     g = building_graph(shipped, items=False)
     nodes = g.node_map()
