@@ -254,6 +254,23 @@ def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.step(30)
 
 
+def _stopped(world: World, obj: SimObject, art: Articulation) -> bool:
+    """Whether the part rests against another object (a lid against a cabinet): pulling again is futile."""
+    import pybullet as p
+
+    link = obj.links[art.link]
+    others = {o.body for o in world.objects.values()} - {obj.body}
+    # what rides on the part presses down on it; what stops it pushes sideways (a horizontal normal)
+    return any(
+        pt[2] in others and pt[3] == link and abs(pt[7][2]) < 0.5
+        for pt in p.getContactPoints(obj.body, physicsClientId=world.client)
+    )
+
+
+#: An opening stroke that ends more than this fraction of the travel short is completed by a second one.
+SHORT_STROKE = 0.1
+
+
 def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
     """Open, close, turn on/off or press the part behind ``node_id``; checks the resulting joint state."""
     role = "open" if kind in ("open", "close") else "switch"
@@ -267,6 +284,15 @@ def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
         goal = art.open if kind == "open" else art.closed - 0.01 * np.sign(art.open - art.closed)
         if art.kind in ("drawer", "lid"):
             _slide(world, m, obj, part, art, float(goal))
+            # a stroke that ended short (the tab slipped in the fingers, a rider held the lid back)
+            # leaves a lid over part of the opening: take the handle again for the rest, once
+            short = abs(float(goal) - world.joint_position(obj, part))
+            if (
+                kind == "open"
+                and short > SHORT_STROKE * abs(art.open - art.closed)
+                and not _stopped(world, obj, art)
+            ):
+                _slide(world, m, obj, part, art, float(goal))
         elif art.kind == "door":
             _swing(world, m, obj, part, art, float(goal))
         else:

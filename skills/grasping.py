@@ -206,36 +206,112 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
     return out
 
 
+#: Grasps tried per pick (base spot planned and the arm checked for each), and grasps closed at most:
+#: a grasp that misses or slips opens the hand, backs out along the approach and re-grasps.
+MAX_CANDIDATES = 14
+MAX_CLOSES = 3
+
+
+def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tuple, float]]:
+    """``(grasp point, hand orientation, finger opening)`` for a pick, best first.
+
+    The model's candidates (:func:`grasp_candidates`) and, for objects held whole (cubes, packages,
+    small mugs), top-down grasps whose hand and open fingers clear walls and neighbours
+    (:func:`gsr.skills.hand_clearance.clear_grasps`). Inside a container (a deep box) the cleared ones
+    come first: there the model's poses put the hand into the walls.
+    """
+    from gsr.skills.hand_clearance import clear_grasps
+
+    model = [(pos, quat, min(GRIPPER.open_width, w + 0.035)) for pos, quat, w in grasp_candidates(world, obj)]
+    whole = [g for g in obj.model.grasps if math.hypot(*g.xyz[:2]) < 1e-6]
+    sx, sy = obj.model.extent[:2]
+    if not whole or (obj.model.name != "mug" and min(sx, sy) > MAX_CLOSING):
+        return model[:12]
+    site, _ = _site_pose(world, obj, whole[0])
+    cleared = [(g.pos, g.quat, g.opening) for g in clear_grasps(world, obj, site, whole[0].width)]
+    inside = (support_of(world, obj.id) or ("", ""))[0] == "in"
+    ordered = cleared + model if inside else model[:10] + cleared + model[10:]
+    return ordered[:MAX_CANDIDATES]
+
+
 def pick(world: World, m: Motion, obj: SimObject) -> None:
-    """Grasp ``obj`` by friction and lift it to transit height; raises SkillError on failure."""
+    """Grasp ``obj`` by friction and lift it to transit height; raises SkillError on failure.
+
+    Candidates are tried in order; the base is planned and the arm checked before anything moves, so a
+    blocked candidate costs no motion. A grasp that closes on nothing or does not come up with the hand
+    is retried from the object's new pose (at most :data:`MAX_CLOSES` closes).
+    """
     if not obj.model.grasps or obj.model.fixed:
         raise SkillError(Failure.UNSUPPORTED, f"{obj.id} has no grasp site (a fixture)")
     z_transit = transit_height(world)
     lift(m, z_transit)
+    errors: list[SkillError] = []
+    closes = 0
+    while closes < MAX_CLOSES:
+        tried = _approach(world, m, obj, z_transit, errors)
+        if tried is None:
+            break
+        pos, quat = tried
+        closes += 1
+        try:
+            _close_and_lift(world, m, obj, pos, quat, z_transit)
+            return
+        except SkillError as exc:
+            if exc.failure not in (Failure.GRASP_MISSED, Failure.GRASP_SLIPPED) or closes >= MAX_CLOSES:
+                raise
+            errors.append(exc)
+            # let go, back out along the approach, and look again
+            _unweld(world, obj)
+            m.held = None
+            m.gripper(GRIPPER.open_width, steps=GRIPPER.release_steps)
+            m.ignore = {obj.body}
+            m.move_line((np.array([m.pose()[0][0], m.pose()[0][1], z_transit]), m.pose()[1]), check=False)
+            m.step(60)
+    worst = max(errors, key=lambda e: list(Failure).index(e.failure)) if errors else None
+    raise SkillError(
+        worst.failure if worst else Failure.UNREACHABLE,
+        f"cannot reach a grasp on {obj.id}: " + "; ".join(_distinct(e.message for e in errors)[:3]),
+    )
+
+
+def _distinct(messages) -> list[str]:
+    out: list[str] = []
+    for msg in messages:
+        if msg not in out:
+            out.append(msg)
+    return out
+
+
+def _approach(
+    world: World, m: Motion, obj: SimObject, z_transit: float, errors: list[SkillError]
+) -> tuple[np.ndarray, tuple] | None:
+    """Bring the open hand to the first candidate that can be reached without collision; its pose, or
+    None when none can (the reasons are appended to ``errors``)."""
     centre = world.body_aabb(obj.body)[0] * 0.5 + world.body_aabb(obj.body)[1] * 0.5
     m.ignore = {obj.body}
-    errors = []
-    for pos, quat, site_width in grasp_candidates(world, obj)[:12]:
+    for pos, quat, opening in pick_candidates(world, obj):
         above = (np.array([pos[0], pos[1], z_transit]), quat)
         try:
             # plan the base and check the grasp pose before anything moves: blocked grasps cost no motion
             poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
             base, _grasp_q = m.plan_base(centre, poses, clear=True)
             m.move_base(float(base[0]), float(base[1]))
-            m.gripper(min(GRIPPER.open_width, site_width + 0.035))
+            m.gripper(opening)
             m.move_continuous(above, [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)])
             m.move_line((pos + np.array([0, 0, APPROACH]), quat))
             m.move_line((pos, quat))
-            break
+            return pos, quat
         except SkillError as exc:
+            if exc.failure is Failure.TIMEOUT:
+                raise
             errors.append(exc)
             lift(m, z_transit)
-    else:
-        worst = max(errors, key=lambda e: list(Failure).index(e.failure)) if errors else None
-        raise SkillError(
-            worst.failure if worst else Failure.UNREACHABLE,
-            f"cannot reach a grasp on {obj.id}: " + "; ".join(e.message for e in errors[:3]),
-        )
+    return None
+
+
+def _close_and_lift(
+    world: World, m: Motion, obj: SimObject, pos: np.ndarray, quat: tuple, z_transit: float
+) -> None:
     z0 = world.body_aabb(obj.body)[0][2]
     if not m.grasp_close():
         raise SkillError(Failure.GRASP_MISSED, f"fingers closed on nothing at {obj.id}")

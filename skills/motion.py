@@ -27,6 +27,21 @@ MAX_JOINT_JUMP = 0.5  # rad between consecutive 1 cm waypoints: more is an IK br
 JOINT_STEP = 0.03  # rad per waypoint of a joint-space move
 
 
+def _link_name(robot, link: int) -> str:
+    """A robot link in words for diagnoses: ``hand``, ``left finger``, ``link7``, ``base rail``."""
+    import pybullet as p
+
+    if link < 0:
+        return "base rail"
+    name = p.getJointInfo(robot.body, link, physicsClientId=robot.client)[12].decode()
+    name = (
+        name.removeprefix("panda_")
+        .replace("leftfinger", "left finger")
+        .replace("rightfinger", "right finger")
+    )
+    return {"carriage": "base rail", "link0": "arm base"}.get(name, name)
+
+
 class Motion:
     """Plans and executes checked arm motions in one world; counts the simulation steps it uses."""
 
@@ -77,9 +92,9 @@ class Motion:
                 for pt in p.getClosestPoints(r.body, o.body, margin, physicsClientId=w.client):
                     if (o.body, pt[4]) not in self.ignore_links:
                         names = {v: k for k, v in o.links.items()}
-                        return f"{o.id} ({names.get(pt[4], pt[4])}, robot link {pt[3]})", int(pt[3])
+                        return f"{o.id} ({names.get(pt[4], pt[4])}) at the {_link_name(r, pt[3])}", int(pt[3])
             for pt in p.getClosestPoints(r.body, w.table_body, -0.002, physicsClientId=w.client):
-                return f"table ({pt[3]})", int(pt[3])
+                return f"table at the {_link_name(r, pt[3])}", int(pt[3])
             return None
         finally:
             r.reset(saved)

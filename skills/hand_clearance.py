@@ -1,0 +1,266 @@
+"""Top-down grasps in clutter: where the Panda's hand fits, checked against walls and neighbours.
+
+The hand is 20.4 cm long along its closing axis and 6.3 cm thick; its underside is 3.9 cm above the
+grasp point and the fingertips 0.7 cm below it. Over a 3 cm cube on the floor of an 8.5 cm deep box
+the hand's underside is below the wall tops, so the hand must fit *inside* the box: lying along the
+box's long side, near its middle. Two physical facts widen what fits:
+
+- the fingers are coupled (one motor, a rack) and close symmetrically about the hand's centre, so a
+  hand centred up to 2 cm beside the object along the closing axis first slides it to the middle and
+  then holds it: the hand may sit where the walls let it, not where the object is;
+- a hand that grips only the object's upper part (at least 1.5 cm of finger on it) is higher and may
+  clear the walls of a box whose contents stand tall enough (a 5 cm mug in an 8.5 cm box).
+
+:func:`clear_grasps` searches yaws, offsets along and across the closing axis and grip heights, and
+keeps the poses where a proxy of the hand (its collision hull's box, swept 15 cm up along the approach)
+and of the open fingers touches nothing but the object; the arm itself is checked later, with IK, by
+:meth:`gsr.skills.motion.Motion.plan_base`. Nothing here moves the robot or any object.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from gsr.skills.robot import GRIPPER, top_down
+from gsr.skills.world import SimObject, World
+
+#: The hand's collision hull in the grasp-point frame (z towards the fingertips, y the closing axis):
+#: half sizes and z range of its box; it is checked at the grasp and at ``RISES`` above it (the vertical
+#: approach and retreat).
+PALM_HALF = (0.032, 0.104)
+PALM_Z = (-0.131, -0.039)
+RISES = (0.0, 0.04, 0.08, 0.12)
+#: Tilts (rad) of the closing axis out of the horizontal: the hand's end over a near wall rises above it
+#: (the fingers then square the object up against their pads as they close).
+TILTS = (0.0, 0.2, -0.2, 0.35, -0.35, 0.45, -0.45)
+#: One finger: half thickness (x), depth outward from its pad (y), z range.
+FINGER_HALF_X, FINGER_DEPTH, FINGER_Z = 0.0105, 0.0264, (-0.0466, 0.0072)
+#: The least length of finger on the object (m), measured down from its top.
+MIN_OVERLAP = 0.015
+FINGERTIP = 0.0072  # m: the fingertips are this far beyond the grasp point
+#: The farthest the hand's centre may sit beside the object along the closing axis (m).
+MAX_SLIDE = 0.02
+SLIDES = (0.0, 0.005, -0.005, 0.01, -0.01, 0.015, -0.015, 0.02, -0.02)
+#: Clearance the proxy keeps from everything but the object (m).
+MARGIN = 0.001
+
+
+@dataclass(frozen=True)
+class ClearGrasp:
+    """A top-down hand pose that clears its surroundings: grasp point, orientation, opening, cost."""
+
+    pos: np.ndarray
+    quat: tuple[float, float, float, float]
+    opening: float  # m between the open fingers (the slide's room included)
+    cost: float
+    slide: float  # m the closing fingers slide the object along the closing axis
+
+
+class HandProxy:
+    """Collision-only stand-ins for the palm and the open fingers (no mass, no visual, far away when idle)."""
+
+    def __init__(self, world: World) -> None:
+        import pybullet as p
+
+        self.world = world
+        c = world.client
+        hz = (PALM_Z[1] - PALM_Z[0]) / 2
+        palm = p.createCollisionShape(
+            p.GEOM_BOX, halfExtents=[PALM_HALF[0], PALM_HALF[1], hz], physicsClientId=c
+        )
+        self._palm_offset = (0.0, 0.0, PALM_Z[1] - hz)
+        self.palm = p.createMultiBody(0, palm, -1, (0, 0, -5), physicsClientId=c)
+        self._fingers: dict[int, int] = {}
+        self._bodies = [self.palm]
+
+    def _finger_pair(self, opening: float) -> int:
+        import pybullet as p
+
+        key = round(opening * 1000)
+        if key not in self._fingers:
+            c = self.world.client
+            hz = (FINGER_Z[1] - FINGER_Z[0]) / 2
+            half = [FINGER_HALF_X, FINGER_DEPTH / 2, hz]
+            y = opening / 2 + FINGER_DEPTH / 2
+            zc = (FINGER_Z[0] + FINGER_Z[1]) / 2
+            shape = p.createCollisionShapeArray(
+                [p.GEOM_BOX, p.GEOM_BOX],
+                halfExtents=[half, half],
+                collisionFramePositions=[[0, y, zc], [0, -y, zc]],
+                physicsClientId=c,
+            )
+            body = p.createMultiBody(0, shape, -1, (0, 0, -5), physicsClientId=c)
+            self._fingers[key] = body
+            self._bodies.append(body)
+        return self._fingers[key]
+
+    def hit(self, pos: np.ndarray, quat: tuple, opening: float, bodies: list[int], table: int) -> bool:
+        """Whether the fingers open to ``opening`` at this pose, or the palm there or straight above it
+        (:data:`RISES`), touch any of ``bodies`` (the table: only by going into it)."""
+        import pybullet as p
+
+        c = self.world.client
+        palm_pos, _ = p.multiplyTransforms(list(pos), list(quat), self._palm_offset, (0, 0, 0, 1))
+        fingers = self._finger_pair(opening)
+        p.resetBasePositionAndOrientation(fingers, list(pos), quat, physicsClientId=c)
+        try:
+            for rise in RISES:
+                if rise == 0.0:
+                    part = fingers
+                    if self._touches(part, bodies, table):
+                        return True
+                at = (palm_pos[0], palm_pos[1], palm_pos[2] + rise)
+                p.resetBasePositionAndOrientation(self.palm, at, quat, physicsClientId=c)
+                if self._touches(self.palm, bodies, table):
+                    return True
+            return False
+        finally:
+            for b in (self.palm, fingers):
+                p.resetBasePositionAndOrientation(b, (0, 0, -5), (0, 0, 0, 1), physicsClientId=c)
+
+    def _touches(self, part: int, bodies: list[int], table: int) -> bool:
+        import pybullet as p
+
+        c = self.world.client
+        if any(p.getClosestPoints(part, b, MARGIN, physicsClientId=c) for b in bodies):
+            return True
+        return bool(p.getClosestPoints(part, table, -0.002, physicsClientId=c))
+
+    def remove(self) -> None:
+        """Take the proxies out of the world."""
+        import pybullet as p
+
+        for b in self._bodies:
+            p.removeBody(b, physicsClientId=self.world.client)
+        self._bodies, self._fingers = [], {}
+
+
+def _near_bodies(world: World, obj: SimObject, reach: float = 0.2) -> list[int]:
+    """Bodies (the robot and the object excepted) whose boxes come within ``reach`` of the object's box."""
+    import pybullet as p
+
+    lo, hi = world.body_aabb(obj.body)
+    found = p.getOverlappingObjects(
+        [float(v) - reach for v in lo], [float(v) + reach for v in hi], physicsClientId=world.client
+    )
+    skip = {obj.body, world.robot.body, world.table_body}
+    held = {o.body for o in world.objects.values() if o.id in world.welds}
+    return sorted(
+        {b for b, _ in (found or ()) if b not in skip and b not in held and b in _object_bodies(world)}
+    )
+
+
+def _object_bodies(world: World) -> set[int]:
+    return {o.body for o in world.objects.values()}
+
+
+def _tilted(quat: tuple, tilt: float) -> tuple[float, float, float, float]:
+    """``quat`` turned by ``tilt`` about the hand's own x axis (its thickness): the closing axis tilts."""
+    import pybullet as p
+
+    if not tilt:
+        return tuple(quat)  # type: ignore[return-value]
+    turn = p.getQuaternionFromEuler((tilt, 0.0, 0.0))
+    return tuple(p.multiplyTransforms((0, 0, 0), quat, (0, 0, 0), turn)[1])  # type: ignore[return-value]
+
+
+def container_yaw(world: World, obj: SimObject) -> float | None:
+    """The heading of the interior ``obj`` is in (a box's, a drawer's), or None when it is in none."""
+    from gsr.skills.sim_graph import support_of
+
+    rel, node = support_of(world, obj.id) or ("", "")
+    if rel != "in":
+        return None
+    if node in world.objects:
+        host, part = world.objects[node], ""
+    elif node in world.parts:
+        host_id, part = world.parts[node]
+        host = world.objects[host_id]
+    else:
+        return None
+    interior = host.model.interiors.get(part)
+    return None if interior is None else world.yaw_of(host.body, host.links[interior.link])
+
+
+def _closing_yaws(obj: SimObject, body_yaw: float, walls: float | None) -> list[tuple[float, float]]:
+    """World closing yaws to try with a misalignment cost: a mug only across its body (never on its
+    handle, at +90 deg), a square solid every 15 deg and along a container's walls (``walls``: its
+    heading), face-aligned best; others along both faces."""
+    sx, sy = obj.model.extent[:2]
+    if obj.model.name == "mug":
+        return [(body_yaw + math.radians(d), math.radians(abs(d))) for d in (0, 15, -15, 30, -30)]
+    if abs(sx - sy) < 1e-6:
+        turns = [math.radians(d) for d in range(0, 180, 15)]
+        if walls is not None:
+            turns = [walls - body_yaw, walls - body_yaw + math.pi / 2, *turns]
+        out = []
+        for t in turns:
+            off = abs(((t + math.pi / 4) % (math.pi / 2)) - math.pi / 4)  # to the nearest face normal
+            out.append((body_yaw + t, off))
+        return out
+    return [(body_yaw, 0.0), (body_yaw + math.pi / 2, 0.0)]
+
+
+def clear_grasps(
+    world: World, obj: SimObject, site: np.ndarray, site_width: float, limit: int = 8
+) -> list[ClearGrasp]:
+    """Top-down grasps of a small object held whole (a cube, a package, a small mug) around its grasp
+    site ``site`` (world) whose hand and open fingers clear walls and neighbours, cheapest first (no
+    slide, centred, face-aligned, low grip). ``site_width``: the object's width between the fingers
+    at the site (a mug's body, not its handle)."""
+    hi = world.body_aabb(obj.body)[1]
+    centre = np.asarray(site, dtype=float)
+    site_z = float(centre[2])
+    body_yaw = world.yaw_of(obj.body)
+    sx, sy = obj.model.extent[:2]
+    top = float(hi[2])
+    z_hi = top - MIN_OVERLAP + FINGERTIP
+    heights = sorted({round(site_z, 4), round((site_z + z_hi) / 2, 4), round(z_hi, 4)})
+    heights = [z for z in heights if z >= site_z - 1e-6] or [site_z]
+    bodies = _near_bodies(world, obj)
+    table = world.table_body
+    proxy = HandProxy(world)
+    found: list[ClearGrasp] = []
+    try:
+        for yaw, misalign in _closing_yaws(obj, body_yaw, container_yaw(world, obj)):
+            t = yaw - body_yaw
+            along = abs(math.cos(t)) * sx + abs(math.sin(t)) * sy  # the object's width between the fingers
+            if obj.model.name == "mug":
+                along = site_width
+            e1 = np.array([math.cos(yaw), math.sin(yaw), 0.0])  # closing axis
+            e2 = np.array([-e1[1], e1[0], 0.0])
+            level = top_down(yaw)
+            # the pads stay on the object across the closing axis (on a round mug, near its axis)
+            across_room = max(
+                0.0, site_width / 2 - 0.014 if obj.model.name == "mug" else min(sx, sy) / 2 - 0.006
+            )
+            for tilt, slide in itertools.product(TILTS, SLIDES):
+                width = along + 2 * abs(slide)
+                opening = width + 0.012
+                if abs(slide) > MAX_SLIDE or opening > GRIPPER.open_width:
+                    continue
+                if abs(tilt) > 0.25 and obj.model.name == "mug":
+                    continue  # a round body would roll out of steeply tilted pads
+                quat = _tilted(level, tilt)
+                for across in (0.0, across_room, -across_room):
+                    spot = centre + slide * e1 + across * e2
+                    grip = next(
+                        (
+                            z
+                            for z in heights
+                            if not proxy.hit(np.array([spot[0], spot[1], z]), quat, opening, bodies, table)
+                        ),
+                        None,
+                    )
+                    if grip is None:
+                        continue
+                    cost = 10 * abs(slide) + 10 * abs(across) + misalign + 3 * (grip - site_z) + 2 * abs(tilt)
+                    found.append(ClearGrasp(np.array([spot[0], spot[1], grip]), quat, opening, cost, slide))
+                    break  # centred across when that fits
+    finally:
+        proxy.remove()
+    found.sort(key=lambda g: g.cost)
+    return found[:limit]

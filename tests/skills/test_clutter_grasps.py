@@ -1,0 +1,130 @@
+"""Grasping in clutter (issue 20): objects in GSR-Bench's 8.5 cm deep boxes and beside them.
+
+The scenes are the generated GSR-Bench cells (shipped code, no third-party data): a 5 cm mug in a deep
+box and a mug on the table against a box wall, where every grasp of the asset model puts the Panda's
+hand into a wall.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from gsr.benchmarks.suites import get_suite
+from gsr.skills import hand_clearance as hc
+from gsr.skills.grasping import MAX_CLOSES, _site_pose, grasp_candidates, pick, pick_candidates
+from gsr.skills.motion import Motion
+from gsr.skills.result import Failure, SkillError
+from gsr.skills.robot import top_down
+from gsr.skills.sim_graph import support_of
+from gsr.skills.world import build_world
+
+pytestmark = pytest.mark.physics
+
+
+def _task(task_id: str):
+    return next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == task_id)
+
+
+def _proxy_hits(world, obj, pos, quat, opening) -> bool:
+    proxy = hc.HandProxy(world)
+    try:
+        return proxy.hit(np.asarray(pos), quat, opening, hc._near_bodies(world, obj), world.table_body)
+    finally:
+        proxy.remove()
+
+
+def test_hand_proxy_sees_a_box_wall_and_not_the_air_above_it() -> None:
+    with build_world(_task("gsrgen_gg_complex_01"), seed=0) as world:
+        mug = world.objects["yellow_mug1"]
+        assert support_of(world, mug.id) == ("in", "yellow_box")
+        box = world.objects["yellow_box"]
+        lo, hi = world.body_aabb(box.body)
+        wall = np.array([lo[0], (lo[1] + hi[1]) / 2, hi[2] - 0.02])  # a point on the near wall's top
+        assert _proxy_hits(world, mug, wall, top_down(0.0), 0.05)
+        assert not _proxy_hits(world, mug, wall + np.array([0, 0, 0.2]), top_down(0.0), 0.05)
+        n_bodies = len({world.objects[k].body for k in world.objects})
+        import pybullet as p
+
+        # the proxies are gone afterwards: the world holds the robot, the table and its objects only
+        assert p.getNumBodies(physicsClientId=world.client) == n_bodies + 2
+
+
+def test_a_mug_in_a_deep_box_is_gripped_high_enough_for_the_hand_to_clear_the_walls() -> None:
+    with build_world(_task("gsrgen_gg_complex_01"), seed=0) as world:
+        mug = world.objects["yellow_mug1"]
+        model = grasp_candidates(world, mug)
+        # the asset's own grasps (the body's middle) put the hand into the box: the reported baseline
+        assert all(_proxy_hits(world, mug, pos, quat, min(0.08, w + 0.035)) for pos, quat, w in model)
+        cands = pick_candidates(world, mug)
+        site, _ = _site_pose(world, mug, mug.model.grasps[0])
+        first = cands[0]
+        assert first[0][2] > site[2] + 0.01  # gripped near its top
+        assert not _proxy_hits(world, mug, *first)
+        m = Motion(world, 15000)
+        pick(world, m, mug)
+        assert support_of(world, mug.id) == ("held", "")
+
+
+def test_a_mug_against_a_box_wall_is_taken_with_a_tilted_hand() -> None:
+    with build_world(_task("gsrgen_sod_complex_01"), seed=0) as world:
+        mug = world.objects["red_mug1"]
+        assert support_of(world, mug.id) == ("on", "table")
+        cands = pick_candidates(world, mug)
+        tilted = [c for c in cands if abs(_tilt(c[1])) > 0.1]
+        assert tilted, "no tilted candidate"
+        pick(world, Motion(world, 15000), mug)
+        assert support_of(world, mug.id) == ("held", "")
+
+
+def _tilt(quat) -> float:
+    """Angle (rad) of the hand's closing axis out of the horizontal."""
+    import pybullet as p
+
+    y = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)[:, 1]
+    return math.asin(float(np.clip(y[2], -1, 1)))
+
+
+def test_a_missed_grasp_is_retried_and_bounded(monkeypatch) -> None:
+    with build_world(_task("gsrgen_gg_complex_01"), seed=0) as world:
+        mug = world.objects["yellow_mug1"]
+        m = Motion(world, 30000)
+        closes = {"n": 0}
+        real = m.grasp_close
+
+        def miss_once() -> bool:
+            closes["n"] += 1
+            if closes["n"] == 1:
+                m.gripper(0.0, steps=12)
+                return False
+            return real()
+
+        monkeypatch.setattr(m, "grasp_close", miss_once)
+        pick(world, m, mug)
+        assert closes["n"] == 2 and support_of(world, mug.id) == ("held", "")
+
+    # never more than MAX_CLOSES closes: a hand that always misses ends with a typed failure
+    with build_world(_task("gsrgen_gg_complex_01"), seed=0) as world:
+        m = Motion(world, 40000)
+        calls = {"n": 0}
+
+        def always_miss() -> bool:
+            calls["n"] += 1
+            m.gripper(0.0, steps=12)
+            return False
+
+        monkeypatch.setattr(m, "grasp_close", always_miss)
+        with pytest.raises(SkillError) as err:
+            pick(world, m, world.objects["yellow_mug1"])
+        assert err.value.failure in (Failure.GRASP_MISSED, Failure.BLOCKED)
+        assert 1 <= calls["n"] <= MAX_CLOSES
+
+
+def test_a_blocked_pick_names_the_obstacle_and_the_hand_part() -> None:
+    with build_world(_task("gsrgen_ss_complex_01"), seed=0) as world:
+        cube = world.objects["yellow_cube1"]  # in a lidded box whose lid is closed
+        with pytest.raises(SkillError) as err:
+            pick(world, Motion(world, 15000), cube)
+        assert err.value.failure is Failure.BLOCKED
+        assert "blue_lid_box" in err.value.message and "at the hand" in err.value.message
