@@ -2,29 +2,10 @@
 
 from __future__ import annotations
 
-from collections import deque
-
 import numpy as np
 from gsr.benchmarks.delivery.building.catalog import OBJECTS, RECEPTACLES, ROLES, ROOM_KINDS
 from gsr.benchmarks.delivery.building.model import Building
-from gsr.benchmarks.delivery.building.navigation import BuildingMap
-
-
-def _reachable(walkable: np.ndarray, start: tuple[int, int]) -> np.ndarray:
-    """Cells 4-connected to ``start`` through walkable cells."""
-    seen = np.zeros_like(walkable)
-    if not walkable[start]:
-        return seen
-    seen[start] = True
-    queue = deque([start])
-    rows, cols = walkable.shape
-    while queue:
-        r, c = queue.popleft()
-        for nr, nc in ((r - 1, c), (r + 1, c), (r, c - 1), (r, c + 1)):
-            if 0 <= nr < rows and 0 <= nc < cols and walkable[nr, nc] and not seen[nr, nc]:
-                seen[nr, nc] = True
-                queue.append((nr, nc))
-    return seen
+from gsr.benchmarks.delivery.building.navigation import BuildingMap, reachable_cells
 
 
 def building_problems(building: Building) -> list[str]:
@@ -43,7 +24,7 @@ def building_problems(building: Building) -> list[str]:
         start = tuple(
             int(x) for x in (elevator.access[f.level] if elevator and f.level in elevator.access else free[0])
         )
-        seen = _reachable(walk, start)
+        seen = reachable_cells(walk, start)
         cut = int(walk.sum() - seen.sum())
         if cut:
             problems.append(f"floor {f.level}: {cut} walkable cells cannot be reached from the elevator")

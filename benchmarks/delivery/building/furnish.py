@@ -6,10 +6,9 @@ cell, keeps a one-cell ring free towards the room, and the room's free cells sta
 
 from __future__ import annotations
 
-from collections import deque
-
 import numpy as np
 from gsr.benchmarks.delivery.building.catalog import OBJECTS, RECEPTACLES, ROOM_KINDS
+from gsr.benchmarks.delivery.building.navigation import reachable_cells
 
 
 def _connected(free: np.ndarray) -> bool:
@@ -17,20 +16,7 @@ def _connected(free: np.ndarray) -> bool:
     cells = np.argwhere(free)
     if len(cells) == 0:
         return False
-    seen = np.zeros_like(free)
-    start = tuple(cells[0])
-    seen[start] = True
-    queue = deque([start])
-    count = 1
-    rows, cols = free.shape
-    while queue:
-        r, c = queue.popleft()
-        for nr, nc in ((r - 1, c), (r + 1, c), (r, c - 1), (r, c + 1)):
-            if 0 <= nr < rows and 0 <= nc < cols and free[nr, nc] and not seen[nr, nc]:
-                seen[nr, nc] = True
-                count += 1
-                queue.append((nr, nc))
-    return count == len(cells)
+    return int(reachable_cells(free, tuple(cells[0])).sum()) == len(cells)
 
 
 def place_receptacles(

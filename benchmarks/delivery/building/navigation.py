@@ -10,6 +10,7 @@ from __future__ import annotations
 import heapq
 import itertools
 import math
+from collections import deque
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -27,6 +28,24 @@ _STEPS_8 = (
     (1, -1, _SQRT2),
     (1, 1, _SQRT2),
 )
+
+
+def reachable_cells(walkable: np.ndarray, start: Cell) -> np.ndarray:
+    """Boolean grid of the cells 4-connected to ``start`` through True cells of ``walkable`` (all False
+    when ``start`` itself is not walkable)."""
+    seen = np.zeros(walkable.shape, dtype=bool)
+    if not walkable[start]:
+        return seen
+    seen[start] = True
+    queue = deque([start])
+    rows, cols = walkable.shape
+    while queue:
+        r, c = queue.popleft()
+        for nr, nc in ((r - 1, c), (r + 1, c), (r, c - 1), (r, c + 1)):
+            if 0 <= nr < rows and 0 <= nc < cols and walkable[nr, nc] and not seen[nr, nc]:
+                seen[nr, nc] = True
+                queue.append((nr, nc))
+    return seen
 
 
 def astar(walkable: np.ndarray, start: Cell, goal: Cell, diagonal: bool = True) -> list[Cell] | None:
