@@ -393,27 +393,40 @@ def _paraphrase(sentence: str, k: int) -> str:
     return s.replace("officespace", "office space")
 
 
-def test_prs_dev_requests_paraphrased_parse_alike(shared_data: Path) -> None:
-    """Dev requests rewritten with verbs and place wordings the parser's tests never saw: the object type,
-    source rooms and destination rooms agree with the original parse on at least 95 % of them."""
+def _dev_requests(shared_data: Path) -> tuple[dict, RoomMatcher, list[str]]:
+    """PRS's dev tasks, the station's room matcher and the object labels (skips without the data)."""
     data = shared_data / "prs"
     if not (data / "delivery_tasks_dev.json").is_file():
         pytest.skip(f"PRS data not found at {data}")
-    st = load_station(data, None)
     tasks = json.loads((data / "delivery_tasks_dev.json").read_text())
-    labels = sorted({t["target_object_type"] for t in tasks.values()})
-    rooms = RoomMatcher(st)
+    return (
+        tasks,
+        RoomMatcher(load_station(data, None)),
+        sorted({t["target_object_type"] for t in tasks.values()}),
+    )
+
+
+def _parse_alike(original: str, rewritten: str, task: dict, rooms: RoomMatcher, labels: list[str]) -> bool:
+    """Both wordings give the task's object type and the same source and destination rooms."""
+    a = parse_request(original, rooms, labels)
+    b = parse_request(rewritten, rooms, labels)
+    best = [max(labels, key=lambda lab: label_score(lab, p.object_tokens)) for p in (a, b)]
+    return (
+        best[0] == best[1] == task["target_object_type"]
+        and set(a.source_rooms) == set(b.source_rooms)
+        and set(a.dest_rooms) == set(b.dest_rooms)
+    )
+
+
+def test_prs_dev_requests_paraphrased_parse_alike(shared_data: Path) -> None:
+    """Dev requests rewritten with verbs and place wordings the parser's tests never saw: the object type,
+    source rooms and destination rooms agree with the original parse on at least 95 % of them."""
+    tasks, rooms, labels = _dev_requests(shared_data)
     same = total = 0
     for k, t in enumerate(tasks.values()):
-        a = parse_request("".join(t["directive"]), rooms, labels)
-        b = parse_request("".join(_paraphrase(s, k) for s in t["directive"]), rooms, labels)
-        best = [max(labels, key=lambda lab: label_score(lab, p.object_tokens)) for p in (a, b)]
+        rewritten = "".join(_paraphrase(s, k) for s in t["directive"])
         total += 1
-        same += (
-            best[0] == best[1] == t["target_object_type"]
-            and set(a.source_rooms) == set(b.source_rooms)
-            and set(a.dest_rooms) == set(b.dest_rooms)
-        )
+        same += _parse_alike("".join(t["directive"]), rewritten, t, rooms, labels)
     assert same >= 0.95 * total, f"{same} / {total}"
 
 
@@ -439,13 +452,7 @@ def test_prs_dev_requests_restructured_parse_alike(shared_data: Path) -> None:
     source and destination rooms agree with the original parse on at least 90 % of them."""
     import re
 
-    data = shared_data / "prs"
-    if not (data / "delivery_tasks_dev.json").is_file():
-        pytest.skip(f"PRS data not found at {data}")
-    st = load_station(data, None)
-    tasks = json.loads((data / "delivery_tasks_dev.json").read_text())
-    labels = sorted({t["target_object_type"] for t in tasks.values()})
-    rooms = RoomMatcher(st)
+    tasks, rooms, labels = _dev_requests(shared_data)
     pattern = re.compile(
         r"^(?:Please )?(?:fetch|grasp|retrieve|collect|grab|pick up|take) the (?P<obj>.+?) (?:from|on) the "
         r"(?P<src>.+?),? (?:and|then) (?:take|bring|deliver) it to (?P<dest>.+?)\.$",
@@ -462,13 +469,6 @@ def test_prs_dev_requests_restructured_parse_alike(shared_data: Path) -> None:
             f"I need the {obj} in {dest}; you will find it in the {src}.",
             f"The {src} has a {obj} on it: kindly transport it to {dest}.",
         ][k % 3]
-        a = parse_request("".join(t["directive"]), rooms, labels)
-        b = parse_request(first + t["directive"][1], rooms, labels)
-        best = [max(labels, key=lambda lab: label_score(lab, p.object_tokens)) for p in (a, b)]
         total += 1
-        same += (
-            best[0] == best[1] == t["target_object_type"]
-            and set(a.source_rooms) == set(b.source_rooms)
-            and set(a.dest_rooms) == set(b.dest_rooms)
-        )
+        same += _parse_alike("".join(t["directive"]), first + t["directive"][1], t, rooms, labels)
     assert total >= 200 and same >= 0.9 * total, f"{same} / {total}"
