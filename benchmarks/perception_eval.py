@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 from gsr.perception.corrupt import add_depth_noise, erode_masks
-from gsr.perception.evaluate import SCORED_RELATIONS, Score
+from gsr.perception.evaluate import SCORED_RELATIONS, ContainmentErrors, Score
 from gsr.perception.frame import Frame
 from gsr.perception.pipeline import PerceptionParams, perceive
 
@@ -190,6 +190,7 @@ def evaluate(
     relations = scored_relations(world, scenes, cameras)
     make_scene = skills_scene if world == "skills" else procedural_scene
     score, seen = Score(), Score()
+    in_errors = ContainmentErrors()
     truth_nodes = visible_truth_nodes = 0
     seconds = cpu_seconds = 0.0
     frames_seen = 0
@@ -210,6 +211,7 @@ def evaluate(
         cpu_seconds += time.process_time() - start_cpu
         frames_seen += len(frames)
         score.add(graph, truth, relations)
+        in_errors.add(graph, truth, visible, {n.id for n in graph.nodes})
         seen.add(perceivable_prediction(graph, truth, visible), perceivable_truth(truth, visible), relations)
         truth_nodes += len(truth.nodes)
         visible_truth_nodes += sum(1 for n in truth.nodes if n.id in visible)
@@ -220,6 +222,7 @@ def evaluate(
     seen_report = seen.to_dict()
     report["perceivable"] = {k: seen_report[k] for k in ("nodes", "relations", "states")}
     report["visible"] = report["perceivable"]  # the name of this block before the subset was defined
+    report["in_errors"] = in_errors.to_dict()
     report.update(
         seed=seed,
         depth_noise=depth_noise,
@@ -269,11 +272,20 @@ def format_report(report: dict[str, Any]) -> str:
         lines.append(
             f"  {rel:<8} {s['precision']:>9.3f} {s['recall']:>7.3f} {s['f1']:>6.3f} {s['tp']:>5} {s['fp']:>5} {s['fn']:>5}"
         )
+    lines.append(_format_in_errors(report))
     lines.append(
         f"perception: {report['fps']} frames/s wall ({report['perception_seconds']} s in perceive), "
         f"{report['fps_cpu']} frames per CPU-second"
     )
     return "\n".join(lines)
+
+
+def _format_in_errors(report: dict[str, Any]) -> str:
+    """The ``in`` errors by cause (all truth relations), as two lines."""
+    err = report["in_errors"]
+    missed = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in err["missed"].items() if v) or "none"
+    false = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in err["false"].items() if v) or "none"
+    return f"in errors (all truth relations): missed: {missed}\n  false: {false}"
 
 
 def evaluate_no_oracle(
@@ -309,6 +321,7 @@ def evaluate_no_oracle(
         return procedural_scene(s, c, w, h)
 
     score, seen = Score(), Score()
+    in_errors = ContainmentErrors()
     nodes, seen_nodes = NodeScore(), NodeScore()
     timing = Timing()
     truth_nodes = visible_truth_nodes = 0
@@ -327,6 +340,7 @@ def evaluate_no_oracle(
         nodes.add(graph, truth, matching)
         renamed = as_truth_ids(graph, matching)
         score.add(renamed, truth, relations)
+        in_errors.add(renamed, truth, visible, set(matching.values()))
         seen_truth = perceivable_truth(truth, visible)
         seen_pred = perceivable_prediction(renamed, truth, visible)
         seen.add(seen_pred, seen_truth, relations)
@@ -349,6 +363,7 @@ def evaluate_no_oracle(
         "states": seen_report["states"],
     }
     report["visible"] = report["perceivable"]
+    report["in_errors"] = in_errors.to_dict()
     total_s = timing.detect_s + timing.perceive_s
     total_cpu = timing.detect_cpu_s + timing.perceive_cpu_s
     report.update(
@@ -423,6 +438,7 @@ def _format_no_oracle(report: dict[str, Any]) -> str:
         lines.append(
             f"  {rel:<8} {s['precision']:>9.3f} {s['recall']:>7.3f} {s['f1']:>6.3f} {s['tp']:>5} {s['fp']:>5} {s['fn']:>5}"
         )
+    lines.append(_format_in_errors(report))
     lines.append(
         f"perception incl. segmentation and recognition: {report['fps']} frames/s wall "
         f"({report['perception_seconds']} s, of which detector {report['detect_seconds']} s), "

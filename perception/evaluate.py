@@ -119,3 +119,76 @@ def score(
     s = Score()
     s.add(predicted, truth, relations)
     return s.to_dict()
+
+
+#: Why a truth ``in`` relation was missed / why a perceived one is false (docs/perception.md, Evaluation).
+MISSED_CAUSES = (
+    "hidden_closed",  # the object is shown by no camera and its container is closed
+    "hidden_other",  # shown by no camera, container open (occluded)
+    "object_not_perceived",  # visible, but no perceived node is it
+    "container_not_perceived",  # the object was perceived, its container was not
+    "on_instead_of_in",  # both perceived, the object is put on something
+    "wrong_container",  # both perceived, the object is put in another container
+    "no_support",  # both perceived, no support edge for the object
+)
+FALSE_CAUSES = (
+    "unmatched_object",  # a perceived node that is no truth object (a fragment, a duplicate) is "in"
+    "unmatched_container",  # a real object is "in" a perceived node that is no truth object
+    "wrong_container",  # the object is in another container in the truth
+    "in_instead_of_on",  # the object rests on something in the truth
+    "other",  # e.g. held or unsupported in the truth
+)
+
+
+@dataclass
+class ContainmentErrors:
+    """Counts of the ``in`` relation's errors by cause, over scenes (see MISSED_CAUSES, FALSE_CAUSES).
+
+    ``predicted`` must already carry the truth's ids (a perceived node paired with no truth node has an id
+    the truth does not use); ``visible``: truth ids some camera shows; ``perceived``: truth ids paired
+    with a perceived node."""
+
+    true_positive: int = 0
+    missed: dict[str, int] = field(default_factory=lambda: dict.fromkeys(MISSED_CAUSES, 0))
+    false: dict[str, int] = field(default_factory=lambda: dict.fromkeys(FALSE_CAUSES, 0))
+
+    def add(self, predicted: SceneGraph, truth: SceneGraph, visible: set[str], perceived: set[str]) -> None:
+        """Classify one scene's ``in`` errors."""
+        t_in = {(e.source, e.target) for e in truth.edges if e.relation == "in"}
+        t_sup = {e.source: (e.relation, e.target) for e in truth.edges if e.relation in ("on", "in")}
+        p_in = {(e.source, e.target) for e in predicted.edges if e.relation == "in"}
+        p_sup = {e.source: (e.relation, e.target) for e in predicted.edges if e.relation in ("on", "in")}
+        truth_ids = {n.id for n in truth.nodes}
+        nodes = truth.node_map()
+        for a, c in sorted(t_in):
+            if (a, c) in p_in:
+                self.true_positive += 1
+                continue
+            if a not in visible:
+                closed = c in nodes and "closed" in nodes[c].states
+                cause = "hidden_closed" if closed else "hidden_other"
+            elif a not in perceived:
+                cause = "object_not_perceived"
+            elif c not in perceived:
+                cause = "container_not_perceived"
+            elif a not in p_sup:
+                cause = "no_support"
+            else:
+                cause = "wrong_container" if p_sup[a][0] == "in" else "on_instead_of_in"
+            self.missed[cause] += 1
+        for a, c in sorted(p_in - t_in):
+            if a not in truth_ids:
+                cause = "unmatched_object"
+            elif c not in truth_ids:
+                cause = "unmatched_container"
+            elif t_sup.get(a, ("", ""))[0] == "in":
+                cause = "wrong_container"
+            elif t_sup.get(a, ("", ""))[0] == "on":
+                cause = "in_instead_of_on"
+            else:
+                cause = "other"
+            self.false[cause] += 1
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"tp", "missed": {cause: n}, "false": {cause: n}}``."""
+        return {"tp": self.true_positive, "missed": dict(self.missed), "false": dict(self.false)}

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from gsr.perception.articulation import label_affordances
-from gsr.perception.geometry import Instance, plane_height
+from gsr.perception.geometry import Instance, fit_boxes, plane_height
 
 from gsr.categories import affordances, is_part_category
 
@@ -28,6 +28,8 @@ class RelationThresholds:
     contact_ring: float = 0.03  # B's points this far around A's footprint count as "under A"
     in_ratio: float = 0.5  # share of A's points inside B's box for A in B (B a container)
     in_rim: float = 0.01  # B's box grows upward by this (a rim seen slightly low)
+    in_floor: float = 0.015  # A in B only if A's bottom is at most this below B's bottom: nothing in a
+    # container lies under its floor (a neighbour on the table whose pixels widened B's box does)
     lid_clearance: float = 0.005  # A in a *closed* B only when A's top is this far under B's top (the lid)
     lid_flat_share: float = 0.8  # share of a lidded B's points around A at A's bottom (within on_gap):
     # B shows a flat top around A (a closed lid), so A rests on B, not in it
@@ -57,6 +59,38 @@ def bottom_z(inst: Instance) -> float:
     return float(np.percentile(inst.points[:, 2], 2.0))
 
 
+#: The rim band: a container's points within this much of its top (at least; 20% of its height if more).
+RIM_BAND = 0.015
+#: The rim's footprint stands for the container's only when it spans this share of the box's extents
+#: (walls seen all round); a drawer seen only from the front shows no rim to measure.
+RIM_COVER = 0.5
+
+
+def rim_box(b: Instance) -> Instance | None:
+    """The upright box of a container's rim band (its wall tops, or a closed lid), or None when the band is
+    too sparse or too partial to stand for the container's footprint.
+
+    Points of a neighbour that leaked into the container's segment lie low, beside the walls: they widen
+    the container's box but not its rim, which is where the walls really are."""
+    z = b.points[:, 2]
+    top = float(np.percentile(z, 98.0))
+    band = b.points[z >= top - max(RIM_BAND, 0.2 * (top - float(np.percentile(z, 2.0))))]
+    if len(band) < 20:
+        return None
+    rim = Instance(b.key + "#rim", b.label, band, b.rgb[: len(band)])
+    fit_boxes(rim)
+    # extents compared sorted: the two boxes' yaws may differ by a quarter turn
+    if np.any(np.sort(rim.size[:2]) < RIM_COVER * np.sort(b.size[:2])):
+        return None
+    return rim
+
+
+def container_footprint(b: Instance) -> Instance:
+    """What decides whether a point is over a container: its rim's box where measured, else its own box."""
+    rim = rim_box(b)
+    return b if rim is None else rim
+
+
 def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
     """How much of A lies inside B's upright box (grown upward by the rim allowance), in [0, 1].
 
@@ -65,7 +99,7 @@ def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
     lower part B's walls hide (a bottle in a basket), so counting points undercounts; the span does not."""
     pts = a.points
     lo, hi = b.aabb_min[2] - 0.01, b.aabb_max[2] + th.in_rim
-    inside_xy = b.footprint_contains(pts[:, :2], margin=0.005)
+    inside_xy = container_footprint(b).footprint_contains(pts[:, :2], margin=0.005)
     inside_z = (pts[:, 2] >= lo) & (pts[:, 2] <= hi)
     by_points = float(np.mean(inside_xy & inside_z))
     bottom, top = bottom_z(a), float(np.percentile(pts[:, 2], 98.0))
@@ -116,6 +150,7 @@ def supports(
             and is_container(b)
             and b.key != a.key
             and _may_hold(a, b, closed, th)
+            and bottom_z(a) >= bottom_z(b) - th.in_floor
             and (b.key in closed or not _on_flat_lid(a, b, th))
         ]
         containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]

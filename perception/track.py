@@ -232,8 +232,137 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         groups.setdefault(find(i), []).append(instances[i])
     fused = [_merge_group(g, params) for g in groups.values()]
     fused = [f for f in fused if f is not None]
+    fused = absorb_fragments(merge_duplicates(fused, params), params)
     number_anonymous(fused)
     return fused
+
+
+def _aabb_iou(a: Instance, b: Instance) -> float:
+    lo, hi = np.maximum(a.aabb_min, b.aabb_min), np.minimum(a.aabb_max, b.aabb_max)
+    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+    va = float(np.prod(np.maximum(a.aabb_max - a.aabb_min, 1e-3)))
+    vb = float(np.prod(np.maximum(b.aabb_max - b.aabb_min, 1e-3)))
+    return inter / (va + vb - inter)
+
+
+def merge_duplicates(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """Fused objects of one category whose boxes overlap at IoU >= ``SAME_VIEW_IOU`` are one object.
+
+    Fusion never puts two detections of one camera in a group, so a camera that split a box in two (its
+    walls and its floor) leaves two groups, each completed by other views: two nearly identical boxes.
+    Two distinct objects of one kind cannot share most of their volume (a box inside a box is smaller)."""
+    out = list(fused)
+    merged = True
+    while merged:
+        merged = False
+        for i, a in enumerate(out):
+            if _no_object(a):
+                continue
+            for j in range(i + 1, len(out)):
+                b = out[j]
+                if b.label.category == a.label.category and _aabb_iou(a, b) >= SAME_VIEW_IOU:
+                    joined = _join(a, b, params=params)
+                    out = [x for k, x in enumerate(out) if k not in (i, j)]
+                    if joined is not None:
+                        out.append(joined)
+                    merged = True
+                    break
+            if merged:
+                break
+    return out
+
+
+#: A one-camera detection is a piece of an open container (an inner wall or a corner the detector split
+#: off) when this share of its voxels lies in (one voxel around) the container's cloud ...
+FRAGMENT_OVERLAP = 0.75
+#: ... nearly all of its points lie in the container's box (grown 1 cm) ...
+FRAGMENT_INSIDE = 0.9
+#: ... its centre is inside the container's rim, and it has a wall's extent: it reaches this far below the
+#: container's floor (down to the table, as the outer walls do) or up to within 1 cm of the rim.
+FRAGMENT_BELOW_FLOOR = 0.004
+
+
+def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """Merge one-camera pieces of a container's own walls into the container (see the constants above).
+
+    An object standing in a box touches the box at its bottom only, rests on the floor and stays below
+    the rim; a wall piece lies along the container's surfaces, from the table (outside) or the rim down.
+    Pieces must sit inside the container's rim, so a neighbour whose pixels leaked into the container's
+    segment (lower than the walls, outside the rim) is no piece of it."""
+    from gsr.perception.relations import rim_box  # geometry of the container's walls
+
+    containers = [c for c in fused if not _no_object(c) and "container" in affordances(c.label.category)]
+    if not containers:
+        return fused
+    pieces: dict[int, Instance] = {}
+    for x in fused:
+        if x.views != 1 or _no_object(x, allow_unknown=True):
+            continue
+        for c in sorted(containers, key=lambda c: float(np.prod(c.size))):
+            if c is x or float(np.prod(x.size)) >= float(np.prod(c.size)) or id(c) in pieces:
+                continue
+            lo, hi = c.aabb_min - 0.01, c.aabb_max + 0.01
+            if float(np.mean(np.all((x.points >= lo) & (x.points <= hi), axis=1))) < FRAGMENT_INSIDE:
+                continue
+            rim = rim_box(c)
+            if rim is None or not rim.footprint_contains(x.center[None, :2])[0]:
+                continue
+            x_bottom = float(np.percentile(x.points[:, 2], 2.0))
+            c_bottom = float(np.percentile(c.points[:, 2], 2.0))
+            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= rim.aabb_max[2] - 0.01
+            if wall_like and cloud_overlap(x, c) >= FRAGMENT_OVERLAP:
+                pieces[id(x)] = c
+                break
+    if not pieces:
+        return fused
+    out: list[Instance] = []
+    grown: dict[int, Instance] = {}
+    for c in containers:
+        parts = [x for x in fused if pieces.get(id(x)) is c]
+        if parts:
+            joined = _join(c, *parts, params=params, keep_label=True)
+            if joined is not None:
+                grown[id(c)] = joined
+    for x in fused:
+        if id(x) in pieces:
+            continue
+        out.append(grown.get(id(x), x))
+    return out
+
+
+def _no_object(inst: Instance, allow_unknown: bool = False) -> bool:
+    """Parts, grounds (and ``unknown`` unless allowed) are not candidates for these merges."""
+    cat = inst.label.category
+    return is_part_category(cat) or cat in GROUNDS or (cat == UNKNOWN and not allow_unknown)
+
+
+def _join(*insts: Instance, params: GeometryParams, keep_label: bool = False) -> Instance | None:
+    """One instance from already fused ones: provenance united, category and colour voted (or the
+    first one's with ``keep_label``), points re-gridded."""
+    first = insts[0]
+    members = tuple(m for i in insts for m in i.label.attributes.get(MEMBERS, ()))
+    parents = tuple(m for i in insts for m in i.label.attributes.get(PARENT_MEMBERS, ()))
+    group = list(insts)
+    category = first.label.category if keep_label else (_vote(group, "category") or first.label.category)
+    color = first.label.color if keep_label else _vote(group, "color")
+    scores = [
+        float(s)
+        for s in (g.label.attributes.get("confidence") for g in group)
+        if isinstance(s, int | float) and not isinstance(s, bool)
+    ]
+    attrs = {**first.label.attributes, MEMBERS: members, PARENT_MEMBERS: parents}
+    if scores:
+        attrs["confidence"] = round(max(scores), 3)
+    label = dataclasses.replace(first.label, category=category, color=color, attributes=attrs)
+    points = np.concatenate([g.points for g in group])
+    rgb = np.concatenate([g.rgb for g in group])
+    points, rgb = clean_points(points, rgb, dataclasses.replace(params, outlier_neighbors=len(points)))
+    if len(points) < params.min_points:
+        return None
+    cameras = {m.split("m")[0] for m in members if m.startswith("f")}
+    inst = Instance(first.key, label, points, rgb, views=len(cameras) or sum(g.views for g in group))
+    fit_boxes(inst)
+    return inst
 
 
 def _vote(group: list[Instance], key: str) -> str | None:

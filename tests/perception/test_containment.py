@@ -1,0 +1,154 @@
+"""Containment without the oracle: container duplicates and wall pieces fused away, the rim and floor
+rules of ``in``, and the evaluation's breakdown of ``in`` errors (exact synthetic clouds, no rendering)."""
+
+from __future__ import annotations
+
+import numpy as np
+from gsr.perception.evaluate import ContainmentErrors
+from gsr.perception.frame import InstanceLabel
+from gsr.perception.geometry import GeometryParams, Instance, fit_boxes
+from gsr.perception.relations import RelationThresholds, rim_box, supports
+from gsr.perception.track import absorb_fragments, fuse_views, merge_duplicates
+
+from gsr.scene_graph import Edge, Node, SceneGraph
+
+TH = RelationThresholds()
+PLANE = np.array([0.0, 0.0, 1.0, 0.0])
+PARAMS = GeometryParams(voxel=0)
+
+
+def _inst(key: str, category: str, pts: np.ndarray, views: int = 1) -> Instance:
+    inst = Instance(key, InstanceLabel(category=category), pts, np.full((len(pts), 3), 128, np.uint8), views)
+    fit_boxes(inst)
+    return inst
+
+
+def _grid(a: np.ndarray, b: np.ndarray, step: float = 0.005) -> np.ndarray:
+    return np.stack(np.meshgrid(np.arange(a[0], b[0] + 1e-9, step), np.arange(a[1], b[1] + 1e-9, step)), -1)
+
+
+def open_box(key: str, lo, hi, floor: float = 0.008, views: int = 1) -> Instance:
+    """Points of an open box's four walls (outside faces) and its floor, as cameras from above see them."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    pts = []
+    zs = np.arange(lo[2], hi[2] + 1e-9, 0.005)
+    for x in (lo[0], hi[0]):
+        ys = np.arange(lo[1], hi[1] + 1e-9, 0.005)
+        pts += [np.array([(x, y, z) for y in ys for z in zs])]
+    for y in (lo[1], hi[1]):
+        xs = np.arange(lo[0], hi[0] + 1e-9, 0.005)
+        pts += [np.array([(x, y, z) for x in xs for z in zs])]
+    floor_xy = _grid(lo[:2] + 0.005, hi[:2] - 0.005).reshape(-1, 2)
+    pts += [np.column_stack([floor_xy, np.full(len(floor_xy), lo[2] + floor)])]
+    return _inst(key, "box", np.concatenate(pts), views)
+
+
+def solid(key: str, category: str, lo, hi, views: int = 1) -> Instance:
+    """Points on the top and sides of a solid block."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    top = _grid(lo[:2], hi[:2], 0.004).reshape(-1, 2)
+    pts = [np.column_stack([top, np.full(len(top), hi[2])])]
+    zs = np.arange(lo[2], hi[2] + 1e-9, 0.004)
+    for x in (lo[0], hi[0]):
+        pts += [np.array([(x, y, z) for y in np.arange(lo[1], hi[1] + 1e-9, 0.004) for z in zs])]
+    return _inst(key, category, np.concatenate(pts), views)
+
+
+def table() -> Instance:
+    xy = _grid(np.array([0.0, -0.5]), np.array([0.8, 0.5]), 0.02).reshape(-1, 2)
+    return _inst("table", "table", np.column_stack([xy, np.zeros(len(xy))]))
+
+
+def test_two_fused_copies_of_one_box_are_one_box_but_a_box_in_a_box_stays():
+    whole = open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    copy = open_box("box_f0m2", (0.305, -0.095, 0.0), (0.55, 0.07, 0.085), views=2)
+    small = open_box("box_f1m3", (0.35, -0.05, 0.01), (0.45, 0.03, 0.06), views=2)
+    out = merge_duplicates([whole, copy, small], PARAMS)
+    assert len(out) == 2
+    assert sorted(round(float(np.prod(i.size)), 4) for i in out) == sorted(
+        round(float(np.prod(i.size)), 4) for i in (whole, small)
+    )
+
+
+def test_a_wall_piece_one_camera_split_off_joins_its_box_and_an_object_inside_does_not():
+    box = open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    # the inner face of the box's -x wall, down to the table: what one camera segmented on its own
+    wall = box.points[np.abs(box.points[:, 0] - 0.3) < 1e-6]
+    piece = _inst("box_f2m4", "box", wall[(wall[:, 1] > -0.05) & (wall[:, 1] < 0.0)] + [0.004, 0, 0])
+    cube = solid("cube_f2m5", "cube", (0.4, -0.03, 0.008), (0.43, 0.0, 0.038))
+    out = absorb_fragments([box, piece, cube], PARAMS)
+    assert sorted(i.label.category for i in out) == ["box", "cube"]
+    grown = next(i for i in out if i.label.category == "box")
+    assert len(grown.points) == len(box.points) + len(piece.points)
+    # the same pieces through the whole fusion: one box, one cube
+    fused = fuse_views([open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085)), piece, cube], PARAMS)
+    assert sorted(i.label.category for i in fused) == ["box", "cube"]
+
+
+def test_a_neighbour_whose_pixels_leaked_into_the_box_is_beside_it_not_in_it():
+    box = open_box("box", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    cube = solid("cube", "cube", (0.25, -0.03, 0.0), (0.28, 0.0, 0.03))
+    leaked = np.concatenate([box.points, cube.points[cube.points[:, 0] < 0.27]])
+    wide = _inst("box", "box", leaked, 3)
+    assert wide.aabb_min[0] < 0.26  # the leak widens the box ...
+    rim = rim_box(wide)
+    assert rim is not None and rim.aabb_min[0] > 0.29  # ... but not its rim
+    sup = supports([table(), wide, cube], PLANE, TH)
+    assert sup["cube"] == ("on", "table")
+    inside = solid("inner", "cube", (0.4, -0.03, 0.008), (0.43, 0.0, 0.038))
+    assert supports([table(), wide, inside], PLANE, TH)["inner"] == ("in", "box")
+
+
+def test_nothing_in_a_container_lies_under_its_floor():
+    raised = open_box("box", (0.3, -0.1, 0.05), (0.55, 0.07, 0.135))  # a box standing on something
+    low = solid("cube", "cube", (0.4, -0.03, 0.0), (0.43, 0.0, 0.06))  # reaches up into its box from below
+    sup = supports([table(), raised, low], PLANE, TH)
+    assert sup["cube"] != ("in", "box")
+
+
+def _graph(nodes: list[str], edges: list[tuple[str, str, str]], closed: tuple[str, ...] = ()) -> SceneGraph:
+    return SceneGraph(
+        nodes=tuple(Node(id=n, category="box", states=("closed",) if n in closed else ()) for n in nodes),
+        edges=tuple(Edge(source=a, relation=r, target=b) for a, r, b in edges),
+    )
+
+
+def test_in_errors_are_broken_down_by_cause():
+    truth = _graph(
+        ["table", "box", "drawer", "a", "b", "c", "d", "e", "f"],
+        [
+            ("a", "in", "drawer"),  # hidden in the closed drawer
+            ("b", "in", "box"),  # found
+            ("c", "in", "box"),  # put on the table
+            ("d", "in", "box"),  # put in the drawer
+            ("e", "on", "table"),  # put in the box
+            ("f", "in", "box"),  # not perceived
+        ],
+        closed=("drawer",),
+    )
+    predicted = _graph(
+        ["table", "box", "drawer", "b", "c", "d", "e", "unmatched_box_2"],
+        [
+            ("b", "in", "box"),
+            ("c", "on", "table"),
+            ("d", "in", "drawer"),
+            ("e", "in", "box"),
+            ("unmatched_box_2", "in", "box"),
+        ],
+    )
+    err = ContainmentErrors()
+    visible = {"table", "box", "drawer", "b", "c", "d", "e", "f"}
+    err.add(predicted, truth, visible, {"table", "box", "drawer", "b", "c", "d", "e"})
+    out = err.to_dict()
+    assert out["tp"] == 1
+    assert {k: v for k, v in out["missed"].items() if v} == {
+        "hidden_closed": 1,
+        "on_instead_of_in": 1,
+        "wrong_container": 1,
+        "object_not_perceived": 1,
+    }
+    assert {k: v for k, v in out["false"].items() if v} == {
+        "wrong_container": 1,
+        "in_instead_of_on": 1,
+        "unmatched_object": 1,
+    }
