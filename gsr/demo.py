@@ -1,7 +1,8 @@
 """The symbolic end-to-end demo: LIBERO task -> scene graph -> plan -> every step checked -> goal verified.
 
-This is the main job of ``make demo`` until the physical demo (PyBullet execution and perception)
-lands; it exercises the whole symbolic pipeline on a real LIBERO task file.
+``gsr demo --symbolic`` runs it: the whole symbolic pipeline on a real LIBERO task file, with no simulator
+or vision extras. ``make demo`` runs the physical demo instead (the benchmarks layer's: PyBullet
+execution and perception), which falls back to suggesting this one when those extras are missing.
 """
 
 from __future__ import annotations
