@@ -358,7 +358,7 @@ def _unweld(world: World, obj: SimObject) -> None:
         p.removeConstraint(cid, physicsClientId=world.client)
 
 
-def target_point(world: World, target: str, obj: SimObject, relation: str) -> np.ndarray:
+def target_point(world: World, target: str, obj: SimObject, relation: str, turn: float = 0.0) -> np.ndarray:
     """Where the held object's bottom centre should go: a free spot in the interior or on top of ``target``."""
     if relation == "in":
         for node_id, lo, hi, _ in interior_boxes(world):
@@ -380,10 +380,11 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         ee = world.robot.ee_pose()[0]
         # near the hand first; the whole table when nothing near it is free (beside a cabinet whose
         # drawer is open over the table)
-        for reach in (0.25, 2.0):
-            lo = np.array([max(tlo[0] + 0.05, ee[0] - reach), max(tlo[1] + 0.05, ee[1] - reach), thi[2]])
-            hi = np.array([min(thi[0] - 0.05, ee[0] + reach), min(thi[1] - 0.05, ee[1] + reach), thi[2]])
-            spot = _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True)
+        # (a 25 cm box on a crowded desk: at last up to 1 cm from the desk's edges)
+        for reach, edge in ((0.25, 0.05), (2.0, 0.05), (2.0, 0.01)):
+            lo = np.array([max(tlo[0] + edge, ee[0] - reach), max(tlo[1] + edge, ee[1] - reach), thi[2]])
+            hi = np.array([min(thi[0] - edge, ee[0] + reach), min(thi[1] - edge, ee[1] + reach), thi[2]])
+            spot = _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True, turn=turn)
             if spot[2] <= thi[2] + 1e-6:
                 break
         return spot
@@ -399,6 +400,46 @@ def target_point(world: World, target: str, obj: SimObject, relation: str) -> np
         return _free_spot(world, obj, lo, hi, hi[2], prefer_near=True)
     # on a movable thing (a bowl, a plate, a box): its middle, where it holds the object best
     return _free_spot(world, obj, lo, hi, hi[2])
+
+
+#: Held objects wider than this (m) are turned square to the table when no spot fits them as they are.
+WIDE = 0.15
+
+
+def riders_of(world: World, obj: SimObject) -> set[int]:
+    """Bodies resting in or on ``obj`` (a box's contents), directly or on each other."""
+    found: set[int] = set()
+    hosts = {obj.id}
+    while True:
+        more = [
+            o
+            for o in world.objects.values()
+            if o.body not in found and o.id not in hosts and (support_of(world, o.id) or ("", ""))[1] in hosts
+        ]
+        if not more:
+            return found
+        found |= {o.body for o in more}
+        hosts |= {o.id for o in more}
+
+
+def _spot_and_turn(world: World, target: str, obj: SimObject, relation: str) -> tuple[np.ndarray, float]:
+    """The release spot and a wrist turn (rad): a wide object (a 25 cm box taken off another box) that
+    fits nowhere on a crowded table as held, turned by 45 degrees say, may fit turned square to it."""
+    spot = target_point(world, target, obj, relation)
+    loc = world.locate(target) if target not in world.regions else None
+    if loc is None or loc.body != world.table_body or max(obj.model.extent[:2]) < WIDE:
+        return spot, 0.0
+    if spot[2] <= world.body_aabb(world.table_body)[1][2] + 1e-6:
+        return spot, 0.0
+    yaw = world.yaw_of(obj.body)
+    square = -(((yaw + math.pi / 4) % (math.pi / 2)) - math.pi / 4)  # the smallest turn to the axes
+    for turn in (square, square + math.pi / 2, square - math.pi / 2):
+        if abs(turn) > math.pi * 0.6:
+            continue
+        turned = target_point(world, target, obj, relation, turn=turn)
+        if turned[2] <= world.body_aabb(world.table_body)[1][2] + 1e-6:
+            return turned, turn
+    return spot, 0.0
 
 
 def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -423,6 +464,9 @@ def _exposed(world: World, target: str, lo: np.ndarray, hi: np.ndarray) -> tuple
     return lo, hi
 
 
+#: The widest step (m) between the spots a free-spot search tries.
+SPOT_STEP = 0.03
+
 #: Room kept between an object set on the bare table and a fixture's parts (m): the hand's half width.
 FIXTURE_HAND_ROOM = 0.05
 
@@ -436,6 +480,7 @@ def _free_spot(
     prefer_near: bool = False,
     inside: bool = False,
     avoid_regions: bool = False,
+    turn: float = 0.0,
 ) -> np.ndarray:
     """A point in the rectangle lo..hi where the held object fits, with room for the fingers.
 
@@ -448,9 +493,23 @@ def _free_spot(
 
     rot = np.array(p.getMatrixFromQuaternion(list(ee_q))).reshape(3, 3)
     e1 = rot[:2, 1] / max(np.linalg.norm(rot[:2, 1]), 1e-9)  # the closing axis (hand y) on the table
-    e2 = np.array([-e1[1], e1[0]])
     olo, ohi = world.body_aabb(obj.body)
     oh = (ohi[:2] - olo[:2]) / 2
+    if turn:  # the wrist will turn by ``turn`` before the object goes down: its footprint turns with it
+        c, s_ = math.cos(turn), math.sin(turn)
+        e1 = np.array([c * e1[0] - s_ * e1[1], s_ * e1[0] + c * e1[1]])
+        yaw = world.yaw_of(obj.body) + turn
+        sx, sy = obj.model.extent[:2]
+        oh = (
+            np.array(
+                [
+                    abs(math.cos(yaw)) * sx + abs(math.sin(yaw)) * sy,
+                    abs(math.sin(yaw)) * sx + abs(math.cos(yaw)) * sy,
+                ]
+            )
+            / 2
+        )
+    e2 = np.array([-e1[1], e1[0]])
 
     def reach(e: np.ndarray, h: np.ndarray) -> float:  # half-width of an AABB footprint along e
         return float(abs(e[0]) * h[0] + abs(e[1]) * h[1])
@@ -481,7 +540,10 @@ def _free_spot(
         alo, ahi = world.body_aabb(o.body)
         if ahi[2] > z - 0.005 and alo[2] < z + 0.15 and support_of(world, o.id) != ("held", ""):
             others.append(((alo[:2] + ahi[:2]) / 2, (ahi[:2] - alo[:2]) / 2, float(ahi[2])))
-    candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, 7) for y in np.linspace(ylo, yhi, 7)]
+    # 7 x 7 spots at least, 3 cm apart at most (a 25 cm box needs a gap a coarse grid steps over)
+    nx = int(min(41, max(7, math.ceil((xhi - xlo) / SPOT_STEP) + 1)))
+    ny = int(min(41, max(7, math.ceil((yhi - ylo) / SPOT_STEP) + 1)))
+    candidates = [np.array([x, y]) for x in np.linspace(xlo, xhi, nx) for y in np.linspace(ylo, yhi, ny)]
     centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
         # ... where the hand does not meet a tall neighbour (a bowl beside a wine bottle)
@@ -510,6 +572,13 @@ def _free_spot(
         )
 
     free = [c for c in candidates if not under(c) and not in_region(c)]
+    if free and not inside:
+        # the hand reaches past what it holds (it is 20 cm long; a box is held by its wall): of the
+        # free spots, those where the hand at the release point and above it touches nothing
+        from gsr.skills.hand_clearance import hand_clear_at
+
+        cleared = [c for c in free if hand_clear_at(world, obj, np.array([c[0], c[1], z]), turn)]
+        free = cleared or free
     if free and avoid_regions:
         # the bare table: of the free spots, one with a hand's width (10 cm) around it if there is one,
         # so the object set down does not stand in the way of the next grasps and handles
@@ -570,9 +639,10 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     else:
         from gsr.skills.surfaces import uncrowded_turn
 
-        spot = target_point(world, target, obj, relation)
-        # the hand's 22 cm length turned away from a tall neighbour (a bottle beside the bowl)
-        delta = uncrowded_turn(world, obj, spot)
+        spot, delta = _spot_and_turn(world, target, obj, relation)
+        if not delta:
+            # the hand's 22 cm length turned away from a tall neighbour (a bottle beside the bowl)
+            delta = uncrowded_turn(world, obj, spot)
     if delta:
         turn = p.getQuaternionFromEuler((0, 0, delta))
         quat = tuple(p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), quat)[1])
@@ -580,7 +650,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
     goal = spot + offset + np.array([0, 0, 0.012])
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
-    m.ignore = {obj.body}
+    m.ignore = {obj.body} | riders_of(world, obj)  # what rides in the held box moves with it
     lift(m, z_transit)
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     above = (np.array([goal[0], goal[1], z_transit]), quat)

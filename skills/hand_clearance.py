@@ -264,3 +264,26 @@ def clear_grasps(
         proxy.remove()
     found.sort(key=lambda g: g.cost)
     return found[:limit]
+
+
+def hand_clear_at(world: World, held: SimObject, spot: np.ndarray, turn: float = 0.0) -> bool:
+    """Whether the hand, holding ``held`` as it does now (the wrist turned by ``turn`` about the
+    vertical), clears everything else when the object's bottom centre is set at ``spot`` (the release
+    point and the vertical way down to it)."""
+    import pybullet as p
+
+    ee, quat = world.robot.ee_pose()
+    lo, hi = world.body_aabb(held.body)
+    offset = ee - np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2]])
+    if turn:
+        c, s = math.cos(turn), math.sin(turn)
+        offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
+        quat = p.multiplyTransforms((0, 0, 0), p.getQuaternionFromEuler((0, 0, turn)), (0, 0, 0), quat)[1]
+    pos = np.asarray(spot, dtype=float) + offset + np.array([0.0, 0.0, 0.012])
+    opening = min(GRIPPER.open_width, world.robot.finger_width() + 0.016)
+    bodies = sorted(_object_bodies(world) - {held.body})
+    proxy = HandProxy(world)
+    try:
+        return not proxy.hit(pos, tuple(float(v) for v in quat), opening, bodies, world.table_body)
+    finally:
+        proxy.remove()
