@@ -8,11 +8,13 @@ and, when solved, validated with gsr.validate; with ``--fd``, Fast Downward (lam
 the same files to tell the domains it accepts. Each domain runs in its own subprocess under a hard
 wall limit, so a grounding that does not finish cannot stall the run.
 
-Usage: python benchmarks/bench_ipc_language.py ROOT [--timeout 10] [--planner lazy-ff] [--pick 0] [--fd] [--only a,b]
-       [--save FILE]
+Usage: python -m gsr.benchmarks.bench_ipc_language ROOT [--timeout 60] [--planner lazy-ff] [--pick 0]
+       [--fd] [--only a,b] [--save FILE] [--markdown]
 
-Columns: load (parsed), plan (solved / timeout / unsolvable / error), valid (plan checked), time
-(parse + ground + search + validate, wall), fd (FD's status when --fd).
+Columns: load (parsed), plan (solved / timeout / unsolvable / error / killed / crash), valid (plan
+checked), GSR wall and CPU time of the whole child process (start-up, parse, ground, search,
+validate), plan length; with --fd, FD's status, wall and CPU time (its own processes) and plan
+length. A ROOT that does not exist is skipped with one line (exit 0): the collection is not shipped.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -80,15 +83,22 @@ def run_one(domain_file: Path, problem_file: Path, timeout: float, planner: str 
     return row
 
 
-def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> str:
-    """Fast Downward lama-first's status on the files ('n/a' when it is not installed)."""
+def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
+    """Fast Downward lama-first on the files: status ('n/a' when it is not installed), wall and CPU
+    time (FD's own processes: the driver, translator and search), plan length."""
     from gsr.errors import GSRError
     from gsr.plan.fast_downward import run_fast_downward
 
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
     try:
-        return run_fast_downward(domain_file, problem_file, timeout, memory_limit="4G")[0]
+        status, plan, _ = run_fast_downward(domain_file, problem_file, timeout, memory_limit="4G")
     except GSRError:
-        return "n/a"
+        return {"status": "n/a"}
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return {"status": status, "time": wall, "cpu": cpu, "length": len(plan) if plan is not None else None}
 
 
 def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
@@ -97,6 +107,7 @@ def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, plann
     cmd += ["--planner", planner]
     env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
     start = time.perf_counter()
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=hard, env=env)
     except subprocess.TimeoutExpired:
@@ -111,7 +122,34 @@ def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, plann
             "time": time.perf_counter() - start,
             "message": tail,
         }
-    return json.loads(lines[-1])
+    row = json.loads(lines[-1])
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    row["cpu"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    row["wall"] = time.perf_counter() - start
+    return row
+
+
+def markdown(rows: list[dict], fd: bool) -> str:
+    """The rows as a Markdown table (GSR's wall/CPU time are the whole child process: start-up,
+    parse, ground, search and validation)."""
+    head = "| domain | problem | load | GSR plan | valid | GSR wall / CPU (s) | length |"
+    rule = "|---|---|---|---|---|---:|---:|"
+    if fd:
+        head += " FD lama-first | FD wall / CPU (s) | FD length |"
+        rule += "---|---:|---:|"
+    out = [head, rule]
+    for r in rows:
+        t = f"{r.get('wall', r.get('time', 0)):.2f} / {r.get('cpu', 0):.2f}"
+        line = (
+            f"| {r['domain']} | {r['problem']} | {'yes' if r['load'] else 'no'} | {r['plan']} | "
+            f"{'yes' if r['valid'] else '-' if r['valid'] is None else 'no'} | {t} | {r.get('length') or '-'} |"
+        )
+        if fd:
+            f_ = r.get("fd") or {}
+            ft = f"{f_['time']:.2f} / {f_['cpu']:.2f}" if "time" in f_ else "-"
+            line += f" {f_.get('status')} | {ft} | {f_.get('length') or '-'} |"
+        out.append(line)
+    return "\n".join(out)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -124,13 +162,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--fd", action="store_true", help="also run Fast Downward lama-first")
     parser.add_argument("--only", default="", help="comma-separated domain folders")
     parser.add_argument("--save", type=Path, help="write the rows as JSON")
+    parser.add_argument(
+        "--markdown", action="store_true", help="print the rows as a Markdown table at the end"
+    )
     parser.add_argument("--one", nargs=2, type=Path, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.one:
         print(json.dumps(run_one(args.one[0], args.one[1], args.timeout, args.planner)))
         return 0
-    if args.root is None or not args.root.is_dir():
-        parser.error("ROOT must be a folder with one subfolder per domain")
+    if args.root is None:
+        parser.error("give ROOT, a folder with one subfolder per domain")
+    if not args.root.is_dir():  # the collection is not shipped (licences vary): nothing to measure
+        print(f"skipped: {args.root} is not a folder (fetch the collection first, see docs/planner.md)")
+        return 0
     only = {s for s in args.only.split(",") if s}
     rows = []
     for folder in sorted(p for p in args.root.iterdir() if p.is_dir()):
@@ -147,11 +191,11 @@ def main(argv: list[str] | None = None) -> int:
         if args.fd:
             row["fd"] = run_fd(*files, args.timeout)
         rows.append(row)
-        fd = f"  fd:{row['fd']}" if args.fd else ""
+        fd = f"  fd:{row['fd'].get('status')} {row['fd'].get('time', 0):.2f}s" if args.fd else ""
         msg = f"  {row.get('message', '')[:90]}" if row.get("message") else ""
         print(
             f"{folder.name:32} {files[1].name:24} load:{row['load']!s:5} plan:{row['plan']!s:10} "
-            f"valid:{row['valid']!s:5} {row.get('time', 0):7.2f}s{fd}{msg}",
+            f"valid:{row['valid']!s:5} {row.get('wall', row.get('time', 0)):7.2f}s{fd}{msg}",
             flush=True,
         )
     n = len(rows)
@@ -160,7 +204,11 @@ def main(argv: list[str] | None = None) -> int:
     valid = sum(bool(r["valid"]) for r in rows)
     print(f"domains {n}: load {loaded}, plan {solved} (limit {args.timeout:g} s), validate {valid}")
     if args.fd:
-        print(f"Fast Downward solved {sum(r.get('fd') == 'solved' for r in rows)} of {n}")
+        fd_solved = [r for r in rows if r["fd"].get("status") == "solved"]
+        both = sum(r["plan"] == "solved" and bool(r["valid"]) for r in fd_solved)
+        print(f"Fast Downward solved {len(fd_solved)} of {n}; GSR solved and validated {both} of those")
+    if args.markdown:
+        print(markdown(rows, args.fd))
     if args.save:
         fd_, tmp = tempfile.mkstemp(prefix=f".{args.save.name}.", dir=args.save.parent)
         with os.fdopen(fd_, "w") as fh:
