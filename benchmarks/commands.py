@@ -80,6 +80,14 @@ def register(app: typer.Typer) -> None:
             Path | None,
             typer.Option(help="With --no-oracle: detector weights (gsr perceive-train --out DIR)."),
         ] = None,
+        seen_open: Annotated[
+            bool,
+            typer.Option(
+                "--seen-open",
+                help="With --no-oracle: the scene is first seen with every drawer, lid and door open, then "
+                "as it is; the tracked belief is scored (a separate protocol from the single snapshot).",
+            ),
+        ] = False,
     ) -> None:
         """Render random PyBullet scenes, perceive them, score against ground truth (rendering not timed)."""
         if scenes < 1 or cameras < 1:
@@ -92,6 +100,8 @@ def register(app: typer.Typer) -> None:
             raise fail("--mask-erosion degrades the simulator's masks; --no-oracle uses none")
         if weights is not None and not no_oracle:
             raise fail("--weights needs --no-oracle")
+        if seen_open and not (no_oracle and world == "skills"):
+            raise fail("--seen-open needs --no-oracle and the skills world")
         from gsr.benchmarks.perception_eval import evaluate, format_report
 
         detector = None
@@ -108,6 +118,7 @@ def register(app: typer.Typer) -> None:
             world=world,
             oracle=not no_oracle,
             detector=detector,
+            seen_open=seen_open,
         )
         typer.echo(json.dumps(report, indent=2) if as_json else format_report(report))
 

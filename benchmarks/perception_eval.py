@@ -137,6 +137,91 @@ def skills_scene(
         world.close()
 
 
+#: Articulations whose closed state hides a container's contents (a knob or a button hides nothing).
+HIDING_KINDS = ("drawer", "lid", "door")
+
+
+def skills_scene_seen_open(
+    scene_seed: int, cameras: int, width: int, height: int
+) -> tuple[list[list[Frame]], list[Frame], Any]:
+    """The scene of :func:`skills_scene` observed as a robot that opened its containers before would have:
+    one earlier look per closed drawer, lid or door, with that one open (a drawer's contents travel with
+    it, as a pulled drawer carries them) and everything else as it is, then a look at the scene as it is;
+    all rendered without the robot's pixels. Returns the earlier looks' frames, the frames now and the
+    truth *now* (the same scene and truth as the single-snapshot protocol; only earlier looks are added).
+
+    Opening is the simulator moving the scene between looks (the harness, not the perceiver, uses the
+    truth to carry a drawer's contents along); perception gets the RGB-D frames of each look only."""
+    import random
+
+    import pybullet as p
+    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from gsr.skills.camera import default_views
+    from gsr.skills.sim_graph import scene_graph_from_sim
+    from gsr.skills.world import build_world
+
+    pick = random.Random(scene_seed)
+    task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
+    world = build_world(task, seed=scene_seed)
+    try:
+        views = default_views(world)
+        names = [SKILLS_VIEWS[i % len(SKILLS_VIEWS)] for i in range(cameras)]
+        specs = [dataclasses.replace(views[n], width=width, height=height) for n in names]
+        truth = scene_graph_from_sim(world)
+        earlier = []
+        for obj_id, part in _closed_hiding_parts(world):
+            saved = p.saveState(physicsClientId=world.client)
+            _open_part(world, truth, obj_id, part)
+            earlier.append([with_graph_attributes(_robot_free_frame(world, s), world.graph) for s in specs])
+            p.restoreState(saved, physicsClientId=world.client)
+            p.removeState(saved, physicsClientId=world.client)
+        now = [with_graph_attributes(_robot_free_frame(world, s), world.graph) for s in specs]
+        return earlier, now, truth
+    finally:
+        world.close()
+
+
+def _closed_hiding_parts(world: Any) -> list[tuple[str, str]]:
+    """(object id, part) of every closed drawer, lid and door, in a fixed order."""
+    out = []
+    for obj_id in sorted(world.objects):
+        obj = world.objects[obj_id]
+        for part in sorted(obj.model.articulations):
+            art = obj.model.articulations[part]
+            if art.kind in HIDING_KINDS and not art.is_open(world.joint_position(obj, part)):
+                out.append((obj_id, part))
+    return out
+
+
+def _open_part(world: Any, truth: SceneGraph, obj_id: str, part: str) -> None:
+    """Set one drawer, lid or door to its open position; what is (transitively) in a drawer moves with it."""
+    import pybullet as p
+
+    obj = world.objects[obj_id]
+    art = obj.model.articulations[part]
+    link = obj.links[art.link]
+    before = world.link_pose(obj.body, link)[0]
+    p.resetJointState(obj.body, link, art.open, physicsClientId=world.client)
+    if art.kind != "drawer":
+        return
+    shift = world.link_pose(obj.body, link)[0] - before
+    owners = {(o, q): node for node, (o, q) in world.parts.items()}
+    container = owners.get((obj_id, part), obj_id)
+    support = truth.supports()
+    for other_id, other in world.objects.items():
+        node, seen = other_id, set()
+        while node in support and node not in seen:
+            seen.add(node)
+            edge = support[node]
+            if edge.relation == "in" and edge.target == container:
+                pos, orn = p.getBasePositionAndOrientation(other.body, physicsClientId=world.client)
+                p.resetBasePositionAndOrientation(
+                    other.body, np.asarray(pos) + shift, orn, physicsClientId=world.client
+                )
+                break
+            node = edge.target
+
+
 def _robot_free_frame(world: Any, spec: Any) -> Frame:
     """``render_frame`` with no depth on the robot's own pixels (one rendering)."""
     from gsr.skills.camera import labelled_masks, render
@@ -180,13 +265,19 @@ def evaluate(
     world: str = "skills",
     oracle: bool = True,
     detector: Any = None,
+    seen_open: bool = False,
 ) -> dict[str, Any]:
     """Score perception on ``scenes`` random scenes (deterministic per seed); returns the report dict.
 
     ``oracle=False`` is the no-oracle protocol (:func:`evaluate_no_oracle`): RGB-D and cameras only,
-    ``detector`` (default :func:`gsr.perception.detect.load_detector`) finds and names the objects."""
+    ``detector`` (default :func:`gsr.perception.detect.load_detector`) finds and names the objects;
+    ``seen_open`` (no oracle only) adds an earlier look at the scene with its containers open."""
+    if seen_open and oracle:
+        raise ValueError("the seen-open protocol is a no-oracle protocol")
     if not oracle:
-        return evaluate_no_oracle(scenes, seed, depth_noise, cameras, width, height, params, world, detector)
+        return evaluate_no_oracle(
+            scenes, seed, depth_noise, cameras, width, height, params, world, detector, seen_open
+        )
     relations = scored_relations(world, scenes, cameras)
     make_scene = skills_scene if world == "skills" else procedural_scene
     score, seen = Score(), Score()
@@ -298,8 +389,14 @@ def evaluate_no_oracle(
     params: PerceptionParams | None = None,
     world: str = "skills",
     detector: Any = None,
+    seen_open: bool = False,
 ) -> dict[str, Any]:
     """The no-oracle protocol: perception sees RGB-D and cameras only (no masks, labels, ids or attributes).
+
+    ``seen_open``: the scene is observed twice (:func:`skills_scene_seen_open`): once earlier with its
+    drawers, lids and doors open, then as it is; ids are tracked from the first observation to the second
+    and the belief (:func:`gsr.perception.update_belief`) keeps what the now closed containers hide. The
+    graph scored is that belief, against the truth *now*: a separate figure from the single snapshot.
 
     The simulator's segmentation is used for one thing, after perception: deciding which truth nodes a
     camera shows (the perceivable subset). Perceived nodes are paired with truth nodes by 3D overlap
@@ -314,6 +411,8 @@ def evaluate_no_oracle(
 
         detector = load_detector()
     relations = scored_relations(world, scenes, cameras)
+    if seen_open and world != "skills":
+        raise ValueError("the seen-open protocol needs the skills world (articulated containers)")
 
     def make_scene(s: int, c: int, w: int, h: int) -> tuple[list[Frame], Any]:
         if world == "skills":
@@ -328,14 +427,25 @@ def evaluate_no_oracle(
     warmed = False
     for ss in np.random.SeedSequence(seed).spawn(scenes):
         scene_seed = int(ss.generate_state(1)[0])
-        frames, truth = make_scene(scene_seed, cameras, width, height)
+        earlier: list[list[Frame]] = []
+        if seen_open:
+            earlier, frames, truth = skills_scene_seen_open(scene_seed, cameras, width, height)
+        else:
+            frames, truth = make_scene(scene_seed, cameras, width, height)
         visible = visible_nodes(frames)  # from the simulator's masks: evaluation only, never perceived
         rng = np.random.default_rng([scene_seed, 1])
         views = [View(f.rgb, add_depth_noise(f.depth, depth_noise, rng), f.camera) for f in frames]
         if not warmed:  # first call pays one-off imports and model loading: not a per-frame cost
             perceive_rgbd(views, detector, params)
             warmed = True
-        graph, _ = perceive_rgbd(views, detector, params, timing)
+        if seen_open:
+            looks = [
+                [View(f.rgb, add_depth_noise(f.depth, depth_noise, rng), f.camera) for f in fs]
+                for fs in earlier
+            ]
+            graph = observe_sequence([*looks, views], detector, params, timing)
+        else:
+            graph, _ = perceive_rgbd(views, detector, params, timing)
         matching = match_nodes(graph, truth)
         nodes.add(graph, truth, matching)
         renamed = as_truth_ids(graph, matching)
@@ -368,6 +478,7 @@ def evaluate_no_oracle(
     total_cpu = timing.detect_cpu_s + timing.perceive_cpu_s
     report.update(
         oracle=False,
+        protocol="seen-open" if seen_open else "snapshot",
         detector=detector_name(detector),
         seed=seed,
         depth_noise=depth_noise,
@@ -385,6 +496,27 @@ def evaluate_no_oracle(
         fps_cpu=round(timing.frames / total_cpu, 2) if total_cpu > 0 else None,
     )
     return report
+
+
+def observe_sequence(
+    looks: list[list[Any]], detector: Any, params: PerceptionParams | None, timing: Any
+) -> SceneGraph:
+    """Perceive looks at one scene in order; the belief after the last one, with tracked ids. What the
+    perceiver itself does in closed-loop use: the Tracker keeps ids, parts of seen objects that vanish
+    are believed shut (:func:`gsr.perception.belief.with_flush_parts`), and :func:`update_belief` keeps
+    what a closed container or an occluder explains."""
+    from gsr.perception.belief import update_belief, with_flush_parts
+    from gsr.perception.rgbd import perceive_rgbd
+    from gsr.perception.track import Tracker
+
+    tracker = Tracker()
+    belief: SceneGraph | None = None
+    for views in looks:
+        graph, frames = perceive_rgbd(views, detector, params, timing)
+        observed, belief = with_flush_parts(tracker.assign(graph, belief), belief)
+        belief = update_belief(belief, observed, frames)
+    assert belief is not None
+    return belief
 
 
 def detector_name(detector: Any) -> str:
@@ -412,7 +544,13 @@ def _format_no_oracle(report: dict[str, Any]) -> str:
     """The no-oracle report as plain text."""
     n = report["nodes"]
     lines = [
-        f"NO ORACLE (RGB-D + cameras; detector {report['detector']})  world {report['world']}  scenes "
+        f"NO ORACLE (RGB-D + cameras; detector {report['detector']})"
+        + (
+            "  SEEN OPEN (earlier looks with each closed drawer, lid, door open; belief scored)"
+            if report.get("protocol") == "seen-open"
+            else ""
+        )
+        + f"  world {report['world']}  scenes "
         f"{report['scenes']}  seed {report['seed']}  cameras {report['cameras']}  "
         f"{report['resolution'][0]}x{report['resolution'][1]}  depth noise {report['depth_noise']} m",
         f"nodes (category + colour right, paired by 3D overlap): precision {n['precision']:.3f}  recall "

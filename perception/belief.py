@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gsr.scene_graph import SUPPORT_RELATIONS, Edge, Node, SceneGraph
+from gsr.scene_graph import SUPPORT_RELATIONS, Edge, Node, SceneGraph, Vec3
 
 if TYPE_CHECKING:
     from gsr.perception.frame import Frame
@@ -79,6 +79,113 @@ def glimpsed(frames: Sequence[Frame]) -> set[str]:
             if label is not None and label.id is not None:
                 out.add(label.id)
     return out
+
+
+def with_flush_parts(observed: SceneGraph, belief: SceneGraph | None) -> tuple[SceneGraph, SceneGraph | None]:
+    """The belief's parts (drawers, doors) of objects seen now that have no segment now, believed closed.
+
+    A drawer pushed shut is flush with its cabinet's front: cameras then often see no drawer at all, only
+    the cabinet. A part perceived before, whose object is perceived now and which itself is not, is
+    believed closed (an open drawer stands out of its cabinet and is seen). Returns ``observed`` plus those
+    parts (``observed: False``, state ``closed``) and the belief in which a drawer that was seen open has
+    been pushed back by its measured opening (``open_distance``) towards its object, with everything
+    that was in it: what was seen in the drawer stays remembered there (:func:`update_belief`)."""
+    if belief is None:
+        return observed, belief
+    seen = observed.node_map()
+    old = belief.node_map()
+    shifts: dict[str, np.ndarray] = {}
+    kept: list[Node] = []
+    for n in belief.nodes:
+        if n.parent is None or n.parent not in seen or n.id in seen:
+            continue
+        shift = _closing_shift(n, old.get(n.parent))
+        if shift is not None:
+            shifts[n.id] = shift
+        attrs = {**n.attributes, "observed": False}
+        if "open_distance" in attrs:
+            attrs["open_distance"] = 0.0
+        kept.append(
+            _moved(n, shifts.get(n.id)).model_copy(
+                update={
+                    "states": (*(s for s in n.states if s not in ("open", "closed")), "closed"),
+                    "attributes": attrs,
+                }
+            )
+        )
+    if not kept:
+        return observed, belief
+    observed = observed.model_copy(
+        update={"nodes": tuple(sorted((*observed.nodes, *kept), key=lambda n: n.id))}
+    )
+    if not shifts:
+        return observed, belief
+    support = belief.supports()
+
+    def container_of(node_id: str) -> str | None:
+        visited: set[str] = set()
+        while node_id in support and node_id not in visited:
+            visited.add(node_id)
+            edge = support[node_id]
+            if edge.relation == "in" and edge.target in shifts:
+                return edge.target
+            node_id = edge.target
+        return None
+
+    moved = []
+    for n in belief.nodes:
+        c = container_of(n.id) if n.parent is None else None
+        moved.append(_moved(n, shifts[c]) if c is not None else n)
+    return observed, belief.model_copy(update={"nodes": tuple(moved)})
+
+
+def _closing_shift(part: Node, parent: Node | None) -> np.ndarray | None:
+    """How a drawer seen open moves when pushed shut: by its measured opening, along the side of its
+    object's box it stands out of (the dominant axis of the part's offset from the object's centre)."""
+    opening = part.attributes.get("open_distance")
+    if part.category != "drawer" or not isinstance(opening, int | float) or opening <= 0:
+        return None
+    if parent is None or parent.bbox is None or part.bbox is None:
+        return None
+    pc, oc = _bbox_center(part), _bbox_center(parent)
+    half = np.maximum((_bbox_size(parent) / 2.0)[:2], 1e-6)
+    ratio = (pc - oc)[:2] / half
+    k = int(np.argmax(np.abs(ratio)))
+    axis = np.zeros(3)
+    axis[k] = 1.0 if ratio[k] >= 0 else -1.0
+    return -float(opening) * axis
+
+
+def _bbox_center(n: Node) -> np.ndarray:
+    lo, hi = n.bbox.min, n.bbox.max  # type: ignore[union-attr]
+    return np.array([(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2])
+
+
+def _bbox_size(n: Node) -> np.ndarray:
+    lo, hi = n.bbox.min, n.bbox.max  # type: ignore[union-attr]
+    return np.array([hi.x - lo.x, hi.y - lo.y, hi.z - lo.z])
+
+
+def _moved(n: Node, shift: np.ndarray | None) -> Node:
+    """The node with its pose, box and keypoints translated by ``shift``."""
+    if shift is None:
+        return n
+
+    def mv(v: Vec3) -> Vec3:
+        return Vec3(
+            x=round(v.x + float(shift[0]), 5),
+            y=round(v.y + float(shift[1]), 5),
+            z=round(v.z + float(shift[2]), 5),
+        )
+
+    update: dict = {}
+    if n.pose is not None:
+        update["pose"] = n.pose.model_copy(update={"position": mv(n.pose.position)})
+    if n.bbox is not None:
+        update["bbox"] = n.bbox.model_copy(update={"min": mv(n.bbox.min), "max": mv(n.bbox.max)})
+    if n.keypoints:
+        update["keypoints"] = tuple(k.model_copy(update={"position": mv(k.position)}) for k in n.keypoints)
+    return n.model_copy(update=update)
 
 
 def update_belief(

@@ -245,8 +245,16 @@ def _aabb_iou(a: Instance, b: Instance) -> float:
     return inter / (va + vb - inter)
 
 
+def _same_kind_of_thing(a: Instance, b: Instance) -> bool:
+    """One category, or two containers (an open lidded box's inside read as a plain box)."""
+    if a.label.category == b.label.category:
+        return True
+    return "container" in affordances(a.label.category) and "container" in affordances(b.label.category)
+
+
 def merge_duplicates(fused: list[Instance], params: GeometryParams) -> list[Instance]:
-    """Fused objects of one category whose boxes overlap at IoU >= ``SAME_VIEW_IOU`` are one object.
+    """Fused objects of one category (or two containers) whose boxes overlap at IoU >= ``SAME_VIEW_IOU``
+    are one object.
 
     Fusion never puts two detections of one camera in a group, so a camera that split a box in two (its
     walls and its floor) leaves two groups, each completed by other views: two nearly identical boxes.
@@ -260,7 +268,7 @@ def merge_duplicates(fused: list[Instance], params: GeometryParams) -> list[Inst
                 continue
             for j in range(i + 1, len(out)):
                 b = out[j]
-                if b.label.category == a.label.category and _aabb_iou(a, b) >= SAME_VIEW_IOU:
+                if _same_kind_of_thing(a, b) and _aabb_iou(a, b) >= SAME_VIEW_IOU:
                     joined = _join(a, b, params=params)
                     out = [x for k, x in enumerate(out) if k not in (i, j)]
                     if joined is not None:
@@ -585,7 +593,10 @@ def _size(n: Node) -> np.ndarray:
 
 
 def _same_kind(a: Node, b: Node) -> bool:
-    return a.category == b.category or UNKNOWN in (a.category, b.category)
+    """Same category, either ``unknown``, or two containers (a lidded box with its lid off looks like a box)."""
+    if a.category == b.category or UNKNOWN in (a.category, b.category):
+        return True
+    return "container" in affordances(a.category) and "container" in affordances(b.category)
 
 
 #: Centres closer than this (m, plus half the larger footprint) are the same object staying in place.

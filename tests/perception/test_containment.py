@@ -152,3 +152,62 @@ def test_in_errors_are_broken_down_by_cause():
         "in_instead_of_on": 1,
         "unmatched_object": 1,
     }
+
+
+def _part(node_id: str, parent: str, lo, hi, states=("open",), opening: float = 0.0) -> Node:
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    attrs = {"open_distance": opening} if opening else {}
+    return Node(
+        id=node_id,
+        category="drawer" if parent else "cube",
+        parent=parent or None,
+        states=states,
+        attributes=attrs,
+        bbox=BoundingBox(min=Vec3(x=lo[0], y=lo[1], z=lo[2]), max=Vec3(x=hi[0], y=hi[1], z=hi[2])),
+    )
+
+
+def test_a_drawer_seen_open_that_vanishes_is_believed_shut_with_its_contents():
+    from gsr.perception.belief import update_belief, with_flush_parts
+
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    box = BoundingBox(min=Vec3(x=0.0, y=0.0, z=0.0), max=Vec3(x=0.3, y=0.4, z=0.3))
+    cabinet = Node(id="cabinet_1", category="cabinet", bbox=box)
+    drawer = _part("cabinet_1/drawer_1", "cabinet_1", (0.2, 0.05, 0.2), (0.5, 0.35, 0.28), opening=0.2)
+    cube = _part("cube_1", "", (0.35, 0.15, 0.22), (0.38, 0.18, 0.25), states=())
+    earlier = SceneGraph(
+        nodes=(cabinet, drawer, cube),
+        edges=(Edge(source="cube_1", relation="in", target="cabinet_1/drawer_1"),),
+    )
+    now = SceneGraph(nodes=(cabinet,), edges=())  # the drawer is flush: no segment, the cube is hidden
+    observed, belief = with_flush_parts(now, earlier)
+    shut = observed.node("cabinet_1/drawer_1")
+    assert shut.states == ("closed",) and shut.attributes["observed"] is False
+    assert shut.bbox.max.x == 0.3  # pushed back by its measured opening, into the cabinet's front
+    final = update_belief(belief, observed)
+    assert Edge(source="cube_1", relation="in", target="cabinet_1/drawer_1") in final.edges
+    assert final.node("cube_1").bbox.min.x == 0.15  # carried with the drawer
+    # without an earlier look nothing is added, and a part of an object not seen now is not kept
+    assert with_flush_parts(now, None) == (now, None)
+    gone = SceneGraph(nodes=(), edges=())
+    assert with_flush_parts(gone, earlier)[0] == gone
+
+
+def test_the_seen_open_protocol_adds_earlier_looks_and_keeps_the_scene_and_truth():
+    import pytest
+
+    pytest.importorskip("pybullet")
+    from gsr.benchmarks.perception_eval import evaluate, skills_scene, skills_scene_seen_open
+
+    seed = 673228719  # a generated task with a closed lidded box and two closed drawers
+    earlier, now, truth = skills_scene_seen_open(seed, 1, 96, 72)
+    frames, single = skills_scene(seed, 1, 96, 72, self_filter=True)
+    assert set(truth.edges) == set(single.edges)  # the truth scored is the snapshot's
+    assert np.array_equal(now[0].depth, frames[0].depth)  # the scene was put back exactly
+    closed = [n for n in truth.nodes if "closed" in n.states]
+    assert len(earlier) == len(closed) >= 2
+    assert all(not np.array_equal(look[0].depth, now[0].depth) for look in earlier)  # something opened
+    with pytest.raises(ValueError, match="no-oracle"):
+        evaluate(1, seen_open=True)
