@@ -128,3 +128,39 @@ def test_a_blocked_pick_names_the_obstacle_and_the_hand_part() -> None:
             pick(world, Motion(world, 15000), cube)
         assert err.value.failure is Failure.BLOCKED
         assert "blue_lid_box" in err.value.message and "at the hand" in err.value.message
+
+
+def test_a_refused_step_is_not_planned_again_in_the_same_scene(monkeypatch) -> None:
+    from gsr.skills import library
+    from gsr.skills.sim_executor import SimExecutor
+
+    from gsr.resources import load_builtin_domain
+    from gsr.step_grammar import parse_step_text
+
+    calls = {"n": 0}
+
+    def refused(world, m, args):
+        calls["n"] += 1
+        raise SkillError(Failure.BLOCKED, f"cannot reach a grasp on {args[0]}: grasp pose collides with x")
+
+    monkeypatch.setitem(library.SKILLS, "pick", refused)
+    ex = SimExecutor(seed=0, frame_camera=None)
+    try:
+        ex.reset(_task("gsrgen_sod_complex_01"), load_builtin_domain("tabletop"))
+        step = parse_step_text("(pick red_mug1 table)")
+        first, again = ex.execute(step), ex.execute(step)
+        assert not first.ok and not again.ok and calls["n"] == 1
+        assert "not planned again" in again.message and "blocked" in again.message
+        assert len(ex.outcomes) == 2 and ex.outcomes[1].skill.failure is Failure.BLOCKED
+        # once the scene changes (here: a mug moved by hand), the step is planned again
+        import pybullet as p
+
+        mug = ex.ex.world.objects["blue_mug1"]
+        pos, quat = p.getBasePositionAndOrientation(mug.body, physicsClientId=ex.ex.world.client)
+        p.resetBasePositionAndOrientation(
+            mug.body, (pos[0], pos[1] + 0.02, pos[2]), quat, physicsClientId=ex.ex.world.client
+        )
+        ex.execute(step)
+        assert calls["n"] == 2
+    finally:
+        ex.close()
