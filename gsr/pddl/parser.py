@@ -540,14 +540,18 @@ def build_problem(tree: Tree, source: str, domain: Domain | None) -> Problem:
             known.__contains__,
         )
     init: set[Atom] = set()
+    negated: list[tuple[Atom, Tree]] = []
     for item in parts["init"][0].children if "init" in parts else ():
         if item.data == "atom":
             init.add(builder.atom(item, frozenset()))
         elif item.data == "init_numeric":
             function, args = builder.function_term(item.children[0], frozenset())
             problem.init_numeric[Atom(function, args)] = float(item.children[1])
-        else:
-            raise builder.error("negative literal in :init (the initial state is closed-world)", item)
+        else:  # (not (p ...)): redundant under the closed world (Fast Downward accepts it too)
+            negated.append((builder.atom(item.children[0], frozenset()), item))
+    for atom, item in negated:
+        if atom in init:
+            raise builder.error(f"{atom} is both true and false in :init", item)
     problem.init = frozenset(init)
     if "goal" not in parts:
         raise builder.error("problem has no (:goal ...)", tree)

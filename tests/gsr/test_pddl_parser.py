@@ -259,9 +259,14 @@ DOM = parse_domain(HEAD + "(:action a :parameters (?x) :effect (clear ?x)))")
         ("(define (problem p) (:domain d) (:objects a) (:goal (clear ?x)))", "unbound variable ?x", "?x"),
         ("(define (problem p) (:domain e) (:goal (and)))", "problem is for domain 'e', not 'd'", "e)"),
         (
-            "(define (problem p) (:domain d) (:objects a) (:init (not (clear a))) (:goal (and)))",
-            "negative literal",
+            "(define (problem p) (:domain d) (:objects a) (:init (clear a) (not (clear a))) (:goal (and)))",
+            "(clear a) is both true and false in :init",
             "(not (clear",
+        ),
+        (
+            "(define (problem p) (:domain d) (:objects a) (:init (not (held a))) (:goal (and)))",
+            "undeclared predicate 'held'",
+            "held",
         ),
         ("(define (problem p) (:domain d) (:objects a))", "problem has no (:goal", "(define"),
     ],
@@ -271,6 +276,13 @@ def test_problem_semantic_errors(text: str, message: str, marker: str) -> None:
     line, column = _position(text, marker)
     assert message in err.message
     assert (err.line, err.column) == (line, column)
+
+
+def test_negative_init_literals_are_redundant_under_the_closed_world() -> None:
+    # Fast Downward accepts (not (p)) in :init; it states what the closed world already says
+    text = "(define (problem p) (:domain d) (:objects a b) (:init (clear a) (not (clear b))) (:goal (clear b)))"
+    problem = parse_problem(text, domain=DOM)
+    assert problem.init == frozenset({Atom("clear", ("a",))})
 
 
 def test_syntax_errors_are_readable() -> None:
