@@ -12,8 +12,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from gsr.benchmarks.delivery.building.prs import Cell, Person, Room, Station
 from gsr.benchmarks.delivery.building.prs_graph import station_graph
+from gsr.benchmarks.delivery.building.prs_station import Cell, Person, Room, Station
 from gsr.benchmarks.delivery.prs_env import (
     REACH_M,
     SENSOR_RANGE_M,

@@ -26,7 +26,7 @@ from datetime import timedelta
 
 import numpy as np
 from gsr.benchmarks.delivery.building.navigation import astar, path_cells_length
-from gsr.benchmarks.delivery.building.prs import Cell, Station
+from gsr.benchmarks.delivery.building.prs_station import Cell, Station
 from gsr.benchmarks.delivery.prs_tasks import PlacedObject, PrsTask
 
 ROBOT_SPEED_MPS = 1.0  # metres per second along the path

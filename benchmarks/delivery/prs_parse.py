@@ -36,7 +36,7 @@ import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 
-from gsr.benchmarks.delivery.building.prs import Station
+from gsr.benchmarks.delivery.building.prs_station import Station
 
 from gsr.categories import COLOR_SYNONYMS, COLORS, MATERIALS
 from gsr.language.lexicon import FILLER, Lexicon, build_lexicon, vocabulary

@@ -20,8 +20,9 @@ from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from gsr.benchmarks.delivery.building.prs import Station, load_station
+from gsr.benchmarks.delivery.building.prs import load_station
 from gsr.benchmarks.delivery.building.prs_calibrate import Observation, calibrate_station
+from gsr.benchmarks.delivery.building.prs_station import Station
 from gsr.benchmarks.delivery.prs_agent import PrsAgent
 from gsr.benchmarks.delivery.prs_env import PrsEnv
 from gsr.benchmarks.delivery.prs_metrics import aggregate, score_entry

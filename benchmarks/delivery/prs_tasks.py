@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 
-from gsr.benchmarks.delivery.building.prs import PlacedObject, Station, place_object
 from gsr.benchmarks.delivery.building.prs_files import PrsDataError, need, read_json
+from gsr.benchmarks.delivery.building.prs_station import PlacedObject, Station, place_object
 
 Point = tuple[float, float, float]
 

@@ -28,8 +28,8 @@ from datetime import datetime
 from pathlib import Path
 
 import numpy as np
-from gsr.benchmarks.delivery.building.prs import GridTransform, Station, code_floor
 from gsr.benchmarks.delivery.building.prs_files import PrsDataError, read_json
+from gsr.benchmarks.delivery.building.prs_station import GridTransform, Station, code_floor
 
 #: Fewer observations than this on a floor leave it uncalibrated (a transform from a handful of people
 #: would be a guess).

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 import numpy as np
-from gsr.benchmarks.delivery.building.prs import Station
+from gsr.benchmarks.delivery.building.prs_station import Station
 from scipy import ndimage
 
 from gsr.scene_graph import BoundingBox, Edge, Node, SceneGraph, Vec3

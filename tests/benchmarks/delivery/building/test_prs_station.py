@@ -6,9 +6,10 @@ import json
 from pathlib import Path
 
 import pytest
-from gsr.benchmarks.delivery.building.prs import load_station, location_key
+from gsr.benchmarks.delivery.building.prs import load_station
 from gsr.benchmarks.delivery.building.prs_calibrate import observations_from_tasks, schedule_agreement
 from gsr.benchmarks.delivery.building.prs_files import PrsDataError
+from gsr.benchmarks.delivery.building.prs_station import location_key
 
 from tests.benchmarks.delivery.building.prs_synthetic import SCALE, X0, Z0, make_folder
 
@@ -100,7 +101,7 @@ def test_station_scene_graph(folder: Path) -> None:
 
 
 def test_objects_placed_by_geometry(folder: Path) -> None:
-    from gsr.benchmarks.delivery.building.prs import place_object
+    from gsr.benchmarks.delivery.building.prs_station import place_object
 
     from tests.benchmarks.delivery.building.prs_synthetic import world
 
