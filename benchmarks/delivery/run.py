@@ -7,9 +7,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gsr.benchmarks.delivery.agent import AgentTrace, BaselineAgent
+from gsr.benchmarks.delivery.building.checks import building_problems
 from gsr.benchmarks.delivery.building.graph import building_graph
 from gsr.benchmarks.delivery.building.model import Building, load_building
 from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.shipped import load_shipped_building
 from gsr.benchmarks.delivery.metrics import EpisodeResult, Summary, score_episode, summarize
 from gsr.benchmarks.delivery.parser import InstructionParser, lexicon_from_graph
 from gsr.benchmarks.delivery.tasks import DeliveryTask, generate_tasks
@@ -20,9 +22,6 @@ from gsr.errors import GSRError
 
 def checked_building(path: Path | None) -> Building:
     """The shipped building, or a user's file checked against the building invariants."""
-    from gsr.benchmarks.delivery.building.checks import building_problems
-    from gsr.benchmarks.delivery.building.shipped import load_shipped_building
-
     if path is None:
         return load_shipped_building()
     building = load_building(path)

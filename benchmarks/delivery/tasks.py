@@ -16,9 +16,11 @@ from gsr.benchmarks.delivery.building.catalog import COMMON_NEEDS, ROLES
 from gsr.benchmarks.delivery.building.model import Building, Item, Person
 from gsr.benchmarks.delivery.building.navigation import BuildingMap
 from gsr.benchmarks.delivery.reference import ObjectRef, PersonRef, Reference
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, ValidationError
 
-from gsr.io import write_text_atomic
+from gsr.errors import GSRError
+from gsr.io import read_text, write_text_atomic
+from gsr.scene_graph import format_validation_error
 
 SPLITS: dict[str, tuple[int, int]] = {"train": (11, 2000), "val": (12, 200), "test": (13, 1000)}
 TIME_LIMIT = 480.0  # seconds of simulated time per episode (8 minutes)
@@ -219,12 +221,6 @@ def save_tasks(tasks: list[DeliveryTask], path: str | Path) -> None:
 
 def load_tasks(path: str | Path) -> list[DeliveryTask]:
     """Read JSON Lines tasks (errors name the file and line)."""
-    from pydantic import ValidationError
-
-    from gsr.errors import GSRError
-    from gsr.io import read_text
-    from gsr.scene_graph import format_validation_error
-
     out = []
     for n, line in enumerate(read_text(path).splitlines(), 1):
         if not line.strip():

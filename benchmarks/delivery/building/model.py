@@ -14,7 +14,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from gsr.errors import GSRError
-from gsr.io import write_text_atomic
+from gsr.io import read_text, write_text_atomic
 from gsr.scene_graph import format_validation_error
 
 #: Grid cell codes: free floor, wall, furniture (blocked), door (free), stairs and elevator (blocked).
@@ -291,8 +291,6 @@ def _unique(what: str, ids: list[str]) -> None:
 
 def load_building(path: str | Path) -> Building:
     """Read a building JSON file (GSRError naming the file on any problem)."""
-    from gsr.io import read_text
-
     p = Path(path)
     return Building.from_json(read_text(p), str(p))
 
