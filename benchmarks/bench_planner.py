@@ -20,7 +20,8 @@ interpreter to the plan, its CPU time is the child's own from its start (start-u
 included); FD's times are those of FD's own processes (driver, translator, search), as when FD is
 run directly, not of the benchmark's child around it. Both report their peak resident memory (GSR's
 read after planning, before validation; FD's the largest child process's ru_maxrss). Modules are
-byte-compiled once first, as pip does on install.
+byte-compiled once first, as pip does on install, and the planner's C kernels (gsr.plan.relax_c) are
+built once before the first task (as on any first use after an install).
 pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
 with PYTHONHASHSEED=0. Every GSR plan, and with ``--isolate`` every FD plan, is checked with
 gsr.validate.validate_plan after the clock stops (``validate_s``); an invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
@@ -576,6 +577,13 @@ def main(argv: list[str] | None = None) -> int:
         for folder in ("gsr", "skills", "perception", "benchmarks"):
             if (REPO / folder).is_dir():
                 compileall.compile_dir(REPO / folder, quiet=1)
+    if "gsr" in systems:  # the planner's C kernels are built once per installation (first use), not per task
+        from gsr.plan import relax_c
+
+        if relax_c.library() is None and relax_c.allowed():
+            print(
+                f"note: planner C kernels unavailable ({relax_c.why_not}); numba or Python", file=sys.stderr
+            )
     results = [
         bench_set(
             s,

@@ -179,8 +179,14 @@ class Relaxation:
         # time and the search as much CPU time (small searches, the tabletop ones among them, never
         # pay numba's import).
         self._jit = None
+        self._jit_ff = None
+        # The search's successor generator: Task.applicable, or its C twin once the C kernels are
+        # loaded for the relaxation (same ids, same order).
+        self.applicable = task.applicable
         self._py_time = 0.0  # wall seconds spent in Python h_FF
-        self._jit_check = relax_jit.JIT_AFTER  # ... at which the CPU time is looked at next
+        # ... at which the CPU time is looked at next: the C kernels are tried first (cheap to load),
+        # numba from JIT_AFTER on.
+        self._jit_check = relax_jit.C_AFTER
         self._cpu0 = process_time()
         self._jit_open = self.integral and relax_jit.allowed()
         if self._jit_open and relax_jit.wanted(sum(self.npre)):
@@ -209,10 +215,17 @@ class Relaxation:
         heap += [(0, c) for bit, c in self.comp_pairs if not state & bit]
         return heap
 
-    def _use_jit(self) -> None:
-        self._jit_open = False
-        if relax_jit.kernels() is not None:
-            self._jit = relax_jit.CompiledRelaxation(self)
+    def _use_jit(self, numba: bool = True) -> None:
+        """Switch to the compiled relaxation (the C kernels, or numba when ``numba``); the Python
+        path stays when neither is available."""
+        self._jit = relax_jit.compiled(self, numba=numba)
+        self._jit_ff = getattr(self._jit, "ff", None)
+        if self._jit is not None or numba:
+            self._jit_open = False
+        if self._jit is not None and relax_jit.c_library() is not None:
+            from gsr.plan.relax_c import CSuccessors
+
+            self.applicable = CSuccessors(self.task, relax_jit.c_library()).applicable
 
     def hadd(self, state: int) -> tuple[list[float], list[int]]:
         """h_add costs of all facts (stopping once G is settled) and each fact's best supporter."""
@@ -403,10 +416,12 @@ class Relaxation:
         pre_mask, neg_mask = task.pre_mask, task.neg_mask
         jit = self._jit
         if jit is not None:
-            jit.hadd(state)
-            if jit.cost[self.goal_fact] >= relax_jit.UNREACHED:
+            if self._jit_ff is not None:  # the C kernels: h and the preferred operators in one call
+                found = self._jit_ff(state)
+                return (INF, []) if found is None else found
+            plan = jit.ff_plan(state)
+            if plan is None:
                 return INF, []
-            plan = jit.relaxed_plan()
             h = len(plan) if self.unit else sum(task.ops[o].cost for o in plan)
             if applicable is not None and len(applicable) < len(plan):
                 in_plan = set(plan)
@@ -416,10 +431,16 @@ class Relaxation:
             if self._py_time > self._jit_check:
                 # Wall time is cheap to read (process_time costs ~20 us here) but counts other
                 # processes' load: confirm with this process's CPU time since construction.
-                if process_time() - self._cpu0 > relax_jit.JIT_AFTER:
-                    self._use_jit()
-                    return self.ff(state)
-                self._jit_check += relax_jit.JIT_AFTER
+                check = self._jit_check
+                if process_time() - self._cpu0 > check:
+                    self._use_jit(numba=check >= relax_jit.JIT_AFTER)
+                    if self._jit is not None:
+                        return self.ff(state, applicable)
+                    self._jit_check = relax_jit.JIT_AFTER  # no C kernels: numba from JIT_AFTER on
+                elif check < relax_jit.JIT_AFTER:
+                    self._jit_check = check + relax_jit.C_AFTER
+                else:
+                    self._jit_check = check + relax_jit.JIT_AFTER
             start = perf_counter()
             found = self._ff_python(state)
             self._py_time += perf_counter() - start

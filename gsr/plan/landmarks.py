@@ -30,7 +30,8 @@ class Landmarks:
         self.parents: list[int] = []  # landmark index -> bitmask of landmarks ordered before it
         self.goal_mask = 0  # landmark indices that are goals
         self._py_time = 0.0  # seconds of Python exploration (then the compiled one takes over)
-        self._compiled: relax_jit.CompiledReach | None = None
+        self._compiled = None  # relax_c.CReach or relax_jit.CompiledReach once compiled
+        self._compile_after = relax_jit.C_AFTER  # seconds of Python exploration before compiling
         self._unary: tuple[dict[int, list[int]], list[tuple[int, ...]], list[int], list[int]] | None = None
         if len(task.goals) != 1:  # a disjunctive goal: no fact is a landmark for sure
             return
@@ -124,10 +125,17 @@ class Landmarks:
         for f in queue:
             reached |= 1 << f
         self._py_time += perf_counter() - start
-        if self._py_time > relax_jit.JIT_AFTER and relax_jit.allowed() and relax_jit.kernels() is not None:
-            # Many landmarks on a large task (visitall: one per cell): the rest run compiled.
+        check = self._compile_after
+        if self._py_time > check and relax_jit.allowed():
+            # Many landmarks on a large task (visitall: one per cell): the rest run compiled (the C
+            # kernels after C_AFTER seconds, numba only after JIT_AFTER).
             init = bits(task.init)
-            self._compiled = relax_jit.CompiledReach(len(task.atoms), init, pre_of, adds, npre, no_pre)
+            numba = check >= relax_jit.JIT_AFTER
+            self._compiled = relax_jit.compiled_reach(
+                len(task.atoms), init, pre_of, adds, npre, no_pre, numba
+            )
+            if self._compiled is None:
+                self._compile_after = relax_jit.JIT_AFTER if not numba else float("inf")
         return lambda i: reached & pre_mask[i] == pre_mask[i]
 
     def _build_unary(self) -> None:

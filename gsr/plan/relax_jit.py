@@ -10,6 +10,11 @@ Same results as the Python path: the kernel counts a state's facts from scratch 
 (atoms ascending, the always-true fact, then the true complement facts), and its priority queue
 pops facts by (cost, insertion order), which is the bucket queue's FIFO order within a cost, so
 every fact's cost and best supporter equal ``Relaxation._hadd_buckets``'s (tested).
+
+Two backends compute the same values: the C kernels of ``relax_kernels.c`` (``gsr.plan.relax_c``:
+built once with the system's C compiler, loaded with ctypes in milliseconds) when a compiler is
+there, otherwise numba (~1.2 s CPU to switch: its import and LLVM set-up). ``compiled(relax)``
+picks one; ``GSR_PLAN_CC=0`` leaves only numba.
 """
 
 from __future__ import annotations
@@ -28,6 +33,11 @@ MIN_EDGES = 20_000
 # import costs ~0.8 s CPU). On the dev sets a search that has taken 0.5 s of h_FF nearly always goes
 # on for much longer (satellite p19: 857 evaluations at ~2.6 ms); small searches never pay the import.
 JIT_AFTER = 0.5
+# With the C kernels (switching costs milliseconds, not numba's ~1.2 s) the compiled path is used
+# from the start above C_MIN_EDGES, and below it once Python h_FF has taken C_AFTER seconds; the
+# tabletop searches (a few hundred unary operators, 10-60 ms each) stay in Python either way.
+C_MIN_EDGES = 2_000
+C_AFTER = 0.05
 UNREACHED = 1 << 62  # the kernel's cost of an unreached fact
 
 _kernels = None  # (hadd, ff) once compiled; False when numba is unavailable
@@ -40,7 +50,42 @@ def allowed() -> bool:
 
 def wanted(edges: int) -> bool:
     """Whether a relaxation with ``edges`` precondition edges should be compiled from the start."""
-    return allowed() and (os.environ.get("GSR_PLAN_JIT", "") == "1" or edges >= MIN_EDGES)
+    if not allowed():
+        return False
+    if os.environ.get("GSR_PLAN_JIT", "") == "1" or edges >= MIN_EDGES:
+        return True
+    return edges >= C_MIN_EDGES and c_library() is not None
+
+
+def c_library():
+    """The C kernels' library (built on first use), or None (no compiler, or forbidden)."""
+    from gsr.plan import relax_c
+
+    return relax_c.library() if allowed() else None
+
+
+def compiled(relax: Relaxation, numba: bool = True):
+    """A compiled twin of ``relax`` (C kernels first, numba when ``numba`` allows), or None."""
+    lib = c_library()
+    if lib is not None:
+        from gsr.plan.relax_c import CRelaxation
+
+        return CRelaxation(relax, lib)
+    if numba and kernels() is not None:
+        return CompiledRelaxation(relax)
+    return None
+
+
+def compiled_reach(n_atoms: int, init_facts: list[int], pre_of, adds, npre, no_pre, numba: bool = True):
+    """Landmarks' compiled exploration (C kernels first, numba when ``numba`` allows), or None."""
+    lib = c_library()
+    if lib is not None:
+        from gsr.plan.relax_c import CReach
+
+        return CReach(lib, n_atoms, init_facts, pre_of, adds, npre, no_pre)
+    if numba and kernels() is not None:
+        return CompiledReach(n_atoms, init_facts, pre_of, adds, npre, no_pre)
+    return None
 
 
 def kernels():
@@ -129,6 +174,13 @@ class CompiledRelaxation:
             self.hc,
             self.hf,
         )
+
+    def ff_plan(self, state: int) -> list[int] | None:
+        """h_add, then the relaxed plan's operators; None when the goal is unreachable."""
+        self.hadd(state)
+        if self.cost[self.goal] >= UNREACHED:
+            return None
+        return self.relaxed_plan()
 
     def relaxed_plan(self) -> list[int]:
         """The operators of the relaxed plan from the last ``hadd`` (the goal must be reached)."""

@@ -10,7 +10,7 @@ import time
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from heapq import heappop, heappush
+from heapq import heappop, heappush, heapreplace
 
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
@@ -18,6 +18,23 @@ from gsr.plan.task import Task
 
 CLOCK_EVERY = 64
 BOOST = 1000  # Fast Downward's default preferred-operator boost (lama-first)
+
+
+def _take(queue: list) -> tuple[int, int]:
+    """Pop the next (parent state id, operator) of a lazy search's queue.
+
+    Each entry holds all successors of one expansion that go into this queue, ``(h, expansion
+    number, position, parent, operators)``: the operators share h, and no other expansion's
+    operators fall between them in FIFO order, so popping them one by one gives the same order as
+    one entry per operator keyed ``(h, insertion counter)`` (Fast Downward's lazy open lists), with
+    one heap entry per expansion instead of one per successor.
+    """
+    h, c, pos, pid, ops = queue[0]
+    if pos + 1 < len(ops):
+        heapreplace(queue, (h, c, pos + 1, pid, ops))
+    else:
+        heappop(queue)
+    return pid, ops[pos]
 
 
 @dataclass(slots=True)
@@ -72,7 +89,7 @@ def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
     priority = [0, 0]
     counter = 0
     best_h = INF
-    apply, applicable, is_goal, ff = task.apply, task.applicable, task.is_goal, relax.ff
+    apply, is_goal, ff = task.apply, task.is_goal, relax.ff
     pending: tuple[int, int] | None = (root, -1)
     while True:
         if pending is None:
@@ -82,7 +99,7 @@ def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
                 return res
             which = min(choices, key=lambda i: priority[i])
             priority[which] += 1
-            _, _, pid, op = heappop(open_lists[which])
+            pid, op = _take(open_lists[which])
             state = apply(space.states[pid], op)
             if state in space.ids:
                 continue
@@ -106,13 +123,17 @@ def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
         if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
             res.status = "timeout"
             return res
-        pref = set(preferred)
-        all_list, pref_list = open_lists
-        for op in applicable(state):
-            counter += 1
-            heappush(all_list, (h, counter, sid, op))
-            if op in pref:
-                heappush(pref_list, (h, counter, sid, op))
+        # relax.applicable: Task.applicable, or its compiled twin once the relaxation is compiled
+        succ_ops = relax.applicable(state)
+        if not succ_ops:
+            continue
+        counter += 1
+        heappush(open_lists[0], (h, counter, 0, sid, succ_ops))
+        if preferred:
+            pref = set(preferred)
+            pref_ops = [op for op in succ_ops if op in pref]
+            if pref_ops:
+                heappush(open_lists[1], (h, counter, 0, sid, pref_ops))
 
 
 def eager_search(
@@ -225,7 +246,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
     priority = [0, 0, 0, 0]
     counter = 0
     best = [INF, INF]
-    apply, applicable, is_goal, ff, lm = task.apply, task.applicable, task.is_goal, relax.ff, landmarks.value
+    apply, is_goal, ff, lm = task.apply, task.is_goal, relax.ff, landmarks.value
     pending: int | None = root
     while True:
         if pending is None:
@@ -234,7 +255,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
                 return res
             which = min(choices, key=lambda i: priority[i])
             priority[which] += 1
-            _, _, pid, op = heappop(queues[which])
+            pid, op = _take(queues[which])
             state = apply(space.states[pid], op)
             if state in space.ids:
                 continue
@@ -247,7 +268,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         else:
             sid, pending = pending, None
             state = space.states[sid]
-        succ_ops = applicable(state)
+        succ_ops = relax.applicable(state)  # Task.applicable or its compiled twin (same list)
         h_ff, pref_ff = ff(state, succ_ops)
         res.evaluated += 1
         if h_ff == INF:
@@ -267,13 +288,16 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
             res.status = "timeout"
             return res
-        pref = set(pref_ff)
-        pref.update(pref_lm)
+        if not succ_ops:
+            continue
         q_ff, q_ff_pref, q_lm, q_lm_pref = queues
-        for op in succ_ops:
-            counter += 1
-            heappush(q_ff, (h_ff, counter, sid, op))
-            heappush(q_lm, (h_lm, counter, sid, op))
-            if op in pref:
-                heappush(q_ff_pref, (h_ff, counter, sid, op))
-                heappush(q_lm_pref, (h_lm, counter, sid, op))
+        counter += 1
+        heappush(q_ff, (h_ff, counter, 0, sid, succ_ops))
+        heappush(q_lm, (h_lm, counter, 0, sid, succ_ops))
+        if pref_ff or pref_lm:
+            pref = set(pref_ff)
+            pref.update(pref_lm)
+            pref_ops = [op for op in succ_ops if op in pref]
+            if pref_ops:
+                heappush(q_ff_pref, (h_ff, counter, 0, sid, pref_ops))
+                heappush(q_lm_pref, (h_lm, counter, 0, sid, pref_ops))

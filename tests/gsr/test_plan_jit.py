@@ -1,4 +1,4 @@
-"""The compiled h_add / h_FF (gsr.plan.relax_jit, numba) equals the pure-Python relaxation."""
+"""The compiled h_add / h_FF (gsr.plan.relax_jit: C kernels or numba) equals the pure-Python relaxation."""
 
 from __future__ import annotations
 
@@ -18,7 +18,27 @@ from gsr.validate import validate_plan
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "pddl"
 
-pytest.importorskip("numba", reason="numba not installed (optional extra 'fast'): compiled path not tested")
+
+@pytest.fixture(params=["c", "numba"])
+def backend(request, monkeypatch: pytest.MonkeyPatch) -> str:
+    """Each test runs with the C kernels and with numba (GSR_PLAN_CC=0), skipping a missing one."""
+    from gsr.plan import relax_c
+
+    monkeypatch.setattr(relax_c, "_lib", None)  # chosen again under this test's environment
+    if request.param == "c":
+        monkeypatch.delenv("GSR_PLAN_CC", raising=False)
+        if relax_c.library() is None:
+            pytest.skip(f"C kernels unavailable: {relax_c.why_not}")
+    else:
+        pytest.importorskip("numba", reason="numba not installed (optional extra 'fast')")
+        monkeypatch.setenv("GSR_PLAN_CC", "0")
+    return request.param
+
+
+def _kind(relaxation: Relaxation) -> str:
+    from gsr.plan.relax_c import CRelaxation
+
+    return "c" if isinstance(relaxation._jit, CRelaxation) else "numba"
 
 
 def _walk(task, steps: int, seed: int) -> list[int]:
@@ -49,13 +69,15 @@ def _tasks():
 
 
 @pytest.mark.parametrize("unit", [True, False])
-def test_compiled_hadd_and_ff_equal_the_python_path(monkeypatch: pytest.MonkeyPatch, unit: bool) -> None:
+def test_compiled_hadd_and_ff_equal_the_python_path(
+    monkeypatch: pytest.MonkeyPatch, unit: bool, backend: str
+) -> None:
     for task in _tasks():
         monkeypatch.setenv("GSR_PLAN_JIT", "0")
         python = Relaxation(task, unit=unit)
         monkeypatch.setenv("GSR_PLAN_JIT", "1")
         compiled = Relaxation(task, unit=unit)
-        assert python._jit is None and compiled._jit is not None
+        assert python._jit is None and compiled._jit is not None and _kind(compiled) == backend
         states = _walk(task, 40, seed=1)
         assert len(states) > 10
         for state in states:
@@ -70,22 +92,50 @@ def test_compiled_hadd_and_ff_equal_the_python_path(monkeypatch: pytest.MonkeyPa
             h_jit, pref_jit = compiled.ff(state)
             assert h_py == h_jit
             assert sorted(pref_py) == sorted(pref_jit)
+            # the successor generator the search uses with this relaxation
+            assert compiled.applicable(state) == task.applicable(state)
         assert compiled.hadd(task.init) == python.hadd(task.init)
 
 
-def test_compiled_path_plans_the_same(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_large_costs_pop_in_the_same_order(monkeypatch: pytest.MonkeyPatch, backend: str) -> None:
+    """Costs past the C kernel's bucket table go to its heap, smaller ones stay in buckets (the
+    table's limit, 2^20, lowered to 6 here): costs and supporters still equal the Python path's."""
+    from dataclasses import replace
+
+    from gsr.plan import relax_c
+    from gsr.plan.task import Task
+
+    monkeypatch.setattr(relax_c, "MAX_BUCKETS", 6)
+    base = next(_tasks())
+    ops = [replace(o, cost=(4 + i % 7 if i % 3 == 0 else 1 + i % 2)) for i, o in enumerate(base.ops)]
+    task = Task(base.atoms, ops, base.init, base.goals)
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    python = Relaxation(task)
+    monkeypatch.setenv("GSR_PLAN_JIT", "1")
+    compiled = Relaxation(task)
+    assert compiled._jit is not None and _kind(compiled) == backend
+    for state in _walk(task, 25, seed=4):
+        cost, sup = python._hadd_buckets(state)
+        compiled._jit.hadd(state)
+        assert [INF if c >= relax_jit.UNREACHED else c for c in compiled._jit.cost.tolist()] == cost
+        assert compiled._jit.sup.tolist() == sup
+        assert compiled.ff(state)[0] == python.ff(state)[0]
+
+
+@pytest.mark.parametrize("planner", ["lazy-ff", "lama"])
+def test_compiled_path_plans_the_same(monkeypatch: pytest.MonkeyPatch, backend: str, planner: str) -> None:
     domain = load_domain(FIXTURES / "gripper" / "domain.pddl")
     problem = load_problem(FIXTURES / "gripper" / "prob06.pddl")
     monkeypatch.setenv("GSR_PLAN_JIT", "0")
-    expected = plan(domain, problem, timeout=60)
+    expected = plan(domain, problem, planner=planner, timeout=60)
     monkeypatch.setenv("GSR_PLAN_JIT", "1")
-    got = plan(domain, problem, timeout=60)
+    got = plan(domain, problem, planner=planner, timeout=60)
     assert got.status == expected.status == "solved"
     assert got.plan == expected.plan and got.expanded == expected.expanded
     assert validate_plan(domain, problem, got.plan).valid
 
 
-def test_unreachable_goal_is_infinite(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_unreachable_goal_is_infinite(monkeypatch: pytest.MonkeyPatch, backend: str) -> None:
     monkeypatch.setenv("GSR_PLAN_JIT", "1")
     task = next(_tasks())
     relax = Relaxation(task, unit=True)
@@ -95,17 +145,19 @@ def test_unreachable_goal_is_infinite(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_python_relaxation_switches_to_the_compiled_path_after_jit_after_seconds(
-    monkeypatch: pytest.MonkeyPatch,
+    monkeypatch: pytest.MonkeyPatch, backend: str
 ) -> None:
     monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
     monkeypatch.setattr(relax_jit, "JIT_AFTER", 0.0)
+    monkeypatch.setattr(relax_jit, "C_AFTER", 0.0)
+    monkeypatch.setattr(relax_jit, "C_MIN_EDGES", 10**9)
     task = next(_tasks())  # blocks: below MIN_EDGES, so it starts in Python
     relax = Relaxation(task, unit=True)
     assert relax._jit is None
     states = _walk(task, 5, seed=2)
     first = relax.ff(states[0])  # Python, and its time passes JIT_AFTER
     assert relax._jit is None
-    assert relax.ff(states[1]) is not None and relax._jit is not None
+    assert relax.ff(states[1]) is not None and relax._jit is not None and _kind(relax) == backend
     again = relax.ff(states[0])
     assert again[0] == first[0] and sorted(again[1]) == sorted(first[1])
     monkeypatch.setenv("GSR_PLAN_JIT", "0")
@@ -113,7 +165,7 @@ def test_python_relaxation_switches_to_the_compiled_path_after_jit_after_seconds
 
 
 def test_compiled_landmark_exploration_gives_the_same_landmarks_and_values(
-    monkeypatch: pytest.MonkeyPatch,
+    monkeypatch: pytest.MonkeyPatch, backend: str
 ) -> None:
     from gsr.plan.landmarks import Landmarks
 
@@ -123,6 +175,7 @@ def test_compiled_landmark_exploration_gives_the_same_landmarks_and_values(
         assert python._compiled is None
         monkeypatch.setenv("GSR_PLAN_JIT", "1")
         monkeypatch.setattr(relax_jit, "JIT_AFTER", 0.0)  # compiled from the second landmark on
+        monkeypatch.setattr(relax_jit, "C_AFTER", 0.0)
         compiled = Landmarks(task)
         assert compiled._compiled is not None
         assert (compiled.facts, compiled.parents, compiled.goal_mask) == (
