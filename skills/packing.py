@@ -1,24 +1,36 @@
 """Where to put an object into a container so that several fit: spots in the container's own frame.
 
-A box may stand at any yaw and so may the cubes going into it. Reasoning with world-aligned boxes
+A box may stand at any yaw and so may the objects going into it. Reasoning with world-aligned boxes
 wastes most of the floor, so the spot is chosen in the container's frame, with the held object turned
-(the wrist rotates by ``delta``, at most 45 degrees, or up to 135 when only the other way round fits)
-to line up with the container's walls. Along the fingers' closing axis the fingers need their
-measured reach beside the object; across it half a centimetre.
-When the floor is full the object goes on the lowest neighbour: a second layer.
+(the wrist rotates by ``delta``, at most 45 degrees, or a quarter turn more when only that way round
+it fits, or when the quarter turn packs better in a drawer) to line up with the container's walls.
 
-A drawer is packed the same way, in the part that sticks out of its cabinet: the carcass and the
-other drawers (pull bars included) are obstacles taller than the hand's underside, so the hand's
-whole 22 x 9.4 cm footprint keeps clear of them; the wrist may also turn a quarter more so that the
-hand's length runs along the cabinet's front.
+Three rectangles are kept free, each in the container's frame:
+
+* the object's own footprint, from its collision shapes (a mug's handle sticks out on one side only:
+  its footprint is 4.4 x 7.4 cm, not a 10.4 cm square), half a centimetre round it;
+* the fingers: centred on the grasp point, their measured reach along the closing axis (outer faces,
+  opened a little to let go) and their thickness across it;
+* the hand's whole 22 x 9.4 cm footprint, centred on the grasp point, wherever something stands taller
+  than the hand's underside at release (the carcass around an open drawer, the drawer above and its
+  pull bar, a milk carton, the box's own open lid).
+
+Candidates are the grid of the free floor plus every position that touches a wall or a neighbour
+(bottom-left fill), so objects are set side by side as tight as the fingers allow. Of the free ones,
+the row farthest from the robot (for a drawer: deepest in, next to the carcass) fills first, from one
+side to the other, which leaves the near part free for the hand and the next objects. A drawer is
+packed in the part that sticks out of its cabinet: the cabinet's other links are obstacles shape by
+shape (a pull bar is a 1.2 cm bar, not the whole width of the drawer above). When the floor is full
+the object goes on the lowest neighbour: a second layer (never on the cabinet).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
-from gsr.skills.asset_model import Interior
+from gsr.skills.asset_model import AssetModel, Interior
 from gsr.skills.sim_graph import support_of
 from gsr.skills.world import SimObject, World
 
@@ -26,6 +38,20 @@ GAP_CLOSING, GAP_ACROSS = 0.018, 0.005
 #: Half the Panda hand's footprint from the grasp point (m): along the closing axis, across it
 #: (measured from the hand link's bounding box: 21.7 x 9.4 cm)
 HAND_HALF = (0.109, 0.047)
+#: Half a finger's thickness across the closing axis (m; the finger links are 2.0 cm wide).
+FINGER_HALF = 0.011
+#: How much the fingers open to let go (m, both together; ``grasping.place`` opens by 1.6 cm).
+RELEASE_OPEN = 0.016
+#: Extra room between the hand and a fixture (carcass, the drawer above): a hand that grazes it is
+#: stopped by the motion checker.
+FIXTURE_ROOM = 0.008
+#: Rows closer than this (m) count as one row when choosing the next spot.
+ROW = 0.006
+#: How many further objects like the held one the choice of a spot looks ahead for.
+LOOKAHEAD = 6
+
+#: An axis-aligned rectangle in the container's frame: centre (u, v), half sizes, top height (m).
+Rect = tuple[np.ndarray, np.ndarray, float]
 
 
 def _container(world: World, target: str) -> tuple[SimObject, Interior, int, bool] | None:
@@ -47,35 +73,70 @@ def _container(world: World, target: str) -> tuple[SimObject, Interior, int, boo
     return (o, interior, o.links[interior.link], drawer) if interior is not None else None
 
 
-def _carcass(
+def footprint(model: AssetModel) -> tuple[np.ndarray, np.ndarray]:
+    """``(centre, half)``: the rectangle (x, y, in the model's own frame) its base link's collision
+    shapes cover; the symmetric ``extent`` when the model has no shapes to measure."""
+    shapes = [s for s in model.links[0].shapes if s.collide] if model.links else []
+    if not shapes:
+        return np.zeros(2), np.array(model.extent[:2]) / 2
+    lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
+    for s in shapes:
+        if s.kind == "cylinder":
+            half = np.array([s.size[0], s.size[0]])
+        else:
+            c, si = abs(math.cos(s.rpy[2])), abs(math.sin(s.rpy[2]))
+            half = np.array([c * s.size[0] + si * s.size[1], si * s.size[0] + c * s.size[1]]) / 2
+        lo = np.minimum(lo, np.array(s.xyz[:2]) - half)
+        hi = np.maximum(hi, np.array(s.xyz[:2]) + half)
+    return (lo + hi) / 2, (hi - lo) / 2
+
+
+def _half(size: np.ndarray | tuple[float, ...], rel_yaw: float) -> np.ndarray:
+    """Half sizes, along the container's axes, of a rectangle of full ``size`` turned by ``rel_yaw``."""
+    c, s = abs(math.cos(rel_yaw)), abs(math.sin(rel_yaw))
+    return np.array([c * size[0] / 2 + s * size[1] / 2, s * size[0] / 2 + c * size[1] / 2])
+
+
+def _fixture_rects(
     world: World, cont: SimObject, link: int, rot: np.ndarray, centre: np.ndarray, floor: float
-) -> list[tuple[np.ndarray, np.ndarray, float]]:
-    """The rest of a drawer's cabinet (carcass, the other drawers) as obstacles in the drawer's frame:
-    a drawer is only open over the part that sticks out, and the closed drawer above it and the carcass
-    front stand higher than the hand's underside there."""
+) -> list[Rect]:
+    """The rest of a drawer's cabinet (carcass, the other drawers, their pull bars) as obstacles in the
+    drawer's frame, shape by shape: a drawer is only open over the part that sticks out, and the closed
+    drawer above it, its pull bar and the carcass front stand higher than the hand's underside there."""
     import pybullet as p
 
-    out = []
     children = {link}
     n = p.getNumJoints(cont.body, physicsClientId=world.client)
     for j in range(n):  # links hanging from the drawer (its handle) move with it
         if p.getJointInfo(cont.body, j, physicsClientId=world.client)[16] in children:
             children.add(j)
-    for j in range(-1, n):
+    out = []
+    for model_link in cont.model.links:
+        j = cont.links.get(model_link.name, -1)
         if j in children:
             continue
-        lo, hi = world.aabb(cont.body, j)
-        if hi[2] < floor + 0.005:
-            continue
-        corners = [rot.T @ (np.array([x, y]) - centre[:2]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
-        clo, chi = np.min(corners, axis=0), np.max(corners, axis=0)
-        out.append(((clo + chi) / 2, (chi - clo) / 2, float(hi[2])))
+        pos, quat = world.link_pose(cont.body, j)
+        lrot = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
+        for s in model_link.shapes:
+            if not s.collide:
+                continue
+            hx, hy, hz = (
+                (s.size[0], s.size[0], s.size[2] / 2) if s.kind == "cylinder" else np.array(s.size) / 2
+            )
+            cs, sn = math.cos(s.rpy[2]), math.sin(s.rpy[2])
+            corners = []
+            for dx in (-hx, hx):
+                for dy in (-hy, hy):
+                    for dz in (-hz, hz):
+                        local = np.array(s.xyz) + np.array([cs * dx - sn * dy, sn * dx + cs * dy, dz])
+                        corners.append(pos + lrot @ local)
+            pts = np.array(corners)
+            if pts[:, 2].max() < floor + 0.005:
+                continue
+            uv = (pts[:, :2] - centre[:2]) @ rot  # rot.T @ (p - c) for every corner
+            lo, hi = uv.min(axis=0), uv.max(axis=0)
+            out.append(((lo + hi) / 2, (hi - lo) / 2, float(pts[:, 2].max())))
     return out
-
-
-def _half(extent: tuple[float, float, float], rel_yaw: float) -> np.ndarray:
-    c, s = abs(math.cos(rel_yaw)), abs(math.sin(rel_yaw))
-    return np.array([c * extent[0] / 2 + s * extent[1] / 2, s * extent[0] / 2 + c * extent[1] / 2])
 
 
 #: How far a finger's outer face lies beyond its pad, along the closing axis (measured on PyBullet's
@@ -101,10 +162,91 @@ def fitting_turn(
     return delta
 
 
+#: Room (rad) kept from the wrist joint's limits when turning the held object.
+WRIST_ROOM = 0.15
+
+
+def _wrist_can(world: World, delta: float) -> bool:
+    """Whether the wrist's last joint can turn the hand (pointing down) by ``delta`` about the vertical
+    (the joint turns the other way round, so a yaw of +d is a joint move of -d)."""
+    robot = world.robot
+    q7 = float(robot.q()[8]) - delta
+    return robot.lower[8] + WRIST_ROOM <= q7 <= robot.upper[8] - WRIST_ROOM
+
+
+@dataclass(frozen=True)
+class _Held:
+    """The held object and hand for one wrist turn, in the container's frame, relative to the spot."""
+
+    delta: float
+    body: np.ndarray  # half size of the object's footprint (the spot is its centre)
+    grasp: np.ndarray  # the grasp point's offset from the spot
+    fingers: np.ndarray  # half size of the fingers' rectangle round the grasp point
+    hand: np.ndarray  # half size of the hand's footprint round the grasp point
+
+
+def _held(world: World, obj: SimObject, yaw: float, closing_yaw: float, delta: float) -> _Held:
+    size = 2 * footprint(obj.model)[1]
+    body = _half(size, world.yaw_of(obj.body) - yaw + delta)
+    lo, hi = world.body_aabb(obj.body)
+    off = world.robot.ee_pose()[0][:2] - (lo[:2] + hi[:2]) / 2
+    if float(np.linalg.norm(off)) > 0.15:  # not in the hand (a planning query): held at its origin
+        off = world.link_pose(obj.body, -1)[0][:2] - (lo[:2] + hi[:2]) / 2
+    c, s = math.cos(delta - yaw), math.sin(delta - yaw)
+    grasp = np.array([c * off[0] - s * off[1], s * off[0] + c * off[1]])
+    e1 = closing_yaw + delta - yaw  # closing axis in the container frame
+    ce, se = abs(math.cos(e1)), abs(math.sin(e1))
+    reach = finger_reach(world) + RELEASE_OPEN / 2
+    fingers = np.array([ce * reach + se * FINGER_HALF, se * reach + ce * FINGER_HALF])
+    hand = np.array([ce * HAND_HALF[0] + se * HAND_HALF[1], se * HAND_HALF[0] + ce * HAND_HALF[1]])
+    return _Held(delta, body, grasp, fingers, hand)
+
+
+def _overlaps(points: np.ndarray, half: np.ndarray, rects: list[Rect]) -> np.ndarray:
+    """For each point (N x 2), whether the rectangle ``half`` round it overlaps any of ``rects``."""
+    if not rects:
+        return np.zeros(len(points), dtype=bool)
+    oc = np.array([r[0] for r in rects])
+    oh = np.array([r[1] for r in rects])
+    d = np.abs(points[:, None, :] - oc[None, :, :])
+    return np.any(np.all(d < half[None, None, :] + oh[None, :, :] - 1e-6, axis=2), axis=1)
+
+
+def _candidates(
+    h: _Held,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    half_room: np.ndarray,
+    obstacles: list[Rect],
+    tall: list[Rect],
+    n: int = 13,
+) -> np.ndarray:
+    """Spots to try: a grid over ``lo..hi`` and every position touching a wall or an obstacle."""
+    wall = half_room - h.fingers
+    axes = []
+    for k in range(2):
+        vals = [*np.linspace(lo[k], hi[k], n)]
+        for oc, oh, _top in obstacles:
+            for half, off in ((h.body + GAP_ACROSS, 0.0), (h.fingers, h.grasp[k])):
+                vals += [oc[k] - oh[k] - half[k] - off - 1e-4, oc[k] + oh[k] + half[k] - off + 1e-4]
+        for oc, oh, _top in tall:
+            vals += [
+                oc[k] - oh[k] - h.hand[k] - h.grasp[k] - 1e-4,
+                oc[k] + oh[k] + h.hand[k] - h.grasp[k] + 1e-4,
+            ]
+        # the fingers against a wall
+        vals += [-wall[k] - h.grasp[k] + 1e-4, wall[k] - h.grasp[k] - 1e-4]
+        arr = np.array(vals)
+        axes.append(np.unique(np.round(arr[(arr >= lo[k] - 1e-9) & (arr <= hi[k] + 1e-9)], 5)))
+    uu, vv = np.meshgrid(axes[0], axes[1], indexing="ij")
+    return np.stack([uu.ravel(), vv.ravel()], axis=1)
+
+
 def packed_spot(
     world: World, obj: SimObject, target: str, closing_yaw: float
 ) -> tuple[np.ndarray, float] | None:
-    """``(spot, delta)``: the held object's bottom centre inside ``target`` and the wrist turn; None if n/a.
+    """``(spot, delta)``: the held object's footprint centre (x, y) and bottom height inside ``target``,
+    and the wrist turn; None if ``target`` is no container this packs.
 
     ``closing_yaw`` is the world direction the fingers close along now; the room the fingers need
     beside the object is measured from the finger links, not assumed.
@@ -115,65 +257,85 @@ def packed_spot(
     cont, interior, link, drawer = found
     yaw = world.yaw_of(cont.body, link)
     centre = world.to_world(cont.body, link, interior.center)
-    hu, hv = interior.size[0] / 2, interior.size[1] / 2
+    half_room = np.array(interior.size[:2]) / 2
     floor = centre[2] - interior.size[2] / 2
     rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+    fixed = _fixture_rects(world, cont, link, rot, centre, floor) if drawer else []
+    movable = _movable_rects(world, obj, cont, rot, centre, half_room, floor)
+    # which way is "far" (filled first): into a drawer's cabinet, else away from the robot (+x)
+    if drawer:
+        part = world.parts[target][1]
+        far_world = -world.joint_axis(cont, part)[:2]
+    else:
+        far_world = np.array([1.0, 0.0])
+    far = rot.T @ far_world
+    k_row = int(np.argmax(np.abs(far)))
+    sign = 1.0 if far[k_row] > 0 else -1.0
     # turn the held object (by the wrist) so its sides run along the container's walls
     rel = world.yaw_of(obj.body) - yaw
     delta = -(((rel + math.pi / 4) % (math.pi / 2)) - math.pi / 4)
-    fixed = _carcass(world, cont, link, rot, centre, floor) if drawer else []
+    size = tuple(2 * footprint(obj.model)[1])
+    first = fitting_turn((*size, 0.0), rel, delta, tuple(half_room))
     # a drawer: the hand may also turn a quarter more, so that its 22 cm length runs along the
-    # cabinet's front instead of reaching under the closed drawer above
-    deltas = [delta, delta + math.pi / 2, delta - math.pi / 2] if drawer else [delta]
-    best = None
+    # cabinet's front instead of reaching under the closed drawer above; any container: the other
+    # quarter turns when the first way round finds no free floor spot
+    # (a half turn was tried too: the arm then found no base spot reaching the turned hand); a turn
+    # the wrist's last joint cannot make is left out
+    turns = [delta, delta + math.pi / 2, delta - math.pi / 2]
+    deltas = [first] + [d for d in turns if abs(d - first) > 1e-6 and _wrist_can(world, d)]
+    # of the spots each turn allows (the best of the farthest rows), the one that leaves room for the
+    # most further objects like this one (a mug whose handle can only point out of the drawer goes in
+    # the front row, so the back row still takes the others); then the farthest, then the smallest turn
+    top = floor + float(world.body_aabb(obj.body)[1][2] - world.body_aabb(obj.body)[0][2])
+    future = [_held(world, obj, yaw, closing_yaw, first + k * math.pi / 2) for k in range(4)]
+    best: tuple[tuple, np.ndarray, float] | None = None
     for d in deltas:
-        found_spot = _spot_for(world, obj, cont, closing_yaw, yaw, rot, centre, (hu, hv), floor, d, fixed)
-        key = (found_spot[2], abs(d))
-        if best is None or key < best[0]:
-            best = (key, found_spot[0], found_spot[1])
-    assert best is not None
-    return best[1], best[2]
+        h = _held(world, obj, yaw, closing_yaw, d)
+        for rank, row, uv in _floor_spots(h, half_room, floor, obj, fixed, movable, k_row, sign):
+            placed = [*movable, (uv, h.body, top)]
+            more = _fill_count(future, half_room, floor, obj, fixed, placed, k_row, sign, LOOKAHEAD)
+            key = (rank, -more, row, 0.0 if drawer else abs(d - first), abs(d))
+            if best is None or key < best[0]:
+                best = (key, uv, d)
+    if best is not None:
+        uv, d = best[1], best[2]
+        xy = centre[:2] + rot @ uv
+        return np.array([xy[0], xy[1], floor]), d
+    # the floor is full: a second layer, on the lowest things there (never on the cabinet)
+    h = _held(world, obj, yaw, closing_yaw, first)
+    uv, z = _layer_spot(h, half_room, floor, fixed, movable)
+    xy = centre[:2] + rot @ uv
+    return np.array([xy[0], xy[1], z]), first
 
 
-def _spot_for(
+def _movable_rects(
     world: World,
     obj: SimObject,
     cont: SimObject,
-    closing_yaw: float,
-    yaw: float,
     rot: np.ndarray,
     centre: np.ndarray,
-    half_size: tuple[float, float],
+    half_room: np.ndarray,
     floor: float,
-    delta: float,
-    fixed: list[tuple[np.ndarray, np.ndarray, float]],
-) -> tuple[np.ndarray, float, int]:
-    """``(spot, delta, rank)`` for one wrist turn ``delta``; rank 0: a floor spot with room for the
-    whole hand, 1: with room for the fingers, 2: on top of what is there (a second layer)."""
-    hu, hv = half_size
-    rel = world.yaw_of(obj.body) - yaw
-    if not fixed:  # a drawer's turns are all tried by the caller
-        delta = fitting_turn(obj.model.extent, rel, delta, (hu, hv))
-    held = _half(obj.model.extent, rel + delta)
-    e1 = closing_yaw + delta - yaw  # closing axis in the container frame
-    along = abs(math.cos(e1)) * held[0] + abs(math.sin(e1)) * held[1]
-    closing_gap = max(GAP_CLOSING, finger_reach(world) - along + 0.006)
-    gap = np.array(
-        [
-            abs(math.cos(e1)) * closing_gap + abs(math.sin(e1)) * GAP_ACROSS,
-            abs(math.sin(e1)) * closing_gap + abs(math.cos(e1)) * GAP_ACROSS,
-        ]
-    )
-    others = list(fixed)
+) -> list[Rect]:
+    """What stands in or near the container (not the held object, not fixtures), by true footprint; and
+    the container's own open lid (slid off beside it at rim height)."""
+    yaw = math.atan2(rot[1, 0], rot[0, 0])
+    out: list[Rect] = []
     for o in world.objects.values():
         if o.id in (obj.id, cont.id) or o.model.fixed or support_of(world, o.id) == ("held", ""):
             continue
         lo, hi = world.body_aabb(o.body)
         local = rot.T @ ((lo[:2] + hi[:2]) / 2 - centre[:2])
-        if abs(local[0]) > hu + 0.1 or abs(local[1]) > hv + 0.1 or hi[2] < floor - 0.005:
+        if np.any(np.abs(local) > half_room + 0.1) or hi[2] < floor - 0.005:
             continue
-        others.append((local, _half(o.model.extent, world.yaw_of(o.body) - yaw), float(hi[2])))
-    # the container's own open lid (slid off beside it at rim height) is an obstacle for the hand too
+        half = _half(2 * footprint(o.model)[1], world.yaw_of(o.body) - yaw)
+        # a tipped-over object: its world box is the better guess
+        if hi[2] - lo[2] < 0.7 * o.model.extent[2]:
+            corners = [
+                rot.T @ (np.array([x, y]) - centre[:2]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+            ]
+            half = (np.max(corners, axis=0) - np.min(corners, axis=0)) / 2
+        out.append((local, half, float(hi[2])))
     for part, art in cont.model.articulations.items():
         if art.kind == "lid" and art.is_open(world.joint_position(cont, part)):
             lo, hi = world.aabb(cont.body, cont.links[art.link])
@@ -181,51 +343,103 @@ def _spot_for(
                 rot.T @ (np.array([x, y]) - centre[:2]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
             ]
             clo, chi = np.min(corners, axis=0), np.max(corners, axis=0)
-            others.append(((clo + chi) / 2, (chi - clo) / 2, float(hi[2])))
+            out.append(((clo + chi) / 2, (chi - clo) / 2, float(hi[2])))
+    return out
+
+
+def _floor_spots(
+    h: _Held,
+    half_room: np.ndarray,
+    floor: float,
+    obj: SimObject,
+    fixed: list[Rect],
+    movable: list[Rect],
+    k_row: int,
+    sign: float,
+    rows: int = 2,
+    grid: int = 13,
+) -> list[tuple[int, float, np.ndarray]]:
+    """``(rank, row key, spot)`` of the best floor spot in the farthest row for one wrist turn and (with
+    ``rows`` > 1) of the nearest row; empty when the floor has no room for the object and the fingers. Rank 0: room for the
+    whole hand too; 1: the hand would meet a movable neighbour taller than its underside (it then
+    stops above it and lets go higher)."""
+    lo = -half_room + h.body + GAP_ACROSS
+    hi = half_room - h.body - GAP_ACROSS
+    if np.any(lo > hi + 1e-9):
+        return []
     # what stands higher than the hand's underside at release needs the hand's whole footprint clear
-    # (22 x 9.4 cm, long along the closing axis), not only the fingers' room
     hand_bottom = floor + obj.model.extent[2] + 0.02
-    hand = np.array(
-        [
-            abs(math.cos(e1)) * HAND_HALF[0] + abs(math.sin(e1)) * HAND_HALF[1],
-            abs(math.sin(e1)) * HAND_HALF[0] + abs(math.cos(e1)) * HAND_HALF[1],
-        ]
-    )
-    umax, vmax = hu - held[0] - gap[0], hv - held[1] - gap[1]
-    if umax < 0 or vmax < 0:
-        umax, vmax = max(umax, 0.0), max(vmax, 0.0)
-    grid = [np.array([u, v]) for u in np.linspace(-umax, umax, 13) for v in np.linspace(-vmax, vmax, 13)]
-    # corners first: packing from the walls inwards leaves the most room for the next objects
-    grid.sort(key=lambda c: -abs(c[0]) - abs(c[1]))
-
-    def tops(c: np.ndarray, hand_room: bool = False) -> list[float]:
-        """Tops of what the object would stand on at ``c`` (with ``hand_room``: also of the tall things
-        the hand's footprint would meet)."""
-        out = []
-        for oc, oh, top in others:
-            reach = hand if hand_room and top > hand_bottom else held + gap
-            if abs(c[0] - oc[0]) < reach[0] + oh[0] and abs(c[1] - oc[1]) < reach[1] + oh[1]:
-                out.append(top)
-        return out
-
-    # a floor spot with room for the whole hand; else a floor spot with room for the fingers (the hand
-    # then stops above the tall neighbour and lets go a little higher); else a second layer
-    rank = 0
-    free = next((c for c in grid if not tops(c, hand_room=True)), None)
-    if free is None:
-        rank = 1
-        free = next((c for c in grid if not tops(c)), None)
-    if free is not None:
-        z, best = floor, free
-    else:
-        rank = 2
-        # a second layer only on movable things, never on the cabinet around a drawer
-        layer = [c for c in grid if not any(_over(c, held + gap, oc, oh) for oc, oh, _ in fixed)] or grid
-        best = min(layer, key=lambda c: (round(max(tops(c)), 3), -abs(c[0]) - abs(c[1])))
-        z = max(tops(best)) + 0.003
-    xy = centre[:2] + rot @ best
-    return np.array([xy[0], xy[1], z]), delta, rank
+    tall_fixed = [r for r in fixed if r[2] > hand_bottom]
+    tall_movable = [r for r in movable if r[2] > hand_bottom]
+    obstacles = fixed + movable
+    pts = _candidates(h, lo, hi, half_room, obstacles, tall_fixed + tall_movable, grid)
+    # the fingers stay inside the walls, the object and the fingers off everything, the hand off the
+    # cabinet (with a little room)
+    g = pts + h.grasp
+    inside = np.all(np.abs(g) <= half_room - h.fingers + 1e-9, axis=1)
+    ok = inside & ~_overlaps(pts, h.body + GAP_ACROSS, obstacles) & ~_overlaps(g, h.fingers, obstacles)
+    ok &= ~_overlaps(g, h.hand + FIXTURE_ROOM, tall_fixed)
+    if not np.any(ok):
+        return []
+    pts, g = pts[ok], g[ok]
+    rank = _overlaps(g, h.hand, tall_movable).astype(int)
+    # the farthest row first, then along the row from one side
+    row = np.round(-sign * pts[:, k_row] / ROW)
+    order = np.lexsort((pts[:, 1 - k_row], row, rank))
+    i = int(order[0])
+    out = [(int(rank[i]), float(row[i]), pts[i])]
+    if rows > 1:  # and the best spot of the nearest row (of the same rank)
+        same = order[rank[order] == rank[i]]
+        last = same[row[same] == row[same].max()]
+        j = int(last[np.argmin(pts[last, 1 - k_row])])
+        if row[j] != row[i]:
+            out.append((int(rank[j]), float(row[j]), pts[j]))
+    return out
 
 
-def _over(c: np.ndarray, reach: np.ndarray, oc: np.ndarray, oh: np.ndarray) -> bool:
-    return abs(c[0] - oc[0]) < reach[0] + oh[0] and abs(c[1] - oc[1]) < reach[1] + oh[1]
+def _fill_count(
+    helds: list[_Held],
+    half_room: np.ndarray,
+    floor: float,
+    obj: SimObject,
+    fixed: list[Rect],
+    movable: list[Rect],
+    k_row: int,
+    sign: float,
+    limit: int,
+) -> int:
+    """How many more objects like the held one (any of ``helds``' turns) still fit on the floor with the
+    hand's room, set one by one at the best spot (at most ``limit``)."""
+    placed = list(movable)
+    top = floor + obj.model.extent[2]
+    for n in range(limit):
+        found = None
+        for h in helds:
+            spots = _floor_spots(h, half_room, floor, obj, fixed, placed, k_row, sign, rows=1, grid=7)
+            if spots and spots[0][0] == 0 and (found is None or spots[0][1] < found[0]):
+                found = (spots[0][1], spots[0][2], h)
+        if found is None:
+            return n
+        placed.append((found[1], found[2].body, top))
+    return limit
+
+
+def _layer_spot(
+    h: _Held, half_room: np.ndarray, floor: float, fixed: list[Rect], movable: list[Rect]
+) -> tuple[np.ndarray, float]:
+    """A spot on top of the lowest neighbours (a second layer) and the height to let go at."""
+    lo = -half_room + h.body + GAP_ACROSS
+    hi = np.maximum(half_room - h.body - GAP_ACROSS, lo)
+    grid = np.array([[u, v] for u in np.linspace(lo[0], hi[0], 13) for v in np.linspace(lo[1], hi[1], 13)])
+    reach = np.maximum(h.body + GAP_ACROSS, h.fingers)
+    layer = grid[~_overlaps(grid, reach, fixed)] if fixed else grid
+    if len(layer) == 0:
+        layer = grid
+
+    def top(c: np.ndarray) -> float:
+        tops = [t for oc, oh, t in movable if np.all(np.abs(c - oc) < reach + oh)]
+        return max(tops, default=-np.inf)
+
+    best = min(layer, key=lambda c: (round(top(c), 3), -abs(c[0]) - abs(c[1])))
+    z = top(best)
+    return best, (z + 0.003 if np.isfinite(z) else floor)
