@@ -287,3 +287,13 @@ def hand_clear_at(world: World, held: SimObject, spot: np.ndarray, turn: float =
         return not proxy.hit(pos, tuple(float(v) for v in quat), opening, bodies, world.table_body)
     finally:
         proxy.remove()
+
+
+def hand_clear(world: World, obj: SimObject, pos: np.ndarray, quat: tuple, opening: float) -> bool:
+    """Whether a grasp of ``obj`` at ``pos`` / ``quat`` with the fingers open to ``opening`` keeps the
+    hand and fingers (and the hand straight above, the way in) off everything but ``obj``."""
+    proxy = HandProxy(world)
+    try:
+        return not proxy.hit(np.asarray(pos), quat, opening, _near_bodies(world, obj), world.table_body)
+    finally:
+        proxy.remove()
