@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula, Problem
-from gsr.plan.ground import ground_task
+from gsr.plan.ground import GroundingTimeout, ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
@@ -121,7 +121,11 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
     gc_was_enabled = gc.isenabled()
     gc.disable()
     try:
-        task = ground_task(domain, problem)
+        task = ground_task(domain, problem, deadline)
+    except GroundingTimeout:
+        t = time.perf_counter() - start
+        message = f"no plan within {timeout:g} s (grounding did not finish)"
+        return PlanResult("timeout", None, None, 0, 0, 0, t, t, 0.0, planner, message)
     except GSRError as err:
         t = time.perf_counter() - start
         return PlanResult("error", None, None, 0, 0, 0, t, t, 0.0, planner, str(err))

@@ -9,6 +9,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
+from time import perf_counter
 
 from gsr.errors import GSRError
 from gsr.pddl.model import (
@@ -45,7 +46,23 @@ from gsr.plan.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
 from gsr.plan.simplify import ObjectsByType, Simplifier, free_variables
 from gsr.plan.task import Task
 
-__all__ = ["ground_goal", "ground_task"]  # ground_goal lives in gsr.plan.intern; re-exported here
+__all__ = [
+    "GroundingTimeout",
+    "ground_goal",
+    "ground_task",
+]  # ground_goal lives in gsr.plan.intern; re-exported here
+
+
+class GroundingTimeout(GSRError):
+    """Grounding did not finish before its deadline (``ground_task(..., deadline=...)``)."""
+
+
+_CHECK_EVERY = 4096  # bindings between two looks at the clock (a look costs ~50 ns)
+
+
+def _check(deadline: float | None) -> None:
+    if deadline is not None and perf_counter() > deadline:
+        raise GroundingTimeout("grounding did not finish within the time limit")
 
 
 @dataclass(slots=True)
@@ -131,6 +148,7 @@ def _bindings(
     disjunction: tuple[Atom, ...] = (),
     by_arg: ArgIndex | None = None,
     delta: dict[str, list[tuple[str, ...]]] | None = None,
+    deadline: float | None = None,
 ) -> list[dict]:
     """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed.
 
@@ -156,6 +174,8 @@ def _bindings(
     specs = {id(a): tuple((x, is_variable(x)) for x in a.args) for a in (*atoms, *disjunction)}
 
     def finish(binding: dict[str, str]) -> None:
+        if not len(out) % _CHECK_EVERY:
+            _check(deadline)
         free = [p for p in params if p.name not in binding]
         if not free:  # the usual case: the join bound every parameter (a fresh dict per match)
             if dedupe:  # a binding may satisfy several alternatives / use several new atoms
@@ -425,8 +445,14 @@ def _compile(domain: Domain) -> _Compiled:
     return compiled
 
 
-def ground_task(domain: Domain, problem: Problem) -> Task:
-    """Ground a problem: only relaxed-reachable operators, static atoms compiled away."""
+def ground_task(domain: Domain, problem: Problem, deadline: float | None = None) -> Task:
+    """Ground a problem: only relaxed-reachable operators, static atoms compiled away.
+
+    With ``deadline`` (a ``time.perf_counter()`` value), a grounding still running then raises
+    GroundingTimeout: the clock is read every few thousand bindings, so a task whose grounding
+    blows up (IPC labyrinth: ~10^5 operators from 8-parameter moves) cannot overrun a planner's
+    time limit by more than a fraction of a second.
+    """
     objects = ObjectsByType(domain, problem.all_objects(domain))
     compiled = _compile(domain)
     schemas, fluent = compiled.schemas, compiled.fluent
@@ -476,16 +502,18 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
                 candidates = unfired[si]
             elif old is None or disjunctions[si] or not schema.join:
                 join_sizes[si] = sizes
-                candidates = _bindings(schema, index, objects, disjunctions[si], by_arg)
+                candidates = _bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
             else:
                 # Semi-naive: only the bindings using an atom reached since the last listing are
                 # new; the others are fired already or waiting in unfired.
                 join_sizes[si] = sizes
                 delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
-                candidates = unfired[si] + _bindings(schema, index, objects, (), by_arg, delta)
+                candidates = unfired[si] + _bindings(schema, index, objects, (), by_arg, delta, deadline)
             unfired[si] = still = []
             listed: set[tuple] = set()
-            for binding in candidates:
+            for count, binding in enumerate(candidates):
+                if not count % _CHECK_EVERY:
+                    _check(deadline)
                 key = (si, *(binding[n] for n in names))
                 if key in listed:
                     continue
@@ -534,4 +562,5 @@ def ground_task(domain: Domain, problem: Problem) -> Task:
             else:
                 waiting.append((cond, key))
         pending = waiting
+    _check(deadline)
     return intern_task(domain, problem, fired, reached, fluent)
