@@ -97,7 +97,13 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
         return {"status": "n/a"}
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    # A run killed at the limit is not reaped into our usage (its driver dies with the translator
+    # or search under it): its CPU time is unknown, not near zero.
+    cpu = (
+        None
+        if status == "timeout"
+        else (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    )
     return {"status": status, "time": wall, "cpu": cpu, "length": len(plan) if plan is not None else None}
 
 
@@ -146,7 +152,8 @@ def markdown(rows: list[dict], fd: bool) -> str:
         )
         if fd:
             f_ = r.get("fd") or {}
-            ft = f"{f_['time']:.2f} / {f_['cpu']:.2f}" if "time" in f_ else "-"
+            cpu = "-" if f_.get("cpu") is None else f"{f_['cpu']:.2f}"
+            ft = f"{f_['time']:.2f} / {cpu}" if "time" in f_ else "-"
             line += f" {f_.get('status')} | {ft} | {f_.get('length') or '-'} |"
         out.append(line)
     return "\n".join(out)

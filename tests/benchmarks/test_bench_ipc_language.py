@@ -65,5 +65,8 @@ def test_markdown_with_fd_columns() -> None:
     row = {"domain": "d", "problem": "p.pddl", "load": True, "plan": "timeout", "valid": None, "wall": 61.0}
     row["cpu"] = 30.5
     row["fd"] = {"status": "solved", "time": 1.5, "cpu": 1.25, "length": 7}
-    table = markdown([row], fd=True).splitlines()
+    killed = {**row, "domain": "e", "plan": "solved", "valid": True, "length": 3}
+    killed["fd"] = {"status": "timeout", "time": 60.2, "cpu": None, "length": None}
+    table = markdown([row, killed], fd=True).splitlines()
     assert table[2] == "| d | p.pddl | yes | timeout | - | 61.00 / 30.50 | - | solved | 1.50 / 1.25 | 7 |"
+    assert table[3] == "| e | p.pddl | yes | solved | yes | 61.00 / 30.50 | 3 | timeout | 60.20 / - | - |"
