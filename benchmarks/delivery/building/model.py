@@ -8,14 +8,17 @@ string per row, one character per cell (``GRID_CHARS``). Coordinates are ``(row,
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Literal
+from typing import Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from gsr.errors import GSRError
 from gsr.io import read_text, write_text_atomic
 from gsr.scene_graph import format_validation_error
+
+T = TypeVar("T")
 
 #: Grid cell codes: free floor, wall, furniture (blocked), door (free), stairs and elevator (blocked).
 GRID_CHARS: dict[str, str] = {
@@ -236,31 +239,19 @@ class Building(BaseModel):
 
     def floor(self, level: int) -> Floor:
         """The floor at ``level``."""
-        for f in self.floors:
-            if f.level == level:
-                return f
-        raise KeyError(f"no floor {level} in building {self.name}")
+        return _find(self.floors, "level", level, f"floor {level}", self.name)
 
     def room(self, room_id: str) -> Room:
         """The room ``room_id``."""
-        for r in self.rooms:
-            if r.id == room_id:
-                return r
-        raise KeyError(f"no room {room_id!r} in building {self.name}")
+        return _find(self.rooms, "id", room_id, f"room {room_id!r}", self.name)
 
     def receptacle(self, rec_id: str) -> Receptacle:
         """The receptacle ``rec_id``."""
-        for r in self.receptacles:
-            if r.id == rec_id:
-                return r
-        raise KeyError(f"no receptacle {rec_id!r} in building {self.name}")
+        return _find(self.receptacles, "id", rec_id, f"receptacle {rec_id!r}", self.name)
 
     def person(self, person_id: str) -> Person:
         """The person ``person_id``."""
-        for p in self.people:
-            if p.id == person_id:
-                return p
-        raise KeyError(f"no person {person_id!r} in building {self.name}")
+        return _find(self.people, "id", person_id, f"person {person_id!r}", self.name)
 
     # ------------------------------------------------------------ IO
 
@@ -287,6 +278,14 @@ def _unique(what: str, ids: list[str]) -> None:
         if i in seen:
             raise ValueError(f"duplicate {what} id {i!r}")
         seen.add(i)
+
+
+def _find(items: Sequence[T], key: str, value: object, what: str, building: str) -> T:
+    """The first item whose ``key`` attribute is ``value`` (KeyError naming it and the building)."""
+    for item in items:
+        if getattr(item, key) == value:
+            return item
+    raise KeyError(f"no {what} in building {building}")
 
 
 def load_building(path: str | Path) -> Building:
