@@ -49,6 +49,7 @@ def run_demo(
     from gsr.benchmarks.perceived_scene import PerceivedScene, contradicted_effects
     from gsr.benchmarks.suites.libero_suite import task_from_bddl
     from gsr.skills import build_world, default_views, render, run_step, scene_graph_from_sim
+    from gsr.skills.result import Failure, SkillResult
 
     from gsr.demo import default_task_path
     from gsr.facts import state_from_graph
@@ -105,6 +106,21 @@ def run_demo(
                 return step
             return Step(step.action, tuple(scene.world_id(a) for a in step.args))
 
+        def execute(step: Any) -> Any:
+            """Run a step on the bodies its nodes are; a perceived node that is no body is a failed step."""
+            known = {n.id for n in world.graph.nodes}  # map regions keep the world's ids
+            unbound = [a for a in step.args if use_perception and scene.world_id(a) not in known]
+            if unbound:
+                return SkillResult(
+                    step.action,
+                    str(step),
+                    False,
+                    Failure.UNSUPPORTED,
+                    f"perception's {', '.join(unbound)} is no object the arm can reach (a detection with "
+                    "no body at its place)",
+                )
+            return run_step(world, in_world(step))
+
         def summary(g: Any) -> str:
             return f"{len(g.nodes)} nodes, {len(g.edges)} edges"
 
@@ -142,7 +158,7 @@ def run_demo(
             result = _stage(
                 rec,
                 f"execute {checked.step}",
-                lambda s=checked.step: run_step(world, in_world(s)),
+                lambda s=checked.step: execute(s),
                 lambda r: "ok" if r.ok else f"{r.failure}: {r.message}",
             )
             # closed loop: what the sensors show now, merged into the belief; the step's expected graph is

@@ -31,11 +31,12 @@ from gsr.perception.recognize import (
     NONE,
     UNKNOWN,
     all_features,
+    mask_features,
     pixel_color,
     rule_category,
     size_word,
 )
-from gsr.perception.recognize_parts import Part, split_drawer_fronts
+from gsr.perception.recognize_parts import Part, split_drawer_fronts, split_open_drawers
 from gsr.perception.segment import LINK_FEATURE_NAMES, SegmentParams, Segments, segment, upsample
 
 from gsr.errors import GSRError
@@ -115,7 +116,8 @@ class Model:
     def link_score(self, feats: np.ndarray) -> np.ndarray:
         """Probability that an object boundary separates each pair of neighbouring pixels."""
         assert self.link is not None
-        return 1.0 / (1.0 + np.exp(-self.link(feats)[:, 0]))
+        n = self.link.mean.shape[0]  # the features it was trained on (a prefix of LINK_FEATURE_NAMES)
+        return 1.0 / (1.0 + np.exp(-self.link(feats[:, :n])[:, 0]))
 
     def merge_score(self, feats: np.ndarray) -> np.ndarray:
         """Probability that each adjacent pair of pieces is one object."""
@@ -156,7 +158,14 @@ def load_model(path: str | Path) -> Model:
             arrays = {k: z[k] for k in z.files}
     except (ValueError, OSError) as exc:
         raise GSRError(f"{folder / 'model.npz'}: not a readable weights file ({exc})") from None
-    if meta.get("features") != list(FEATURE_NAMES) or meta.get("link_features") != list(LINK_FEATURE_NAMES):
+    link_names = meta.get("link_features")
+    # a model trained before the last link features were added reads the leading ones only
+    if (
+        meta.get("features") != list(FEATURE_NAMES)
+        or not isinstance(link_names, list)
+        or not link_names
+        or link_names != list(LINK_FEATURE_NAMES[: len(link_names)])
+    ):
         raise GSRError(
             f"{folder}: the model was trained on other features; retrain with `gsr perceive-train`"
         )
@@ -237,10 +246,12 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             if category == UNKNOWN or float(col_p[i].max()) < COLOR_CONFIDENCE:
                 color = pixel_color(feats[i])  # open set, or a colour the model is unsure of
             parts.append(Part(seg.labels == i, category, score, color, i))
-        parts = split_drawer_fronts(seg, parts)
+        parts = split_drawer_fronts(seg, split_open_drawers(seg, parts))
     first = len(out)
     for part in parts:
         f = feats[part.feature_index]
+        if model is not None and not np.array_equal(part.mask, seg.labels == part.feature_index):
+            f = mask_features(seg, part.mask)  # a part cut out of a segment, or what is left of it
         extent = f[2] * f[3] * max(f[4], 0.005)
         attrs: dict[str, Any] = {
             "pixel_color": pixel_color(f),

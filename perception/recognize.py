@@ -65,6 +65,12 @@ def segment_features(seg: Segments, index: int) -> np.ndarray:
     return _features(seg, rows, cols)
 
 
+def mask_features(seg: Segments, mask: np.ndarray) -> np.ndarray:
+    """The feature vector of any strided mask (a segment after a part was cut out of it)."""
+    rows, cols = np.nonzero(mask)
+    return _features(seg, rows, cols)
+
+
 #: Shape and colour statistics of a large segment are read from at most this many of its pixels.
 MAX_FEATURE_PIXELS = 1500
 

@@ -7,6 +7,13 @@ behind each such handle (2-8 cm behind it, on another segment: the host), cuts t
 bands (one per handle, limits half-way between neighbouring handles' heights) and gives each band to its
 drawer. Every drawer (banded or a segment of its own, e.g. an open one) gets a parent: the host of its face, or
 the non-drawer segment whose box lies nearest (within ``HOST_REACH``).
+
+An open drawer's side is inset by a centimetre from its cabinet's side and has the cabinet's colour, so
+the segmenter often leaves the pulled-out drawer in the cabinet's segment (recognised as ``cabinet`` or,
+for its look, ``drawer``). :func:`split_open_drawers` finds it from the geometry: a cabinet's top face
+ends at its front, so what stands out beyond the top's edge, below the top, is a drawer pulled out of it
+(front, side walls, inside). It becomes a drawer of its own (one per handle height when handles are seen
+on it), its handles join it, and the rest of the segment is the cabinet.
 """
 
 from __future__ import annotations
@@ -26,6 +33,26 @@ FACE_DISTANCE = 0.015
 FACE_ALIGN = 0.9
 #: An open drawer's parent: the nearest other segment whose box lies within this distance (m).
 HOST_REACH = 0.3
+#: Segments that may hold a pulled-out drawer: recognised as one of these, at least this large (m).
+DRAWER_HOSTS = ("cabinet", "drawer")
+HOST_MIN_EXTENT = 0.18
+#: Top face: up-facing pixels (|normal z| above TOP_UP) within TOP_BAND of the segment's top height (m).
+TOP_UP = 0.9
+TOP_BAND = 0.015
+TOP_MIN_PIXELS = 20
+#: A drawer stands out beyond the top's front edge by more than OUT_MARGIN, below the top by BELOW_TOP (m),
+#: and spans at least OUT_MIN_WIDTH across the front with at least OUT_MIN_PIXELS grid pixels.
+OUT_MARGIN = 0.02
+BELOW_TOP = 0.015
+OUT_MIN_WIDTH = 0.1
+OUT_MIN_PIXELS = 25
+#: Floors of stacked open drawers: up-facing 1 cm height bins with this share of the region's up-facing
+#: pixels, at least FLOOR_GAP apart (m); the drawer above starts FLOOR_BELOW under its floor (its bottom).
+FLOOR_SHARE = 0.2
+FLOOR_GAP = 0.06
+FLOOR_BELOW = 0.01
+#: Marks a handle segment merged into the drawer it belongs to (dropped from the list).
+ABSORBED = "_absorbed"
 
 
 @dataclass
@@ -146,3 +173,152 @@ def _nearest_host(seg: Segments, parts: list[Part], k: int, pts: np.ndarray) -> 
         if d < best_d:
             best, best_d = j, d
     return best
+
+
+def split_open_drawers(seg: Segments, parts: list[Part]) -> list[Part]:
+    """Cut pulled-out drawers out of the cabinet segments that swallowed them (see the module docstring)."""
+    out = list(parts)
+    for k, host in enumerate(parts):
+        if host.category not in DRAWER_HOSTS:
+            continue
+        found = _protrusion(seg, host.mask)
+        if found is None:
+            continue
+        drawer_mask, axis, front = found
+        handles = _handles_on(seg, out, k, drawer_mask, axis, front)
+        floors = _floor_levels(seg, drawer_mask)
+        if len(floors) >= 2:  # stacked open drawers: each one's floor is its bottom
+            bands = _bands_at(seg, drawer_mask, [f - FLOOR_BELOW for f in floors[1:]])
+        else:
+            bands = _height_bands(seg, drawer_mask, [h for _, h in handles])
+        host.mask = host.mask & ~drawer_mask
+        if host.category == "drawer":  # the whole was read as a drawer: what stays is its cabinet
+            host.category = "cabinet"
+        first = len(out)
+        for band in bands:
+            out.append(Part(band, "drawer", host.score, host.color, host.feature_index, parent=k))
+        heights = [float(np.nanmedian(seg.height[b])) for b in bands]
+        for j, height in handles:  # a handle joins the drawer of its height
+            b = int(np.argmin([abs(height - hh) for hh in heights]))
+            out[first + b].mask = out[first + b].mask | out[j].mask
+            out[j].category = ABSORBED
+    keep = [i for i, p in enumerate(out) if p.category != ABSORBED]
+    index = {old: new for new, old in enumerate(keep)}
+    for i in keep:
+        if out[i].parent is not None:
+            out[i].parent = index.get(out[i].parent)
+    return [out[i] for i in keep]
+
+
+def _protrusion(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """(mask, outward axis, front offset) of what stands out beyond the top face's edge, or None."""
+    pts, nrm = seg.points[mask], seg.normals[mask]
+    hgt = seg.height[mask]
+    ok = np.all(np.isfinite(pts), axis=1) & np.isfinite(hgt)
+    if ok.sum() < TOP_MIN_PIXELS * 2:
+        return None
+    extent = np.ptp(pts[ok], axis=0)
+    if max(extent[0], extent[1]) < HOST_MIN_EXTENT:
+        return None
+    top = float(np.percentile(hgt[ok], 98.0))
+    up = np.abs(np.nan_to_num(nrm[:, 2])) > TOP_UP
+    top_face = ok & up & (hgt > top - TOP_BAND)
+    if top_face.sum() < TOP_MIN_PIXELS:
+        return None  # no view of the top: no edge to measure from
+    xy = pts[top_face, :2]
+    centre = xy.mean(axis=0)
+    _, vecs = np.linalg.eigh(np.cov((xy - centre).T))
+    below = ok & (hgt < top - BELOW_TOP)
+    best: tuple[int, np.ndarray, float, np.ndarray] | None = None
+    for v in (vecs[:, 0], vecs[:, 1]):
+        for axis in (v, -v):
+            front = float(np.percentile((xy - centre) @ axis, 99.0))
+            proj = (pts[:, :2] - centre) @ axis
+            out = below & (np.nan_to_num(proj, nan=-1e9) > front + OUT_MARGIN)
+            n = int(out.sum())
+            if n < OUT_MIN_PIXELS or (best is not None and n <= best[0]):
+                continue
+            side = np.array([-axis[1], axis[0]])
+            span = (xy - centre) @ side  # a drawer slides out within its cabinet's width
+            lateral = np.nan_to_num((pts[:, :2] - centre) @ side, nan=1e9)
+            out &= (lateral > span.min() - OUT_MARGIN) & (lateral < span.max() + OUT_MARGIN)
+            n = int(out.sum())
+            if n < OUT_MIN_PIXELS or (best is not None and n <= best[0]):
+                continue
+            if np.ptp(lateral[out]) < OUT_MIN_WIDTH:
+                continue
+            best = (n, axis, front, out)
+    if best is None:
+        return None
+    _, axis, front, out = best
+    full = np.zeros_like(mask)
+    rows, cols = np.nonzero(mask)
+    full[rows[out], cols[out]] = True
+    if full.sum() > 0.6 * mask.sum():  # most of the segment: not a cabinet with a drawer out
+        return None
+    return full, axis, front + float(centre @ axis)
+
+
+def _handles_on(
+    seg: Segments, parts: list[Part], host: int, drawer: np.ndarray, axis: np.ndarray, front: float
+) -> list[tuple[int, float]]:
+    """Handle-sized drawer segments in front of the cabinet's front next to the pulled-out region:
+    (part index, median height)."""
+    from scipy.ndimage import binary_dilation
+
+    near = binary_dilation(drawer, np.ones((3, 3), bool), iterations=3)
+    lo, hi = np.nanpercentile(seg.height[drawer], [2.0, 98.0])
+    found = []
+    for j, part in enumerate(parts):
+        if j == host or part.category != "drawer" or not (part.mask & near).any():
+            continue
+        pts, _, _ = _cloud(seg, part.mask)
+        if len(pts) < 3 or np.any(np.ptp(pts, axis=0) > HANDLE_SIZE):
+            continue
+        height = float(np.nanmedian(seg.height[part.mask]))
+        if float(np.median(pts[:, :2] @ axis)) <= front + OUT_MARGIN or not lo <= height <= hi:
+            continue  # a closed drawer's handle below or above the pulled-out one
+        found.append((j, height))
+    return found
+
+
+def _floor_levels(seg: Segments, mask: np.ndarray) -> list[float]:
+    """Heights of the up-facing floors in a pulled-out region (1 cm bins holding at least
+    ``FLOOR_SHARE`` of its up-facing pixels, ``FLOOR_GAP`` apart), lowest first."""
+    nz = np.abs(np.nan_to_num(seg.normals[..., 2]))
+    up = mask & (nz > TOP_UP) & np.isfinite(seg.height)
+    h = seg.height[up]
+    if h.size < OUT_MIN_PIXELS:
+        return []
+    bins = np.floor(h / 0.01).astype(np.int64)
+    values, counts = np.unique(bins, return_counts=True)
+    levels: list[float] = []
+    for v, c in sorted(zip(values.tolist(), counts.tolist(), strict=True), key=lambda vc: -vc[1]):
+        if c < FLOOR_SHARE * h.size:
+            break
+        level = float(np.median(h[bins == v]))
+        if all(abs(level - x) >= FLOOR_GAP for x in levels):
+            levels.append(level)
+    return sorted(levels)
+
+
+def _bands_at(seg: Segments, mask: np.ndarray, cuts: list[float]) -> list[np.ndarray]:
+    """The region cut at the given heights into bands, lowest first (bands too small are dropped)."""
+    hgt = np.nan_to_num(seg.height, nan=-1e9)
+    limits = [-np.inf, *sorted(cuts), np.inf]
+    bands = [mask & (hgt >= lo) & (hgt < hi) for lo, hi in pairwise(limits)]
+    return [b for b in bands if b.sum() >= OUT_MIN_PIXELS // 2] or [mask]
+
+
+def _height_bands(seg: Segments, mask: np.ndarray, heights: list[float]) -> list[np.ndarray]:
+    """The pulled-out region cut into one band per handle height (limits half-way between them)."""
+    if len(heights) < 2:
+        return [mask]
+    heights = sorted(heights)
+    merged = [heights[0]]
+    for h in heights[1:]:
+        if h - merged[-1] > 0.03:  # two handles of one drawer (or one seen twice) count once
+            merged.append(h)
+    if len(merged) < 2:
+        return [mask]
+    return _bands_at(seg, mask, [(a + b) / 2.0 for a, b in pairwise(merged)])

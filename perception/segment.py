@@ -36,7 +36,8 @@ from gsr.errors import GSRError
 class SegmentParams:
     """Tunable constants of the geometric segmenter (see docs/perception.md, *Perception without oracle*)."""
 
-    stride: int = 2  # work on every n-th pixel (640x480 -> 320x240)
+    stride: int = 0  # work on every n-th pixel; 0: the stride nearest a grid_width-wide grid (640 -> 2)
+    grid_width: int = 320  # the working grid's width for stride 0 (the trained models' grid: 640x480 / 2)
     plane_distance: float = 0.008  # |height above the support plane| of support pixels (m)
     horizontal: float = 0.9  # |normal z| of a pixel that may belong to a horizontal surface
     depth_edge: float = 0.008  # a depth jump beyond this + depth_edge_rel * depth is an edge (m)
@@ -45,6 +46,10 @@ class SegmentParams:
     intensity_edge: float = 0.9  # |log brightness ratio| between neighbours
     dark: float = 40.0  # pixels darker than this (sum of r, g, b / 3) have no reliable chromaticity
     min_pixels: int = 10  # segments with fewer strided pixels are dropped
+    link_threshold: float = 0.5  # a trained link model's boundary probability from which a link is cut
+    step_cut: float = 0.0  # with a link model: also cut unexplained steps over this share of depth ...
+    step_cut_noise: float = 4.0  # ... and over this many times the frame's relative depth noise
+    seal: int = 0  # pixels within this many grid steps of a cut link line the boundary (seal short gaps)
     max_depth: float = 10.0
     merge_threshold: float = 0.5  # merge adjacent segments whose merge score exceeds this
 
@@ -109,6 +114,15 @@ def check_inputs(rgb: np.ndarray, depth: np.ndarray, camera: Camera) -> tuple[np
         rgb = np.clip(rgb, 0, 255).astype(np.uint8)
     depth = np.where(np.isfinite(depth) & (depth > 0), depth, 0.0).astype(np.float32)
     return rgb, depth
+
+
+def working_stride(params: SegmentParams, width: int) -> int:
+    """The pixel stride of the working grid: ``params.stride``, or for 0 the one whose grid is nearest
+    ``params.grid_width`` pixels wide, so that a 320x240 and a 640x480 image of the same view give the
+    same grid (the trained models' features count grid pixels and compare grid neighbours)."""
+    if params.stride > 0:
+        return params.stride
+    return max(1, round(width / max(params.grid_width, 1)))
 
 
 def _median3(z: np.ndarray) -> np.ndarray:
@@ -192,7 +206,20 @@ LINK_FEATURE_NAMES = (
     "dark",  # either pixel too dark for chromaticity
     "depth",  # m
     "up",  # mean |normal z| of the two pixels
+    "noise",  # the frame's depth noise: median |second difference of depth| / depth over its links
+    "jump_over_noise",  # jump_rel / (noise + NOISE_FLOOR): how unusual the step is for this sensor
 )
+
+#: Relative depth noise added to the frame's estimate before dividing by it (a noiseless rendering's
+#: second differences are not exactly zero, and a 1 cm step must not look infinitely unusual).
+NOISE_FLOOR = 0.0005
+
+
+def plain_links(feats: np.ndarray) -> np.ndarray:
+    """Links with no depth step and no colour change: kept without asking the link model (speed); the
+    model is trained on the other links only, the ones it decides."""
+    return (feats[:, 0] < 0.004) & (feats[:, 4] < 0.02) & (feats[:, 5] < 0.05)
+
 
 #: A link scorer: link features (n, LINK_FEATURE_NAMES) -> probability that an object boundary cuts it.
 LinkScorer = Callable[[np.ndarray], np.ndarray]
@@ -218,6 +245,7 @@ def _links(
     chroma = f / s[..., None]
     bright = np.log(s / 3.0 + 1.0)
     dark = s / 3.0 < params.dark
+    noise = depth_noise(z, active)
     out = []
     for axis in (1, 0):
         d = np.diff(z, axis=axis)
@@ -254,6 +282,8 @@ def _links(
                 np.nan_to_num((np.abs(n1[:, 2]) + np.abs(n2[:, 2])) / 2.0, nan=0.5),
             )
         )
+        jump_rel = feats[:, 1]
+        feats = np.column_stack((feats, np.full(len(feats), noise), jump_rel / (noise + NOISE_FLOOR)))
         if samples is not None:
             samples.append((feats, both))
         if link_scorer is None:
@@ -262,14 +292,37 @@ def _links(
             continue
         kept = np.zeros_like(both)
         # links with no depth step and no colour change are kept without asking the model (speed)
-        plain = (feats[:, 0] < 0.004) & (feats[:, 4] < 0.02) & (feats[:, 5] < 0.05)
+        plain = plain_links(feats)
         cut = np.zeros(len(feats), bool)
         if (~plain).any():
-            cut[~plain] = np.asarray(link_scorer(feats[~plain])) >= 0.5
+            cut[~plain] = np.asarray(link_scorer(feats[~plain])) >= params.link_threshold
+        jump = both & jump
+        if params.step_cut > 0:  # a step the frame's noise cannot explain is cut whatever the model says
+            unexplained = feats[:, 1] > max(params.step_cut, params.step_cut_noise * noise)
+            cut |= unexplained
+            jump[both] |= unexplained  # and counts as a depth jump for the merge features
         kept[both] = ~cut
-        out.append((kept, both & jump))
+        out.append((kept, jump))
     (kr, jr), (kd, jd) = out
     return kr, kd, jr, jd
+
+
+def depth_noise(z: np.ndarray, active: np.ndarray) -> float:
+    """The frame's relative depth noise: the median of |second difference| / depth along rows and columns
+    over active pixels (steps at object boundaries are few, so the median reads the surfaces)."""
+    vals = []
+    for axis in (1, 0):
+        a = np.take(z, np.arange(z.shape[axis] - 2), axis=axis)
+        b = np.take(z, np.arange(1, z.shape[axis] - 1), axis=axis)
+        c = np.take(z, np.arange(2, z.shape[axis]), axis=axis)
+        ok = (
+            np.take(active, np.arange(z.shape[axis] - 2), axis=axis)
+            & np.take(active, np.arange(1, z.shape[axis] - 1), axis=axis)
+            & np.take(active, np.arange(2, z.shape[axis]), axis=axis)
+        )
+        vals.append((np.abs(a - 2 * b + c) / np.maximum(b, 1e-3))[ok])
+    allv = np.concatenate(vals)
+    return float(np.median(allv)) if allv.size else 0.0
 
 
 def _components(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.ndarray:
@@ -301,13 +354,22 @@ def _boundary_pixels(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.n
     return edge
 
 
-def _sealed_components(active: np.ndarray, kr: np.ndarray, kd: np.ndarray, rounds: int = 2) -> np.ndarray:
+def _sealed_components(
+    active: np.ndarray, kr: np.ndarray, kd: np.ndarray, rounds: int = 2, seal: int = 0
+) -> np.ndarray:
     """Components that one stray kept link across a boundary cannot join.
 
-    The pixels lining the cuts are left out, components are formed from the rest, and the lining pixels
-    then join a neighbouring component through their kept links (``rounds`` steps); lining pixels that
-    reach none (thin structures that are all boundary) form components of their own."""
+    The pixels lining the cuts (and, with ``seal``, the pixels within ``seal`` grid steps of them, so a
+    boundary with gaps of up to ``2 seal`` kept links between its cuts still separates) are left out,
+    components are formed from the rest, and the lining pixels then join a neighbouring component
+    through their kept links (``rounds + seal`` steps); lining pixels that reach none (thin structures
+    that are all boundary) form components of their own."""
     edge = _boundary_pixels(active, kr, kd)
+    if seal > 0:
+        from scipy.ndimage import binary_dilation
+
+        edge = binary_dilation(edge, np.ones((3, 3), bool), iterations=seal) & active
+    rounds += seal
     inner = active & ~edge
     comp = _components(inner, kr & inner[:, :-1] & inner[:, 1:], kd & inner[:-1, :] & inner[1:, :])
     for _ in range(rounds):
@@ -490,7 +552,7 @@ def segment(
     """
     params = params or SegmentParams()
     rgb, depth = check_inputs(rgb, depth, camera)
-    s = params.stride
+    s = working_stride(params, camera.width)
     z = depth[::s, ::s].astype(np.float64)
     z = np.where(z < params.max_depth, z, 0.0)
     z = _median3(z)
@@ -510,7 +572,7 @@ def segment(
         support = np.zeros_like(valid)
         active = valid
     kr, kd, jr, jd = _links(z, small_rgb, normals, active, params, link_scorer, link_samples)
-    labels = _relabel(_sealed_components(active, kr, kd), params.min_pixels)
+    labels = _relabel(_sealed_components(active, kr, kd, seal=params.seal), params.min_pixels)
     seg = Segments(
         stride=s,
         shape=(camera.height, camera.width),

@@ -35,11 +35,22 @@ import numpy as np
 from gsr.perception.detect import MLP, Model, RGBDDetector, load_model
 from gsr.perception.frame import Frame
 from gsr.perception.recognize import FEATURE_NAMES, NONE, all_features
-from gsr.perception.segment import LINK_FEATURE_NAMES, PAIR_FEATURE_NAMES, SegmentParams, Segments, segment
+from gsr.perception.segment import (
+    LINK_FEATURE_NAMES,
+    PAIR_FEATURE_NAMES,
+    SegmentParams,
+    Segments,
+    plain_links,
+    segment,
+)
 
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
 
+#: A boundary link is subtle (over-sampled in training) below this unexplained step / depth and this
+#: chromaticity change.
+SUBTLE_JUMP = 0.03
+SUBTLE_CHROMA = 0.05
 #: Truth objects smaller than this many strided pixels are not counted in the evaluation.
 MIN_TRUTH_PIXELS = 25
 
@@ -123,11 +134,18 @@ def add_links(
     (fr, br), (fd, bd) = found
     cut = np.concatenate(((truth[:, :-1] != truth[:, 1:])[br], (truth[:-1, :] != truth[1:, :])[bd]))
     feats = np.concatenate((fr, fd))
-    pos, neg = np.flatnonzero(cut), np.flatnonzero(~cut)
+    asked = ~plain_links(feats)  # the detector keeps plain links without the model: train on the rest
+    pos, neg = np.flatnonzero(cut & asked), np.flatnonzero(~cut & asked)
+    # half of the boundary samples are subtle ones (a small unexplained step, no colour change: an open
+    # drawer beside its cabinet's side), which uniform sampling would leave to a handful
+    subtle = (feats[pos, 1] < SUBTLE_JUMP) & (feats[pos, 4] < SUBTLE_CHROMA)
     k = config.link_samples // 4
+    hard = rng.choice(pos[subtle], min(k // 2, int(subtle.sum())), replace=False)
+    rest = np.setdiff1d(pos, hard)
     take = np.concatenate(
         (
-            rng.choice(pos, min(k, len(pos)), replace=False),
+            hard,
+            rng.choice(rest, min(k - len(hard), len(rest)), replace=False),
             rng.choice(neg, min(config.link_samples - k, len(neg)), replace=False),
         )
     )
@@ -266,8 +284,13 @@ def train(
             if not merge_samples.pair_y:
                 raise GSRError("perceive-train: the frames gave no training pairs (empty scenes?)")
             merge_model = _train_merge(merge_samples, config, log)
-        seg, _ = segment(
-            frame.rgb, frame.depth, frame.camera, config.params, merge_scorer=_scorer(merge_model)
+        seg, _ = segment(  # as the detector segments: the link model's boundaries, the merge model
+            frame.rgb,
+            frame.depth,
+            frame.camera,
+            config.params,
+            merge_scorer=_scorer(merge_model),
+            link_scorer=_scorer(link_model),
         )
         add_segments(seg_samples, frame, seg)
         if n % 50 == 0:

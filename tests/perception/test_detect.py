@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from gsr.perception.detect import Detection, Detector, RGBDDetector, load_detector
-from gsr.perception.segment import SegmentParams, segment
+from gsr.perception.segment import PAIR_FEATURE_NAMES, SegmentParams, segment
 
 from gsr.errors import GSRError
 
@@ -63,7 +65,7 @@ def test_support_plane_is_the_table(front):
 
 def test_unmerged_over_segmentation_has_pairs(front):
     seg, (pairs, feats) = segment(front.rgb, front.depth, front.camera, merge=False)
-    assert len(pairs) == len(feats) and feats.shape[1] == 11
+    assert len(pairs) == len(feats) and feats.shape[1] == len(PAIR_FEATURE_NAMES)
     assert seg.count >= 6
 
 
@@ -100,3 +102,60 @@ def test_load_detector_rejects_a_folder_without_weights(tmp_path):
 def test_segment_params_are_used(front):
     coarse, _ = segment(front.rgb, front.depth, front.camera, SegmentParams(stride=4))
     assert coarse.labels.shape == (front.depth.shape[0] // 4, front.depth.shape[1] // 4)
+
+
+def test_half_resolution_works_on_the_same_grid(front):
+    """A 320x240 image of a view is segmented on the grid of its 640x480 image (stride 1 instead of 2), so
+    the trained models see the same pixel counts and neighbour distances at either resolution."""
+    from gsr.benchmarks.perception_render import render
+
+    from tests.perception.scenes import FRONT
+
+    scene, _ = hand_scene()
+    try:
+        small = render(scene, dataclasses.replace(FRONT, width=320, height=240))
+    finally:
+        scene.close()
+    big_seg, _ = segment(front.rgb, front.depth, front.camera)
+    small_seg, _ = segment(small.rgb, small.depth, small.camera)
+    assert (big_seg.stride, small_seg.stride) == (2, 1)
+    assert big_seg.labels.shape == small_seg.labels.shape == (240, 320)
+    dets = RGBDDetector(None).detect(small.rgb, small.depth, small.camera)
+    assert dets[0].mask.shape == (240, 320)
+    truth = _truth_masks(small, min_pixels=40)
+    for node in ("red_cube_1", "green_cube_1", "cyan_cube_1", "orange_cube_1"):
+        assert max(_iou(d.mask, truth[node]) for d in dets[1:]) > 0.5, node
+    # an explicit stride is kept
+    assert segment(small.rgb, small.depth, small.camera, SegmentParams(stride=2))[0].stride == 2
+
+
+def test_depth_noise_estimate_tells_clean_from_noisy_depth(front):
+    """The link model reads the frame's depth noise: a 1 cm step is a boundary on clean depth only."""
+    from gsr.perception.corrupt import add_depth_noise
+    from gsr.perception.segment import depth_noise
+
+    rng = np.random.default_rng(0)
+    levels = []
+    for sigma in (0.0, 0.002, 0.005):
+        d = add_depth_noise(front.depth, sigma, rng) if sigma else front.depth
+        z = d[::2, ::2].astype(np.float64)
+        levels.append(depth_noise(z, z > 0))
+    assert levels[0] < 2e-4 < levels[1] < levels[2]
+    assert depth_noise(np.zeros((5, 5)), np.zeros((5, 5), bool)) == 0.0
+
+
+def test_sealing_closes_short_gaps_in_a_boundary():
+    """A boundary cut at every link but one still separates its two sides when sealed."""
+    from gsr.perception.segment import _sealed_components
+
+    active = np.ones((20, 20), bool)
+    kr = np.ones((20, 19), bool)
+    kd = np.ones((19, 20), bool)
+    kr[:, 9] = False  # a vertical boundary between columns 9 and 10 ...
+    kr[12, 9] = True  # ... with one kept link across it
+    leaky = _sealed_components(active, kr, kd, seal=0)
+    sealed = _sealed_components(active, kr, kd, seal=1)
+    assert leaky[0, 0] == leaky[0, 19]
+    assert sealed[0, 0] != sealed[0, 19]
+    assert len(np.unique(sealed[:, :9])) == 1 and len(np.unique(sealed[:, 11:])) == 1
+    assert (sealed >= 0).all()

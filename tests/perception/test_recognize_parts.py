@@ -71,3 +71,38 @@ def test_a_handle_far_in_front_is_an_open_drawer_and_cuts_nothing():
     assert np.array_equal(parts[0].mask, seg.labels == 0)
     assert np.array_equal(parts[1].mask, seg.labels == 1)
     assert parts[1].parent == 0  # still the nearest host within reach
+
+
+def test_a_pulled_out_drawer_is_cut_out_of_the_cabinet_segment_that_swallowed_it():
+    """Rendered: a cabinet with its low drawer pulled out 15 cm, given as ONE segment (what the segmenter
+    makes of a drawer whose side is flush with the cabinet's). What stands out beyond the top's edge is
+    the drawer; the rest stays the cabinet; a segment with nothing pulled out is left alone."""
+    import pytest
+
+    pytest.importorskip("pybullet")
+    from gsr.perception.recognize_parts import split_open_drawers
+    from gsr.perception.segment import segment
+
+    from tests.perception.scenes import FRONT, frames, hand_scene
+
+    scene, _ = hand_scene()
+    try:
+        (frame,) = frames(scene, FRONT)
+    finally:
+        scene.close()
+    seg, _ = segment(frame.rgb, frame.depth, frame.camera)
+    ids = {lab.id: k for k, lab in frame.labels.items() if lab.id}
+    truth = frame.masks[:: seg.stride, :: seg.stride]
+    cabinet, drawer = truth == ids["cabinet_1"], truth == ids["cabinet_1/drawer_low"]
+    closed = truth == ids["cabinet_1/drawer_high"]
+    whole = cabinet | drawer | closed
+    parts = split_open_drawers(seg, [Part(whole.copy(), "drawer", 0.9, None, 0)])
+    assert [p.category for p in parts] == ["cabinet", "drawer"]  # the whole was read as a drawer
+    host, cut = parts
+    assert cut.parent == 0
+    iou = (cut.mask & drawer).sum() / (cut.mask | drawer).sum()
+    assert iou > 0.5, iou
+    assert (cut.mask & cabinet).sum() < 0.1 * cut.mask.sum()  # little of the body went with it
+    assert not (host.mask & cut.mask).any() and (host.mask | cut.mask).sum() == whole.sum()
+    alone = split_open_drawers(seg, [Part(cabinet.copy(), "cabinet", 0.9, None, 0)])
+    assert len(alone) == 1 and np.array_equal(alone[0].mask, cabinet)
