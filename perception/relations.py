@@ -38,6 +38,8 @@ class RelationThresholds:
     direction_margin: float = 0.03  # minimum offset along the dominant axis for left_of etc.
     direction_radius: float = 0.5  # directional relations only between objects this close
     ground_margin: float = 0.05  # A rests on the ground only with its centre over the ground's footprint
+    in_depth: float = 0.02  # resting on a drawer (or its cabinet) this far below its top is being in it
+    opening_reach: float = 0.12  # ... in the drawer whose footprint is this close (seen only in part)
     max_support_gap: float = (
         0.25  # farther above every surface than this, A rests on nothing (held, in the air)
     )
@@ -139,6 +141,7 @@ def supports(
     is seen on them rests on them. Among containers holding A the innermost (highest floor) wins.
     """
     out: dict[str, tuple[str, str]] = {}
+    by_key = {i.key: i for i in instances}
     grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
     for a in instances:
         if not is_subject(a):
@@ -186,7 +189,38 @@ def supports(
         pick = max(strict) if strict else (max(near) if near else None)
         if pick is not None:
             out[a.key] = ("on", pick[1])
+            opening = _opening_holding(a, a_bottom, by_key.get(pick[1]), instances, th)
+            if opening is not None:
+                out[a.key] = ("in", opening)
     return out
+
+
+def _opening_holding(
+    a: Instance, a_bottom: float, b: Instance | None, instances: list[Instance], th: RelationThresholds
+) -> str | None:
+    """The drawer A is in when A was found resting *on* it or on its object, below their tops.
+
+    Nothing rests on a cabinet at a height inside its body but in one of its openings. A drawer pulled
+    out is often perceived only in part (its front, the strip no object hides), so A's points need not
+    lie over it: A rests on the drawer below its walls' top, or on the drawer's object below the
+    object's top, at a height within a drawer's height range and beside that drawer."""
+    if b is None or b.label.category in GROUND_CATEGORIES:
+        return None
+    if b.label.parent is not None:
+        return b.key if is_container(b) and a_bottom < b.aabb_max[2] - th.in_depth else None
+    if a_bottom >= b.aabb_max[2] - th.in_depth:
+        return None  # on the object's top
+    best, best_d = None, th.opening_reach
+    for p in instances:
+        if p.label.parent != b.key or not is_container(p):
+            continue
+        if not (p.aabb_min[2] - th.on_gap <= a_bottom <= p.aabb_max[2] - th.in_depth):
+            continue
+        local = np.abs((a.center[:2] - p.center[:2]) @ p.axes.T) - p.size[:2] / 2.0
+        d = float(np.linalg.norm(np.maximum(local, 0.0)))
+        if d <= best_d:
+            best, best_d = p.key, d
+    return best
 
 
 def _may_hold(a: Instance, b: Instance, closed: frozenset[str], th: RelationThresholds) -> bool:

@@ -211,3 +211,20 @@ def test_the_seen_open_protocol_adds_earlier_looks_and_keeps_the_scene_and_truth
     assert all(not np.array_equal(look[0].depth, now[0].depth) for look in earlier)  # something opened
     with pytest.raises(ValueError, match="no-oracle"):
         evaluate(1, seen_open=True)
+
+
+def test_resting_inside_a_cabinet_body_is_being_in_its_drawer_even_one_seen_in_part():
+    import dataclasses
+
+    body = solid("cabinet", "cabinet", (0.3, -0.2, 0.0), (0.6, 0.2, 0.32))
+    floor = _grid(np.array([0.18, -0.2]), np.array([0.3, 0.2])).reshape(-1, 2)  # the pulled drawer's floor,
+    floor = np.column_stack([floor, np.full(len(floor), 0.235)])  # left in the cabinet's segment
+    cabinet = _inst("cabinet", "cabinet", np.concatenate([body.points, floor]))
+    # the open drawer's front strip only (what no object hid), at the height of the top drawer
+    drawer = solid("cabinet/drawer_1", "drawer", (0.15, -0.2, 0.23), (0.18, 0.05, 0.31))
+    drawer.label = dataclasses.replace(drawer.label, parent="cabinet")
+    cube = solid("cube", "cube", (0.2, 0.08, 0.237), (0.23, 0.11, 0.267))  # beside the strip, in the drawer
+    sup = supports([table(), cabinet, drawer, cube], PLANE, TH)
+    assert sup["cube"] == ("in", "cabinet/drawer_1")
+    on_top = solid("top", "cube", (0.4, 0.0, 0.32), (0.43, 0.03, 0.35))  # on the cabinet's top: stays on
+    assert supports([table(), cabinet, drawer, on_top], PLANE, TH)["top"] == ("on", "cabinet")
