@@ -83,9 +83,15 @@ class Landmarks:
         self.union = sum(self.fact_mask)  # the atoms that are landmarks
         self.goal_lms = [(k, self.fact_mask[k]) for k in bits(self.goal_mask)]
         self.lm_adds: dict[int, list[int]] = {}  # operator -> the landmarks it adds
+        self.lm_add_mask: dict[int, int] = {}  # operator -> bitmask of the landmarks it adds
+        # Per accepted set (a path-dependent value shared by many states): the atoms of its
+        # landmarks, and the landmarks ready next (not accepted, every predecessor accepted).
+        self._accepted_atoms: dict[int, int] = {}
+        self._ready: dict[int, int] = {}
         for k, ops in enumerate(self.achievers):
             for i in ops:
                 self.lm_adds.setdefault(i, []).append(k)
+                self.lm_add_mask[i] = self.lm_add_mask.get(i, 0) | 1 << k
 
     def _reachable_without(self, fact: int):
         """Which operators are applicable in the delete relaxation when ``fact`` is never added
@@ -160,9 +166,19 @@ class Landmarks:
         """The accepted landmarks after reaching ``state`` (``accepted``: those of its parent)."""
         if not self.facts:
             return 0
-        # Candidates: landmarks true in the state and not accepted yet (usually a handful).
+        # Candidates: landmarks true in the state and not accepted yet (usually none or a handful),
+        # found on the atoms: the accepted landmarks' atoms are masked out first.
+        done = self._accepted_atoms.get(accepted)
+        if done is None:
+            done = 0
+            for k in bits(accepted):
+                done |= self.fact_mask[k]
+            self._accepted_atoms[accepted] = done
+        fresh = state & self.union & ~done
+        if not fresh:
+            return accepted
         by_fact, parents = self.by_fact, self.parents
-        todo = [k for k in (by_fact[f] for f in bits(state & self.union)) if not accepted >> k & 1]
+        todo = [by_fact[f] for f in bits(fresh)]
         changed = True
         while changed and todo:
             changed = False
@@ -190,11 +206,15 @@ class Landmarks:
         task = self.task
         if applicable is None:
             applicable = task.applicable(state)
-        parents, lm_adds = self.parents, self.lm_adds
-        preferred = []
-        for i in applicable:
-            for k in lm_adds.get(i, ()):
-                if not accepted >> k & 1 and accepted & parents[k] == parents[k]:
-                    preferred.append(i)
-                    break
-        return h, preferred
+        ready = self._ready.get(accepted)
+        if ready is None:
+            parents = self.parents
+            ready = 0
+            for k in bits(missing):
+                if accepted & parents[k] == parents[k]:
+                    ready |= 1 << k
+            self._ready[accepted] = ready
+        if not ready:
+            return h, []
+        adds = self.lm_add_mask
+        return h, [i for i in applicable if adds.get(i, 0) & ready]

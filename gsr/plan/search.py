@@ -93,11 +93,14 @@ def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
     pending: tuple[int, int] | None = (root, -1)
     while True:
         if pending is None:
-            # Alternation open list: the non-empty queue with the lowest priority counter goes next.
-            choices = [i for i in (1, 0) if open_lists[i]]
-            if not choices:
+            # Alternation open list: the non-empty queue with the lowest priority counter goes next
+            # (the preferred one on ties).
+            if open_lists[1] and (not open_lists[0] or priority[1] <= priority[0]):
+                which = 1
+            elif open_lists[0]:
+                which = 0
+            else:
                 return res
-            which = min(choices, key=lambda i: priority[i])
             priority[which] += 1
             pid, op = _take(open_lists[which])
             state = apply(space.states[pid], op)
@@ -250,10 +253,13 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
     pending: int | None = root
     while True:
         if pending is None:
-            choices = [i for i in (1, 3, 0, 2) if queues[i]]
-            if not choices:
+            # The non-empty queue with the lowest priority counter, the first of 1, 3, 0, 2 on ties.
+            which = -1
+            for i in (1, 3, 0, 2):
+                if queues[i] and (which < 0 or priority[i] < priority[which]):
+                    which = i
+            if which < 0:
                 return res
-            which = min(choices, key=lambda i: priority[i])
             priority[which] += 1
             pid, op = _take(queues[which])
             state = apply(space.states[pid], op)
