@@ -115,6 +115,7 @@ class PerceivedScene:
             self.binding = {**kept, **now}
             to_perceived = {w: p for p, w in self.binding.items()}
             held = {to_perceived[w] for w in held_objects(self.world) if w in to_perceived}
+            observed, held = self._keep_grasped_id(observed, held, expected)
         observed = with_map_regions(observed, self.world, table_only=not self.oracle_masks)
         observed = with_held(observed, held, self.belief, None if not self.oracle_masks else self.world.graph)
         prior = expected if expected is not None else self.belief
@@ -123,6 +124,26 @@ class PerceivedScene:
         self.belief = with_remembered_support(belief, held, prior)
         self.observations += 1
         return self.belief
+
+    def _keep_grasped_id(
+        self, observed: SceneGraph, held: set[str], expected: SceneGraph | None
+    ) -> tuple[SceneGraph, set[str]]:
+        """The object in the gripper keeps the id of the object the robot's own step grasped.
+
+        Lifted, an object is seen from another side and may be named otherwise (a bottle read as a mug),
+        so the tracker gives it a fresh id; but the robot knows what it picked up (its step, ``held`` in
+        the expected graph) and the gripper says it holds one object: that object is the one picked."""
+        grasped = {n.id for n in expected.nodes if "held" in n.states} if expected is not None else set()
+        ids = {n.id for n in observed.nodes}
+        if len(held) != 1 or len(grasped) != 1 or held == grasped:
+            return observed, held
+        (new,), (old,) = held, grasped
+        if old in ids or new not in ids:
+            return observed, held
+        from gsr.perception.track import rename_graph
+
+        self.binding[old] = self.binding.pop(new)
+        return rename_graph(observed, {new: old}), {old}
 
     def world_id(self, node_id: str) -> str:
         """The world's node id of a perceived node (for the skills), or the id itself when unbound."""

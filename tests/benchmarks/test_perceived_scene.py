@@ -272,3 +272,19 @@ def test_a_part_of_a_seen_object_stays_when_the_cameras_do_not_pick_it_out() -> 
     assert "bowl_1" not in out  # objects are update_belief's business, not this rule's
     gone = with_unseen_parts(_graph([], []), belief, expected)
     assert not gone.nodes  # the cabinet itself is not seen: nothing is carried
+
+
+def test_the_object_in_the_gripper_keeps_the_id_of_the_object_the_step_grasped() -> None:
+    from gsr.benchmarks.perceived_scene import PerceivedScene
+
+    scene = PerceivedScene.__new__(PerceivedScene)  # no world needed for the rule itself
+    scene.binding = {"bottle_1": "bbq_sauce", "mug_3": "bbq_sauce", "basket_1": "basket"}
+    lifted = _graph([_node("mug_3", "mug"), _node("basket_1", "basket")], [])  # renamed once lifted
+    expected = _graph([_node("bottle_1", "bottle", states=("held",)), _node("basket_1", "basket")], [])
+    graph, held = scene._keep_grasped_id(lifted, {"mug_3"}, expected)
+    assert held == {"bottle_1"} and {n.id for n in graph.nodes} == {"bottle_1", "basket_1"}
+    assert scene.binding["bottle_1"] == "bbq_sauce" and "mug_3" not in scene.binding
+    # without the robot's own step, or when the grasped id is seen elsewhere, nothing is renamed
+    assert scene._keep_grasped_id(lifted, {"mug_3"}, None) == (lifted, {"mug_3"})
+    both = _graph([_node("mug_3", "mug"), _node("bottle_1", "bottle")], [])
+    assert scene._keep_grasped_id(both, {"mug_3"}, expected) == (both, {"mug_3"})
