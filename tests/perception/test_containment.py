@@ -228,3 +228,18 @@ def test_resting_inside_a_cabinet_body_is_being_in_its_drawer_even_one_seen_in_p
     assert sup["cube"] == ("in", "cabinet/drawer_1")
     on_top = solid("top", "cube", (0.4, 0.0, 0.32), (0.43, 0.03, 0.35))  # on the cabinet's top: stays on
     assert supports([table(), cabinet, drawer, on_top], PLANE, TH)["top"] == ("on", "cabinet")
+
+
+def test_seen_open_needs_the_no_oracle_protocol_on_the_command_line():
+    import subprocess
+    import sys
+
+    res = subprocess.run(
+        [sys.executable, "-m", "gsr.cli", "perceive-eval", "--seen-open", "--scenes", "1"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert res.returncode == 1 and "--seen-open needs --no-oracle" in res.stderr
+    assert "Traceback" not in res.stderr and len(res.stderr.strip().splitlines()) == 1
