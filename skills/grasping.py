@@ -254,8 +254,14 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     lift(m, z_transit)
     errors: list[SkillError] = []
     closes = 0
+    dragged = False
     while closes < MAX_CLOSES:
         tried = _approach(world, m, obj, z_transit, errors)
+        if tried is None and not dragged:
+            # a small solid by a deep box's end wall: drag it towards the middle with the fingertips
+            dragged = True
+            if _drag_inward(world, m, obj, z_transit, errors):
+                tried = _approach(world, m, obj, z_transit, errors)
         if tried is None:
             break
         pos, quat = tried
@@ -314,6 +320,51 @@ def _approach(
             errors.append(exc)
             lift(m, z_transit)
     return None
+
+
+def _drag_inward(world: World, m: Motion, obj: SimObject, z_transit: float, errors: list[SkillError]) -> bool:
+    """Drag ``obj`` along its container's floor towards the middle (see
+    :func:`gsr.skills.hand_clearance.plan_drag`); whether it moved. Walls and neighbours are checked on
+    the way; the object itself is what the fingertips press on."""
+    from gsr.skills.hand_clearance import plan_drag
+
+    drags = plan_drag(world, obj)
+    if not drags:
+        return False
+    before = world.body_aabb(obj.body)[0].copy()
+    m.ignore = {obj.body}
+    m.gripper(0.0, steps=120)  # closed fingers: the base search checks the arm as it will be
+    for drag in drags:
+        quat, start, end = drag.quat, drag.start, drag.start + drag.shift
+        hover = start + np.array([0, 0, 0.03])
+        above = (np.array([start[0], start[1], z_transit]), quat)
+        try:
+            base, _ = m.plan_base(start, [(start, quat), (end, quat), (hover, quat), above], clear=True)
+        except SkillError as exc:
+            errors.append(SkillError(exc.failure, f"dragging {obj.id} inwards: {exc.message}"))
+            continue
+        try:
+            m.move_base(float(base[0]), float(base[1]))
+            m.move_continuous(above, [above, (hover, quat), (start, quat), (end, quat)])
+            m.move_line((hover, quat))
+            m.move_line((start, quat))
+            m.step(20)
+            m.move_line((end, quat))
+            m.step(20)
+            m.move_line((end + np.array([0, 0, 0.05]), quat), check=False)
+            lift(m, z_transit)
+        except SkillError as exc:
+            if exc.failure is Failure.TIMEOUT:
+                raise
+            errors.append(SkillError(exc.failure, f"dragging {obj.id} inwards: {exc.message}"))
+            lift(m, z_transit)
+            return False
+        break
+    else:
+        return False
+    m.step(30)
+    moved = float(np.linalg.norm(world.body_aabb(obj.body)[0][:2] - before[:2]))
+    return moved > 0.01
 
 
 def _close_and_lift(

@@ -167,8 +167,9 @@ def _tilted(quat: tuple, tilt: float) -> tuple[float, float, float, float]:
     return tuple(p.multiplyTransforms((0, 0, 0), quat, (0, 0, 0), turn)[1])  # type: ignore[return-value]
 
 
-def container_yaw(world: World, obj: SimObject) -> float | None:
-    """The heading of the interior ``obj`` is in (a box's, a drawer's), or None when it is in none."""
+def container_frame(world: World, obj: SimObject) -> tuple[np.ndarray, float, np.ndarray] | None:
+    """``(centre, yaw, half sizes)`` of the interior ``obj`` lies in (a box's, a drawer's), world frame;
+    None when it is in none."""
     from gsr.skills.sim_graph import support_of
 
     rel, node = support_of(world, obj.id) or ("", "")
@@ -182,7 +183,87 @@ def container_yaw(world: World, obj: SimObject) -> float | None:
     else:
         return None
     interior = host.model.interiors.get(part)
-    return None if interior is None else world.yaw_of(host.body, host.links[interior.link])
+    if interior is None:
+        return None
+    link = host.links[interior.link]
+    centre = world.to_world(host.body, link, interior.center)
+    return centre, world.yaw_of(host.body, link), np.array(interior.size) / 2
+
+
+def _inside(world: World, obj: SimObject, host: SimObject) -> bool:
+    """Whether ``obj``'s centre lies over ``host``'s footprint (the container holding it)."""
+    lo, hi = world.body_aabb(obj.body)
+    hlo, hhi = world.body_aabb(host.body)
+    c = (lo + hi) / 2
+    return bool(hlo[0] <= c[0] <= hhi[0] and hlo[1] <= c[1] <= hhi[1])
+
+
+def container_yaw(world: World, obj: SimObject) -> float | None:
+    """The heading of the interior ``obj`` is in (a box's, a drawer's), or None when it is in none."""
+    frame = container_frame(world, obj)
+    return None if frame is None else frame[1]
+
+
+@dataclass(frozen=True)
+class Drag:
+    """A fingertip drag inside a container: hand pose on the object's top, and the way to move it."""
+
+    start: np.ndarray
+    quat: tuple[float, float, float, float]
+    shift: np.ndarray  # m, world, horizontal
+
+
+#: How far from the interior's middle (m, along its long side) a small solid must lie for a grasp to fit.
+REACHABLE = 0.03
+PRESS = 0.004  # m the lowest fingertip is set below the object's top: it holds the object by friction
+
+
+def plan_drag(world: World, obj: SimObject) -> list[Drag]:
+    """A drag that brings a small solid lying near a container's end wall towards the middle, where
+    a hand along the container fits: the closed fingertips press on its top and the hand, tilted so
+    its end over the wall stays above it, moves inwards. The hand poses whose proxy clears the walls
+    and neighbours, best first; none when the object is not in a container, already near its
+    middle, or something else lies on its way."""
+    frame = container_frame(world, obj)
+    if frame is None:
+        return []
+    centre, yaw, half = frame
+    long_yaw = yaw + (math.pi / 2 if half[1] > half[0] else 0.0)
+    axis = np.array([math.cos(long_yaw), math.sin(long_yaw), 0.0])
+    lo, hi = world.body_aabb(obj.body)
+    here = (lo + hi) / 2
+    along = float((here - centre) @ axis)
+    if abs(along) <= REACHABLE:
+        return []
+    shift = -axis * (along - math.copysign(REACHABLE * 0.5, along))
+    # the object's way: nothing else in the container along it (its own footprint swept, 3 mm apart)
+    import pybullet as p
+
+    host_bodies = {o.body for o in world.objects.values() if o.model.interiors and _inside(world, obj, o)}
+    a, b = here, here + shift
+    half_xy = (hi[:2] - lo[:2]) / 2 + 0.003
+    sweep_lo = [min(a[0], b[0]) - half_xy[0], min(a[1], b[1]) - half_xy[1], float(lo[2]) + 0.002]
+    sweep_hi = [max(a[0], b[0]) + half_xy[0], max(a[1], b[1]) + half_xy[1], float(hi[2])]
+    others = _object_bodies(world) - {obj.body} - host_bodies
+    if any(
+        bd in others
+        for bd, _ in (p.getOverlappingObjects(sweep_lo, sweep_hi, physicsClientId=world.client) or ())
+    ):
+        return None
+    bodies = _near_bodies(world, obj, reach=0.3)
+    proxy = HandProxy(world)
+    out = []
+    try:
+        for tilt in (0.2, -0.2, 0.35, -0.35, 0.45, -0.45):
+            quat = _tilted(top_down(long_yaw), tilt)
+            # the lowest closed fingertip (the fingers meet at the grasp point) on the object's top
+            start = np.array([here[0], here[1], float(hi[2]) + FINGERTIP * math.cos(tilt) - PRESS])
+            ends = (start, start + shift, start + shift * 0.5)
+            if not any(proxy.hit(p_, quat, 0.0, bodies, world.table_body) for p_ in ends):
+                out.append(Drag(start, quat, shift))
+        return out
+    finally:
+        proxy.remove()
 
 
 def _closing_yaws(obj: SimObject, body_yaw: float, walls: float | None) -> list[tuple[float, float]]:

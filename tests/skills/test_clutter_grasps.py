@@ -164,3 +164,27 @@ def test_a_refused_step_is_not_planned_again_in_the_same_scene(monkeypatch) -> N
         assert calls["n"] == 2
     finally:
         ex.close()
+
+
+def test_a_cube_by_a_deep_boxs_end_wall_is_dragged_inwards_then_picked() -> None:
+    import pybullet as p
+
+    with build_world(_task("gsrgen_ss_complex_00"), seed=0) as world:
+        c = world.client
+        box = world.objects["yellow_lid_box"]
+        # the scene after the lid was opened and the mug on it and the cube in the middle were taken
+        # away (set aside directly: this test is about the cube left by the end wall)
+        for oid, xy in (("yellow_mug1", (-0.2, -0.5)), ("blue_cube1", (-0.2, 0.5))):
+            body = world.objects[oid].body
+            _, quat = p.getBasePositionAndOrientation(body, physicsClientId=c)
+            p.resetBasePositionAndOrientation(body, (xy[0], xy[1], 0.03), quat, physicsClientId=c)
+        p.resetJointState(box.body, box.links["lid"], 0.255, physicsClientId=c)
+        world.step(120)
+        cube = world.objects["blue_cube2"]
+        assert support_of(world, cube.id) == ("in", "yellow_lid_box")
+        drags = hc.plan_drag(world, cube)
+        assert drags and all(0.03 < float(np.linalg.norm(d.shift)) < 0.1 for d in drags)
+        # no grasp fits where it lies: every candidate's hand or fingers meet the box
+        assert all(_proxy_hits(world, cube, *cand) for cand in pick_candidates(world, cube))
+        pick(world, Motion(world, 30000), cube)
+        assert support_of(world, cube.id) == ("held", "")
