@@ -374,6 +374,9 @@ def main() -> None:
     except GSRError as exc:
         typer.echo(f"error: {exc}", err=True)
         sys.exit(1)
+    except (RecursionError, MemoryError) as exc:  # e.g. a formula nested thousands deep
+        typer.echo(f"error: the input is too large or too deeply nested ({type(exc).__name__})", err=True)
+        sys.exit(1)
     except KeyboardInterrupt:
         typer.echo("interrupted", err=True)
         sys.exit(130)

@@ -188,3 +188,33 @@ def test_an_unexpected_planner_failure_is_one_line(blocks: tuple[Path, Path], mo
     assert plan_command(blocks[0], blocks[1], "lazy-ff", 5.0, None) == 1
     err = capsys.readouterr().err
     assert err.startswith("error: internal planner error (TypeError") and err.count("\n") == 1
+
+
+def test_gsr_validate_on_a_deeply_nested_problem_is_one_line(
+    blocks: tuple[Path, Path], tmp_path: Path
+) -> None:
+    import subprocess
+    import sys
+
+    deep = "(not " * 3000 + "(clear a)" + ")" * 3000
+    problem = tmp_path / "deep.pddl"
+    problem.write_text(f"(define (problem p) (:domain blocks) (:objects a) (:init) (:goal {deep}))")
+    plan = tmp_path / "plan.txt"
+    plan.write_text("(pick-up a)\n")
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "from gsr.cli import main; main()",
+            "validate",
+            str(blocks[0]),
+            str(problem),
+            str(plan),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 1
+    assert done.stderr.startswith("error:") and done.stderr.count("\n") == 1, done.stderr
+    assert "Traceback" not in done.stderr
