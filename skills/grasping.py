@@ -223,22 +223,23 @@ def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tupl
     from gsr.skills.hand_clearance import clear_grasps, hand_clear
 
     model = [(pos, quat, min(GRIPPER.open_width, w + 0.035)) for pos, quat, w in grasp_candidates(world, obj)]
-    # the model's grasps whose hand or fingers would go into something come last (each costs a base
-    # search with IK before the collision check refuses it)
-    clear = [hand_clear(world, obj, pos, quat, opening) for pos, quat, opening in model]
-    model = [c for c, ok in zip(model, clear, strict=True) if ok] + [
-        c for c, ok in zip(model, clear, strict=True) if not ok
-    ]
     whole = [g for g in obj.model.grasps if math.hypot(*g.xyz[:2]) < 1e-6]
     sx, sy = obj.model.extent[:2]
     if not whole or (obj.model.name != "mug" and min(sx, sy) > MAX_CLOSING):
         return model[:12]
     site, _ = _site_pose(world, obj, whole[0])
     cleared = [(g.pos, g.quat, g.opening) for g in clear_grasps(world, obj, site, whole[0].width)]
-    inside = (support_of(world, obj.id) or ("", ""))[0] == "in"
-    n_ok = sum(clear)
-    ordered = cleared + model if inside else model[: min(n_ok, 10)] + cleared + model[min(n_ok, 10) :]
-    return ordered[:MAX_CANDIDATES]
+    if (support_of(world, obj.id) or ("", ""))[0] == "in":
+        return (cleared + model)[:MAX_CANDIDATES]
+    # beside tall neighbours the model's grasps keep their order (the leaning ones hold a package the
+    # way a basket's walls let it go in again); those whose hand or fingers the proxy finds in
+    # something come after the cleared ones (each costs a base search with IK before it is refused)
+    ok = [hand_clear(world, obj, pos, quat, opening) for pos, quat, opening in model]
+    first = [c for c, fits in zip(model[:10], ok[:10], strict=True) if fits]
+    later = [c for c, fits in zip(model[:10], ok[:10], strict=True) if not fits] + model[10:]
+    if not first:
+        return (cleared + later)[:MAX_CANDIDATES]
+    return (model[:10] + cleared + model[10:])[:MAX_CANDIDATES]
 
 
 def pick(world: World, m: Motion, obj: SimObject) -> None:
