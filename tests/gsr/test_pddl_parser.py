@@ -280,7 +280,9 @@ def test_problem_semantic_errors(text: str, message: str, marker: str) -> None:
 
 def test_negative_init_literals_are_redundant_under_the_closed_world() -> None:
     # Fast Downward accepts (not (p)) in :init; it states what the closed world already says
-    text = "(define (problem p) (:domain d) (:objects a b) (:init (clear a) (not (clear b))) (:goal (clear b)))"
+    text = (
+        "(define (problem p) (:domain d) (:objects a b) (:init (clear a) (not (clear b))) (:goal (clear b)))"
+    )
     problem = parse_problem(text, domain=DOM)
     assert problem.init == frozenset({Atom("clear", ("a",))})
 
@@ -310,3 +312,23 @@ def test_load_errors_name_the_file(tmp_path: Path) -> None:
         load_domain(bad)
     with pytest.raises(ParseError, match="cannot read file"):
         load_pddl(tmp_path / "missing.pddl")
+
+
+def test_names_may_start_with_a_digit_numbers_stay_numbers() -> None:
+    # Fast Downward reads (:objects 1 2 3); a number is still read where a number is expected
+    domain = parse_domain(
+        "(define (domain n) (:requirements :action-costs) (:predicates (p ?x) (n ?x ?y))"
+        " (:functions (d ?x ?y) (total-cost))"
+        " (:action go :parameters (?x ?y) :precondition (and (p ?x) (n ?x ?y))"
+        "  :effect (and (p ?y) (not (p ?x)) (increase (total-cost) (d ?x ?y)))))"
+    )
+    problem = parse_problem(
+        "(define (problem q) (:domain n) (:objects 1 2 3x)"
+        " (:init (p 1) (n 1 2) (n 2 3x) (= (d 1 2) 10) (= (d 2 3x) 2.5) (= (total-cost) 0))"
+        " (:goal (p 3x)) (:metric minimize (total-cost)))",
+        domain=domain,
+    )
+    assert set(problem.objects) == {"1", "2", "3x"}
+    assert Atom("n", ("1", "2")) in problem.init
+    assert problem.init_numeric[Atom("d", ("1", "2"))] == 10.0
+    assert problem.init_numeric[Atom("d", ("2", "3x"))] == 2.5
