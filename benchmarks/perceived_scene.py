@@ -132,7 +132,8 @@ class PerceivedScene:
 
         Lifted, an object is seen from another side and may be named otherwise (a bottle read as a mug),
         so the tracker gives it a fresh id; but the robot knows what it picked up (its step, ``held`` in
-        the expected graph) and the gripper says it holds one object: that object is the one picked."""
+        the expected graph) and the gripper says it holds one object: that object is the one picked, with
+        the category and colour it had before it was lifted, and the pose and box seen now."""
         grasped = {n.id for n in expected.nodes if "held" in n.states} if expected is not None else set()
         ids = {n.id for n in observed.nodes}
         if len(held) != 1 or len(grasped) != 1 or held == grasped:
@@ -143,7 +144,26 @@ class PerceivedScene:
         from gsr.perception.track import rename_graph
 
         self.binding[old] = self.binding.pop(new)
-        return rename_graph(observed, {new: old}), {old}
+        renamed = rename_graph(observed, {new: old})
+        before = (self.belief.node_map() if self.belief is not None else {}).get(old)
+        if before is not None:  # what it is stays what the robot picked; where it is comes from the cameras
+            seen = renamed.node(old)
+            geometry = {
+                k: v for k, v in seen.attributes.items() if k.startswith("size_") or k in ("points", "views")
+            }
+            kept = before.model_copy(
+                update={
+                    "pose": seen.pose,
+                    "bbox": seen.bbox,
+                    "states": seen.states,
+                    "attributes": {
+                        **{k: v for k, v in before.attributes.items() if k != "observed"},
+                        **geometry,
+                    },
+                }
+            )
+            renamed = renamed.with_nodes([kept])
+        return renamed, {old}
 
     def world_id(self, node_id: str) -> str:
         """The world's node id of a perceived node (for the skills), or the id itself when unbound."""

@@ -670,9 +670,16 @@ class Tracker:
         prev = [n for n in (previous.nodes if previous is not None else ()) if not n.attributes.get("map")]
         new = [n for n in observed.nodes if not n.attributes.get("map")]
         mapping: dict[str, str] = {}
-        # objects (and grounds) first: by place, then by appearance for what moved
-        new_obj = [n for n in new if n.parent is None]
-        old_obj = [n for n in prev if n.parent is None]
+        # the ground is one surface: the one ground of a kind now is the one before, wherever the cameras
+        # saw its middle (an arm over the table shifts what is visible of it)
+        for kind in GROUNDS:
+            now_g = [n for n in new if n.parent is None and n.category == kind]
+            old_g = [n for n in prev if n.parent is None and n.category == kind]
+            if len(now_g) == 1 and len(old_g) == 1:
+                mapping[now_g[0].id] = old_g[0].id
+        # objects first: by place, then by appearance for what moved
+        new_obj = [n for n in new if n.parent is None and n.id not in mapping]
+        old_obj = [n for n in prev if n.parent is None and n.id not in mapping.values()]
         for cost in (_place_cost, _look_cost):
             free_old = [o for o in old_obj if o.id not in mapping.values()]
             pairs = {

@@ -279,10 +279,15 @@ def test_the_object_in_the_gripper_keeps_the_id_of_the_object_the_step_grasped()
 
     scene = PerceivedScene.__new__(PerceivedScene)  # no world needed for the rule itself
     scene.binding = {"bottle_1": "bbq_sauce", "mug_3": "bbq_sauce", "basket_1": "basket"}
-    lifted = _graph([_node("mug_3", "mug"), _node("basket_1", "basket")], [])  # renamed once lifted
+    scene.belief = _graph([_node("bottle_1", "bottle", attributes={"color": "red"})], [])
+    lifted = _graph([_node("mug_3", "mug", x=0.3), _node("basket_1", "basket")], [])  # renamed once lifted
     expected = _graph([_node("bottle_1", "bottle", states=("held",)), _node("basket_1", "basket")], [])
     graph, held = scene._keep_grasped_id(lifted, {"mug_3"}, expected)
     assert held == {"bottle_1"} and {n.id for n in graph.nodes} == {"bottle_1", "basket_1"}
+    picked = graph.node("bottle_1")  # what it is from before the lift, where it is from now
+    assert (
+        picked.category == "bottle" and picked.attributes["color"] == "red" and picked.pose.position.x == 0.3
+    )
     assert scene.binding["bottle_1"] == "bbq_sauce" and "mug_3" not in scene.binding
     # without the robot's own step, or when the grasped id is seen elsewhere, nothing is renamed
     assert scene._keep_grasped_id(lifted, {"mug_3"}, None) == (lifted, {"mug_3"})

@@ -243,3 +243,20 @@ def test_seen_open_needs_the_no_oracle_protocol_on_the_command_line():
     )
     assert res.returncode == 1 and "--seen-open needs --no-oracle" in res.stderr
     assert "Traceback" not in res.stderr and len(res.stderr.strip().splitlines()) == 1
+
+
+def test_the_one_ground_keeps_its_id_wherever_its_visible_middle_moved():
+    from gsr.perception.track import Tracker
+
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    def table_node(nid: str, x0: float) -> Node:
+        box = BoundingBox(min=Vec3(x=x0, y=-0.6, z=-0.05), max=Vec3(x=x0 + 0.3, y=0.6, z=0.0))
+        return Node(
+            id=nid, category="table", bbox=box, attributes={"size_x": 0.3, "size_y": 1.2, "size_z": 0.05}
+        )
+
+    tracker = Tracker()
+    before = tracker.assign(SceneGraph(nodes=(table_node("table_1", -0.3),), edges=()), None)
+    after = tracker.assign(SceneGraph(nodes=(table_node("table_1", 0.1),), edges=()), before)
+    assert [n.id for n in after.nodes] == [before.nodes[0].id]
