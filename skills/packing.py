@@ -17,8 +17,8 @@ Three rectangles are kept free, each in the container's frame:
 
 Candidates are the grid of the free floor plus every position that touches a wall or a neighbour
 (bottom-left fill), so objects are set side by side as tight as the fingers allow. Of the free ones,
-the row farthest from the robot (for a drawer: deepest in, next to the carcass) fills first, from one
-side to the other, which leaves the near part free for the hand and the next objects. A drawer is
+a drawer's deepest row (next to the carcass) fills first, which leaves its front free for the hand and
+the next objects; any other container's row nearest the robot, the easiest to reach. A drawer is
 packed in the part that sticks out of its cabinet: the cabinet's other links are obstacles shape by
 shape (a pull bar is a 1.2 cm bar, not the whole width of the drawer above). When the floor is full
 the object goes on the lowest neighbour: a second layer (never on the cabinet).
@@ -49,6 +49,13 @@ FIXTURE_ROOM = 0.008
 ROW = 0.006
 #: How many further objects like the held one the choice of a spot looks ahead for.
 LOOKAHEAD = 6
+#: How high above the container's floor the fingertips are when the object is let go (m).
+FINGERTIP = 0.01
+#: Half the thickness (m) of the strips that stand for a container's walls round its interior.
+WALL = 0.005
+#: How much higher (m) than its release point the hand may stop on a wall top and let go (the place
+#: skill allows 6 cm; 1.5 cm of it kept as margin for the estimate of the hand's underside).
+WALL_DROP = 0.045
 
 #: An axis-aligned rectangle in the container's frame: centre (u, v), half sizes, top height (m).
 Rect = tuple[np.ndarray, np.ndarray, float]
@@ -181,7 +188,8 @@ class _Held:
     delta: float
     body: np.ndarray  # half size of the object's footprint (the spot is its centre)
     grasp: np.ndarray  # the grasp point's offset from the spot
-    fingers: np.ndarray  # half size of the fingers' rectangle round the grasp point
+    fingers: np.ndarray  # half size of the fingers' rectangle round the grasp point (opened to let go)
+    closed: np.ndarray  # the same while they still hold the object (they open only at the bottom)
     hand: np.ndarray  # half size of the hand's footprint round the grasp point
 
 
@@ -198,8 +206,9 @@ def _held(world: World, obj: SimObject, yaw: float, closing_yaw: float, delta: f
     ce, se = abs(math.cos(e1)), abs(math.sin(e1))
     reach = finger_reach(world) + RELEASE_OPEN / 2
     fingers = np.array([ce * reach + se * FINGER_HALF, se * reach + ce * FINGER_HALF])
+    closed = fingers - RELEASE_OPEN / 2 * np.array([ce, se])
     hand = np.array([ce * HAND_HALF[0] + se * HAND_HALF[1], se * HAND_HALF[0] + ce * HAND_HALF[1]])
-    return _Held(delta, body, grasp, fingers, hand)
+    return _Held(delta, body, grasp, fingers, closed, hand)
 
 
 def _overlaps(points: np.ndarray, half: np.ndarray, rects: list[Rect]) -> np.ndarray:
@@ -222,7 +231,7 @@ def _candidates(
     n: int = 13,
 ) -> np.ndarray:
     """Spots to try: a grid over ``lo..hi`` and every position touching a wall or an obstacle."""
-    wall = half_room - h.fingers
+    wall = half_room - h.closed
     axes = []
     for k in range(2):
         vals = [*np.linspace(lo[k], hi[k], n)]
@@ -262,12 +271,26 @@ def packed_spot(
     rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
     fixed = _fixture_rects(world, cont, link, rot, centre, floor) if drawer else []
     movable = _movable_rects(world, obj, cont, rot, centre, half_room, floor)
-    # which way is "far" (filled first): into a drawer's cabinet, else away from the robot (+x)
+    # the container's own walls: the hand may reach over them only where it stops at most a few
+    # centimetres higher than it would let go (a 3 cm cube in an 8.5 cm box: let go 3-4 cm up; a
+    # small package in a deep basket: the hand must go down between the walls)
+    rim = float(world.aabb(cont.body, link)[1][2])
+    walls = [
+        (np.array([sx * (half_room[0] + WALL), 0.0]), np.array([WALL, half_room[1] + 2 * WALL]), rim)
+        for sx in (-1, 1)
+    ] + [
+        (np.array([0.0, sy * (half_room[1] + WALL)]), np.array([half_room[0] + 2 * WALL, WALL]), rim)
+        for sy in (-1, 1)
+    ]
+    high = [w for w in walls if w[2] - (floor + obj.model.extent[2] + 0.02) > WALL_DROP]
+    # which row fills first: a drawer's deepest (next to the carcass, the front stays free for the
+    # hand); any other container's nearest the robot (-x), the easiest to reach (a basket's far side
+    # was out of the arm's reach from every base spot)
     if drawer:
         part = world.parts[target][1]
         far_world = -world.joint_axis(cont, part)[:2]
     else:
-        far_world = np.array([1.0, 0.0])
+        far_world = np.array([-1.0, 0.0])
     far = rot.T @ far_world
     k_row = int(np.argmax(np.abs(far)))
     sign = 1.0 if far[k_row] > 0 else -1.0
@@ -283,17 +306,19 @@ def packed_spot(
     # the wrist's last joint cannot make is left out
     turns = [delta, delta + math.pi / 2, delta - math.pi / 2]
     deltas = [first] + [d for d in turns if abs(d - first) > 1e-6 and _wrist_can(world, d)]
-    # of the spots each turn allows (the best of the farthest rows), the one that leaves room for the
+    # of the spots each turn allows (the best of the first and the last row), the one that leaves room for the
     # most further objects like this one (a mug whose handle can only point out of the drawer goes in
-    # the front row, so the back row still takes the others); then the farthest, then the smallest turn
+    # the front row, so the back row still takes the others); then the row that fills first, then the smallest turn
     top = floor + float(world.body_aabb(obj.body)[1][2] - world.body_aabb(obj.body)[0][2])
     future = [_held(world, obj, yaw, closing_yaw, first + k * math.pi / 2) for k in range(4)]
     best: tuple[tuple, np.ndarray, float] | None = None
     for d in deltas:
         h = _held(world, obj, yaw, closing_yaw, d)
-        for rank, row, uv in _floor_spots(h, half_room, floor, obj, fixed, movable, k_row, sign):
+        for rank, row, uv in _floor_spots(h, half_room, floor, obj, fixed, movable, k_row, sign, high):
             placed = [*movable, (uv, h.body, top)]
-            more = _fill_count(future, half_room, floor, obj, fixed, placed, k_row, sign, LOOKAHEAD)
+            more = _fill_count(
+                future, half_room, floor, obj, fixed, placed, k_row, sign, high, LOOKAHEAD, rank
+            )
             key = (rank, -more, row, 0.0 if drawer else abs(d - first), abs(d))
             if best is None or key < best[0]:
                 best = (key, uv, d)
@@ -326,7 +351,7 @@ def _movable_rects(
             continue
         lo, hi = world.body_aabb(o.body)
         local = rot.T @ ((lo[:2] + hi[:2]) / 2 - centre[:2])
-        if np.any(np.abs(local) > half_room + 0.1) or hi[2] < floor - 0.005:
+        if np.any(np.abs(local) > half_room + HAND_HALF[0] + 0.05) or hi[2] < floor - 0.005:
             continue
         half = _half(2 * footprint(o.model)[1], world.yaw_of(o.body) - yaw)
         # a tipped-over object: its world box is the better guess
@@ -356,13 +381,15 @@ def _floor_spots(
     movable: list[Rect],
     k_row: int,
     sign: float,
+    walls: list[Rect],
     rows: int = 2,
     grid: int = 13,
 ) -> list[tuple[int, float, np.ndarray]]:
-    """``(rank, row key, spot)`` of the best floor spot in the farthest row for one wrist turn and (with
+    """``(rank, row key, spot)`` of the best floor spot in the row that fills first for one wrist turn and (with
     ``rows`` > 1) of the nearest row; empty when the floor has no room for the object and the fingers. Rank 0: room for the
     whole hand too; 1: the hand would meet a movable neighbour taller than its underside (it then
-    stops above it and lets go higher)."""
+    stops above it and lets go higher). ``walls``: the container's own walls where they are too high for
+    the hand to reach over them (they count for the hand only: the fingers stay inside anyway)."""
     lo = -half_room + h.body + GAP_ACROSS
     hi = half_room - h.body - GAP_ACROSS
     if np.any(lo > hi + 1e-9):
@@ -370,20 +397,28 @@ def _floor_spots(
     # what stands higher than the hand's underside at release needs the hand's whole footprint clear
     hand_bottom = floor + obj.model.extent[2] + 0.02
     tall_fixed = [r for r in fixed if r[2] > hand_bottom]
-    tall_movable = [r for r in movable if r[2] > hand_bottom]
+    tall_movable = [r for r in movable if r[2] > hand_bottom] + walls
     obstacles = fixed + movable
     pts = _candidates(h, lo, hi, half_room, obstacles, tall_fixed + tall_movable, grid)
-    # the fingers stay inside the walls, the object and the fingers off everything, the hand off the
-    # cabinet (with a little room)
+    # the fingers stay inside the walls and off the cabinet, the object off everything, the hand off
+    # the cabinet (with a little room)
     g = pts + h.grasp
-    inside = np.all(np.abs(g) <= half_room - h.fingers + 1e-9, axis=1)
-    ok = inside & ~_overlaps(pts, h.body + GAP_ACROSS, obstacles) & ~_overlaps(g, h.fingers, obstacles)
+    # (the fingers open a little at the bottom: against a wall that pushes nothing)
+    inside = np.all(np.abs(g) <= half_room - h.closed + 1e-9, axis=1)
+    ok = inside & ~_overlaps(pts, h.body + GAP_ACROSS, obstacles) & ~_overlaps(g, h.fingers, fixed)
     ok &= ~_overlaps(g, h.hand + FIXTURE_ROOM, tall_fixed)
+    # fingers over a neighbour stop on its top and let go that much higher: allowed up to WALL_DROP
+    finger_top = _highest_met(g, h.fingers, movable)
+    ok &= finger_top - (floor + FINGERTIP) <= WALL_DROP
     if not np.any(ok):
         return []
-    pts, g = pts[ok], g[ok]
-    rank = _overlaps(g, h.hand, tall_movable).astype(int)
-    # the farthest row first, then along the row from one side
+    pts, g, finger_top = pts[ok], g[ok], finger_top[ok]
+    # rank: 0 with room for the fingers and the whole hand, else by how much higher the hand stops on
+    # what it meets (2 cm steps: a neighbour under the fingers, a basket's wall, a milk carton beside it)
+    hand_top = _highest_met(g, h.hand, tall_movable)
+    excess = np.maximum(finger_top - (floor + FINGERTIP), hand_top - hand_bottom)
+    rank = np.where(np.isfinite(excess), 1 + np.round(np.maximum(excess, 0.0) / 0.02), 0).astype(int)
+    # the first row first, then along the row from one side
     row = np.round(-sign * pts[:, k_row] / ROW)
     order = np.lexsort((pts[:, 1 - k_row], row, rank))
     i = int(order[0])
@@ -397,6 +432,17 @@ def _floor_spots(
     return out
 
 
+def _highest_met(points: np.ndarray, half: np.ndarray, rects: list[Rect]) -> np.ndarray:
+    """For each point, the top of the highest of ``rects`` the rectangle ``half`` round it meets
+    (-inf when it meets none)."""
+    if not rects:
+        return np.full(len(points), -np.inf)
+    oc = np.array([r[0] for r in rects])
+    oh = np.array([r[1] for r in rects])
+    meets = np.all(np.abs(points[:, None, :] - oc[None]) < half[None, None, :] + oh[None] - 1e-6, axis=2)
+    return np.where(meets, np.array([r[2] for r in rects])[None, :], -np.inf).max(axis=1)
+
+
 def _fill_count(
     helds: list[_Held],
     half_room: np.ndarray,
@@ -406,17 +452,19 @@ def _fill_count(
     movable: list[Rect],
     k_row: int,
     sign: float,
+    walls: list[Rect],
     limit: int,
+    max_rank: int = 0,
 ) -> int:
     """How many more objects like the held one (any of ``helds``' turns) still fit on the floor with the
-    hand's room, set one by one at the best spot (at most ``limit``)."""
+    hand's room (spots of rank ``max_rank`` at most), set one by one at the best spot (at most ``limit``)."""
     placed = list(movable)
     top = floor + obj.model.extent[2]
     for n in range(limit):
         found = None
         for h in helds:
-            spots = _floor_spots(h, half_room, floor, obj, fixed, placed, k_row, sign, rows=1, grid=7)
-            if spots and spots[0][0] == 0 and (found is None or spots[0][1] < found[0]):
+            spots = _floor_spots(h, half_room, floor, obj, fixed, placed, k_row, sign, walls, rows=1, grid=7)
+            if spots and spots[0][0] <= max_rank and (found is None or spots[0][1] < found[0]):
                 found = (spots[0][1], spots[0][2], h)
         if found is None:
             return n

@@ -91,8 +91,9 @@ def test_six_gsr_bench_mugs_go_on_the_floor_of_a_drawer_with_the_hand_clear_of_t
 
 
 @pytest.mark.physics
-def test_cubes_fill_a_gsr_bench_box_in_rows_from_the_far_wall() -> None:
-    """Eight 3 cm cubes into a 17 x 25 cm GSR-Bench box: all on its floor, the first one at the far wall."""
+def test_cubes_fill_a_gsr_bench_box_in_rows_from_the_near_wall() -> None:
+    """Eight 3 cm cubes into a 17 x 25 cm GSR-Bench box: all on its floor, the first one at the wall
+    nearest the robot (the easiest to reach)."""
     import pybullet as p
     from gsr.benchmarks.suites.gsr_bench_gen import generate_cell
     from gsr.skills.packing import packed_spot
@@ -114,7 +115,7 @@ def test_cubes_fill_a_gsr_bench_box_in_rows_from_the_far_wall() -> None:
             first = spot if first is None else first
             _set_down(world, cube, spot, delta)
             assert support_of(world, cube.id) == ("in", box.id), cube.id
-        # the first cube went to the far side (away from the robot), leaving the near part free
-        assert first[0] > (box_lo[0] + box_hi[0]) / 2
+        # the first cube went to the near side (towards the robot, which stands at -x)
+        assert first[0] < (box_lo[0] + box_hi[0]) / 2
     finally:
         world.close()
