@@ -51,6 +51,16 @@ OUT_MIN_PIXELS = 25
 FLOOR_SHARE = 0.2
 FLOOR_GAP = 0.06
 FLOOR_BELOW = 0.01
+#: An attached drawer of its own segment: its bottom at least HOVER above the support, reaching back to
+#: within REACH_BACK of the cabinet's front (m).
+HOVER = 0.02
+REACH_BACK = 0.1
+#: A handle-sized piece no thicker than this (m) standing off a cabinet's face is a pull bar (cubes are not
+#: that thin).
+HANDLE_THICK = 0.03
+#: ... and spanning at least this share of the cabinet's width (a drawer is nearly as wide as its
+#: cabinet; a bowl standing in the drawer is not).
+DRAWER_WIDTH = 0.6
 #: Marks a handle segment merged into the drawer it belongs to (dropped from the list).
 ABSORBED = "_absorbed"
 
@@ -79,7 +89,7 @@ def split_drawer_fronts(seg: Segments, parts: list[Part]) -> list[Part]:
     """Give closed drawers their front bands and every drawer a parent (see the module docstring)."""
     hosts: dict[int, list[tuple[int, float, np.ndarray, np.ndarray]]] = {}
     for k, part in enumerate(parts):
-        if part.category != "drawer":
+        if part.category != "drawer" or part.parent is not None:  # (a pulled-out drawer has its cabinet)
             continue
         pts, _, _ = _cloud(seg, part.mask)
         if len(pts) < 3:
@@ -202,6 +212,7 @@ def split_open_drawers(seg: Segments, parts: list[Part]) -> list[Part]:
             b = int(np.argmin([abs(height - hh) for hh in heights]))
             out[first + b].mask = out[first + b].mask | out[j].mask
             out[j].category = ABSORBED
+    attached_drawers(seg, out)
     keep = [i for i, p in enumerate(out) if p.category != ABSORBED]
     index = {old: new for new, old in enumerate(keep)}
     for i in keep:
@@ -212,7 +223,7 @@ def split_open_drawers(seg: Segments, parts: list[Part]) -> list[Part]:
 
 def _protrusion(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
     """(mask, outward axis, front offset) of what stands out beyond the top face's edge, or None."""
-    pts, nrm = seg.points[mask], seg.normals[mask]
+    pts = seg.points[mask]
     hgt = seg.height[mask]
     ok = np.all(np.isfinite(pts), axis=1) & np.isfinite(hgt)
     if ok.sum() < TOP_MIN_PIXELS * 2:
@@ -220,14 +231,10 @@ def _protrusion(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray
     extent = np.ptp(pts[ok], axis=0)
     if max(extent[0], extent[1]) < HOST_MIN_EXTENT:
         return None
-    top = float(np.percentile(hgt[ok], 98.0))
-    up = np.abs(np.nan_to_num(nrm[:, 2])) > TOP_UP
-    top_face = ok & up & (hgt > top - TOP_BAND)
-    if top_face.sum() < TOP_MIN_PIXELS:
+    face = _top_face(seg, mask)
+    if face is None:
         return None  # no view of the top: no edge to measure from
-    xy = pts[top_face, :2]
-    centre = xy.mean(axis=0)
-    _, vecs = np.linalg.eigh(np.cov((xy - centre).T))
+    xy, centre, vecs, top = face
     below = ok & (hgt < top - BELOW_TOP)
     best: tuple[int, np.ndarray, float, np.ndarray] | None = None
     for v in (vecs[:, 0], vecs[:, 1]):
@@ -257,6 +264,79 @@ def _protrusion(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray
     if full.sum() > 0.6 * mask.sum():  # most of the segment: not a cabinet with a drawer out
         return None
     return full, axis, front + float(centre @ axis)
+
+
+def _top_face(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, float] | None:
+    """(xy of the top face's points, their centre, their principal axes, top height) of a segment whose
+    top is seen, else None."""
+    pts, nrm, hgt = seg.points[mask], seg.normals[mask], seg.height[mask]
+    ok = np.all(np.isfinite(pts), axis=1) & np.isfinite(hgt)
+    if ok.sum() < TOP_MIN_PIXELS:
+        return None
+    top = float(np.percentile(hgt[ok], 98.0))
+    up = np.abs(np.nan_to_num(nrm[:, 2])) > TOP_UP
+    top_face = ok & up & (hgt > top - TOP_BAND)
+    if top_face.sum() < TOP_MIN_PIXELS:
+        return None
+    xy = pts[top_face, :2]
+    centre = xy.mean(axis=0)
+    _, vecs = np.linalg.eigh(np.cov((xy - centre).T))
+    return xy, centre, vecs, top
+
+
+def attached_drawers(seg: Segments, parts: list[Part]) -> None:
+    """Segments of their own that are pulled-out drawers of a cabinet in the same view, whatever they were
+    recognised as (an open drawer's box looks like a tray or a caddy): a piece hovering in front of the
+    cabinet's face (its bottom above the support, ``HOVER`` m at least), within the cabinet's width and
+    spanning most of it, below its top, reaching back to its front and standing out of it. Relabelled ``drawer``, parent the cabinet."""
+    from scipy.ndimage import binary_dilation
+
+    for k, host in enumerate(parts):
+        if host.category != "cabinet":
+            continue
+        face = _top_face(seg, host.mask)
+        if face is None:
+            continue
+        xy, centre, vecs, top = face
+        extent = np.ptp(xy, axis=0)
+        if max(extent[0], extent[1]) < HOST_MIN_EXTENT:
+            continue
+        near = binary_dilation(host.mask, np.ones((3, 3), bool), iterations=2)
+        for j, piece in enumerate(parts):
+            if j == k or piece.category in ("drawer", "table", "cabinet") or not (piece.mask & near).any():
+                continue
+            pts, _, _ = _cloud(seg, piece.mask)
+            hgt = seg.height[piece.mask]
+            hgt = hgt[np.isfinite(hgt)]
+            if len(pts) < OUT_MIN_PIXELS or hgt.size == 0 or np.percentile(hgt, 2.0) < HOVER:
+                continue
+            if np.percentile(hgt, 98.0) > top - BELOW_TOP:
+                continue
+            size = np.sort(np.percentile(pts, 95.0, axis=0) - np.percentile(pts, 5.0, axis=0))
+            if size[-1] <= HANDLE_SIZE and size[0] <= HANDLE_THICK:
+                face = _face_behind(seg, parts, j, pts)
+                if face is not None and face[0] == k:  # a pull bar standing off the cabinet's face
+                    piece.category = "drawer"  # (a handle: split_drawer_fronts gives it its band)
+                continue
+            for v in (vecs[:, 0], vecs[:, 1]):
+                hit = False
+                for axis in (v, -v):
+                    front = float(np.percentile((xy - centre) @ axis, 99.0))
+                    side = np.array([-axis[1], axis[0]])
+                    span = (xy - centre) @ side
+                    proj = (pts[:, :2] - centre) @ axis
+                    lat = (pts[:, :2] - centre) @ side
+                    inside = (lat > span.min() - OUT_MARGIN) & (lat < span.max() + OUT_MARGIN)
+                    if (
+                        inside.mean() >= 0.8
+                        and np.percentile(proj, 5.0) <= front + REACH_BACK
+                        and np.percentile(proj, 95.0) > front + OUT_MARGIN
+                        and np.ptp(lat) >= max(OUT_MIN_WIDTH, DRAWER_WIDTH * np.ptp(span))
+                    ):
+                        piece.category, piece.parent, hit = "drawer", k, True
+                        break
+                if hit:
+                    break
 
 
 def _handles_on(

@@ -106,3 +106,39 @@ def test_a_pulled_out_drawer_is_cut_out_of_the_cabinet_segment_that_swallowed_it
     assert not (host.mask & cut.mask).any() and (host.mask | cut.mask).sum() == whole.sum()
     alone = split_open_drawers(seg, [Part(cabinet.copy(), "cabinet", 0.9, None, 0)])
     assert len(alone) == 1 and np.array_equal(alone[0].mask, cabinet)
+
+
+def test_a_pulled_out_drawer_of_its_own_segment_read_as_something_else_becomes_the_cabinets_drawer():
+    """The drawer's box segmented on its own but recognised as, say, a caddy: hovering in front of the
+    cabinet, within and across most of its width, it is the cabinet's drawer; objects on the table
+    (resting on the support) keep their names."""
+    import pytest
+
+    pytest.importorskip("pybullet")
+    from gsr.perception.recognize_parts import split_open_drawers
+    from gsr.perception.segment import segment
+
+    from tests.perception.scenes import FRONT, frames, hand_scene
+
+    scene, _ = hand_scene()
+    try:
+        (frame,) = frames(scene, FRONT)
+    finally:
+        scene.close()
+    seg, _ = segment(frame.rgb, frame.depth, frame.camera)
+    ids = {lab.id: k for k, lab in frame.labels.items() if lab.id}
+    truth = frame.masks[:: seg.stride, :: seg.stride]
+    cabinet = (truth == ids["cabinet_1"]) | (truth == ids["cabinet_1/drawer_high"])
+    parts = [
+        Part(cabinet, "cabinet", 0.9, None, 0),
+        Part(truth == ids["cabinet_1/drawer_low"], "caddy", 0.9, None, 1),
+        Part(truth == ids["red_cube_1"], "cube", 0.9, None, 2),
+        Part(truth == ids["green_cube_1"], "cube", 0.9, None, 3),
+    ]
+    out = split_open_drawers(seg, parts)
+    assert [(p.category, p.parent) for p in out] == [
+        ("cabinet", None),
+        ("drawer", 0),
+        ("cube", None),
+        ("cube", None),
+    ]
