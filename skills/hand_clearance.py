@@ -219,51 +219,66 @@ PRESS = 0.004  # m the lowest fingertip is set below the object's top: it holds 
 
 
 def plan_drag(world: World, obj: SimObject) -> list[Drag]:
-    """A drag that brings a small solid lying near a container's end wall towards the middle, where
-    a hand along the container fits: the closed fingertips press on its top and the hand, tilted so
-    its end over the wall stays above it, moves inwards. The hand poses whose proxy clears the walls
-    and neighbours, best first; none when the object is not in a container, already near its
-    middle, or something else lies on its way."""
+    """Drags along a container's floor that bring a small solid to where a grasp fits: the closed
+    fingertips press on its top and the hand, lying along the container and tilted so its end over a
+    wall stays above it, moves it. Towards the middle when it lies near an end wall (a hand along the
+    container fits there), otherwise 2 or 4 cm along either axis of the container to where
+    :func:`clear_grasps` finds a grasp (away from a packed neighbour). Only moves whose way is free of
+    other objects and whose hand proxy clears walls and neighbours, best first; none when the object
+    is in no container."""
+    import pybullet as p
+
     frame = container_frame(world, obj)
-    if frame is None:
+    if frame is None or not obj.model.grasps:
         return []
     centre, yaw, half = frame
     long_yaw = yaw + (math.pi / 2 if half[1] > half[0] else 0.0)
     axis = np.array([math.cos(long_yaw), math.sin(long_yaw), 0.0])
+    across = np.array([-axis[1], axis[0], 0.0])
     lo, hi = world.body_aabb(obj.body)
     here = (lo + hi) / 2
     along = float((here - centre) @ axis)
-    if abs(along) <= REACHABLE:
-        return []
-    shift = -axis * (along - math.copysign(REACHABLE * 0.5, along))
-    # the object's way: nothing else in the container along it (its own footprint swept, 3 mm apart)
-    import pybullet as p
-
+    site_def = obj.model.grasps[0]
+    site = world.to_world(obj.body, obj.links[site_def.link], site_def.xyz)
+    shifts: list[tuple[np.ndarray, bool]] = []  # (shift, whether a grasp is known to fit after it)
+    if abs(along) > REACHABLE:
+        shifts.append((-axis * (along - math.copysign(REACHABLE * 0.5, along)), True))
+    shifts += [(d * u * sign, False) for d in (0.02, 0.04) for u in (axis, across) for sign in (1, -1)]
     host_bodies = {o.body for o in world.objects.values() if o.model.interiors and _inside(world, obj, o)}
-    a, b = here, here + shift
-    half_xy = (hi[:2] - lo[:2]) / 2 + 0.003
-    sweep_lo = [min(a[0], b[0]) - half_xy[0], min(a[1], b[1]) - half_xy[1], float(lo[2]) + 0.002]
-    sweep_hi = [max(a[0], b[0]) + half_xy[0], max(a[1], b[1]) + half_xy[1], float(hi[2])]
     others = _object_bodies(world) - {obj.body} - host_bodies
-    if any(
-        bd in others
-        for bd, _ in (p.getOverlappingObjects(sweep_lo, sweep_hi, physicsClientId=world.client) or ())
-    ):
-        return None
+    half_xy = (hi[:2] - lo[:2]) / 2 + 0.003
     bodies = _near_bodies(world, obj, reach=0.3)
-    proxy = HandProxy(world)
-    out = []
-    try:
-        for tilt in (0.2, -0.2, 0.35, -0.35, 0.45, -0.45):
-            quat = _tilted(top_down(long_yaw), tilt)
-            # the lowest closed fingertip (the fingers meet at the grasp point) on the object's top
-            start = np.array([here[0], here[1], float(hi[2]) + FINGERTIP * math.cos(tilt) - PRESS])
-            ends = (start, start + shift, start + shift * 0.5)
-            if not any(proxy.hit(p_, quat, 0.0, bodies, world.table_body) for p_ in ends):
-                out.append(Drag(start, quat, shift))
-        return out
-    finally:
-        proxy.remove()
+    out: list[Drag] = []
+    for shift, known in shifts:
+        # the object's way: its footprint swept, 3 mm apart from everything else in the container,
+        # and inside the container's interior
+        a, b = here, here + shift
+        if (
+            abs(float((b - centre) @ axis)) > max(half) - half_xy.max()
+            or abs(float((b - centre) @ across)) > min(half) - half_xy.max()
+        ):
+            continue
+        sweep_lo = [min(a[0], b[0]) - half_xy[0], min(a[1], b[1]) - half_xy[1], float(lo[2]) + 0.002]
+        sweep_hi = [max(a[0], b[0]) + half_xy[0], max(a[1], b[1]) + half_xy[1], float(hi[2])]
+        found = p.getOverlappingObjects(sweep_lo, sweep_hi, physicsClientId=world.client) or ()
+        if any(bd in others for bd, _ in found):
+            continue
+        if not known and not clear_grasps(world, obj, site + shift, site_def.width, limit=1):
+            continue
+        proxy = HandProxy(world)
+        try:
+            for tilt in (0.2, -0.2, 0.35, -0.35, 0.45, -0.45):
+                quat = _tilted(top_down(long_yaw), tilt)
+                # the lowest closed fingertip (the fingers meet at the grasp point) on the object's top
+                start = np.array([here[0], here[1], float(hi[2]) + FINGERTIP * math.cos(tilt) - PRESS])
+                ends = (start, start + shift, start + shift * 0.5)
+                if not any(proxy.hit(p_, quat, 0.0, bodies, world.table_body) for p_ in ends):
+                    out.append(Drag(start, quat, shift))
+        finally:
+            proxy.remove()
+        if len(out) >= 4:
+            break
+    return out
 
 
 def _closing_yaws(obj: SimObject, body_yaw: float, walls: float | None) -> list[tuple[float, float]]:

@@ -183,7 +183,8 @@ def test_a_cube_by_a_deep_boxs_end_wall_is_dragged_inwards_then_picked() -> None
         cube = world.objects["blue_cube2"]
         assert support_of(world, cube.id) == ("in", "yellow_lid_box")
         drags = hc.plan_drag(world, cube)
-        assert drags and all(0.03 < float(np.linalg.norm(d.shift)) < 0.1 for d in drags)
+        # first towards the middle (a hand along the box fits there)
+        assert drags and 0.03 < float(np.linalg.norm(drags[0].shift)) < 0.1
         # no grasp fits where it lies: every candidate's hand or fingers meet the box
         assert all(_proxy_hits(world, cube, *cand) for cand in pick_candidates(world, cube))
         pick(world, Motion(world, 30000), cube)
