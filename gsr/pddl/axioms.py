@@ -93,13 +93,32 @@ class _Evaluator:
         self.objects = objects
         self.atoms = atoms
         self.by_pred: dict[str, list[tuple[str, ...]]] = {}
+        # (predicate, argument position, value) -> the true atoms' argument tuples: a join atom
+        # with a bound argument scans only its bucket (PSR-style closures: the lines into ?n).
+        self.by_arg: dict[tuple[str, int, str], list[tuple[str, ...]]] = {}
         for a in atoms:
-            self.by_pred.setdefault(a.predicate, []).append(a.args)
+            self._index(a)
         self._typed: dict[tuple[str, ...], tuple[str, ...]] = {}
+
+    def _index(self, atom: Atom) -> None:
+        self.by_pred.setdefault(atom.predicate, []).append(atom.args)
+        for k, v in enumerate(atom.args):
+            self.by_arg.setdefault((atom.predicate, k, v), []).append(atom.args)
 
     def add(self, atom: Atom) -> None:
         self.atoms.add(atom)
-        self.by_pred.setdefault(atom.predicate, []).append(atom.args)
+        self._index(atom)
+
+    def _candidates(self, atom: Atom, b: Mapping[str, str]) -> list[tuple[str, ...]]:
+        """The true tuples a join atom can match under ``b``: its smallest bound-argument bucket."""
+        best = self.by_pred.get(atom.predicate, [])
+        for k, term in enumerate(atom.args):
+            v = b.get(term) if is_variable(term) else term
+            if v is not None:
+                found = self.by_arg.get((atom.predicate, k, v), [])
+                if len(found) < len(best):
+                    best = found
+        return best
 
     def typed(self, types: tuple[str, ...]) -> tuple[str, ...]:
         hit = self._typed.get(types)
@@ -148,20 +167,26 @@ class _Evaluator:
                 free = (*free, *p.params)
         parts = [q for p in parts for q in (_conjuncts(p.body) if isinstance(p, Exists) else [p])]
         allowed = {p.name: p.types for p in free}
-        joins = [p for p in parts if isinstance(p, Atom)]
+        joins = tuple(p for p in parts if isinstance(p, Atom))
         rest = [p for p in parts if not isinstance(p, Atom)]
-        yield from self._join(joins, 0, b, allowed, rest)
+        yield from self._join(joins, b, allowed, rest)
 
-    def _join(self, joins, k, b, allowed, rest) -> Iterator[dict[str, str]]:
-        if k == len(joins):
+    def _join(self, joins: tuple[Atom, ...], b, allowed, rest) -> Iterator[dict[str, str]]:
+        if not joins:
             unbound = [v for v in allowed if v not in b]
             for combo in itertools.product(*(self.typed(allowed[v]) for v in unbound)):
                 full = {**b, **dict(zip(unbound, combo, strict=True))}
                 if all(self.holds(p, full) for p in rest):
                     yield full
             return
-        atom = joins[k]
-        for args in self.by_pred.get(atom.predicate, ()):
+        # Join ordering: the atom with the fewest candidate tuples under ``b`` goes next.
+        k, tuples = 0, None
+        for i, a in enumerate(joins):
+            found = self._candidates(a, b)
+            if tuples is None or len(found) < len(tuples):
+                k, tuples = i, found
+        atom, others = joins[k], joins[:k] + joins[k + 1 :]
+        for args in tuples:
             if len(args) != len(atom.args):
                 continue
             nb = dict(b)
@@ -180,7 +205,7 @@ class _Evaluator:
                 elif term != value:
                     break
             else:
-                yield from self._join(joins, k + 1, nb, allowed, rest)
+                yield from self._join(others, nb, allowed, rest)
 
 
 def derive(domain: Domain, objects: Mapping[str, str], atoms: frozenset[Atom] | set[Atom]) -> frozenset[Atom]:
