@@ -84,8 +84,8 @@ def register(app: typer.Typer) -> None:
             bool,
             typer.Option(
                 "--seen-open",
-                help="With --no-oracle: the scene is first seen with every drawer, lid and door open, then "
-                "as it is; the tracked belief is scored (a separate protocol from the single snapshot).",
+                help="With --no-oracle: earlier looks with each closed drawer, lid or door open (one per "
+                "look), then the scene as it is; the tracked belief is scored (a separate protocol).",
             ),
         ] = False,
     ) -> None:
