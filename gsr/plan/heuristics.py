@@ -426,7 +426,9 @@ class Relaxation:
             if applicable is not None and len(applicable) < len(plan):
                 in_plan = set(plan)
                 return h, [o for o in applicable if o in in_plan]
-            return h, [o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
+            return h, sorted(
+                o for o in plan if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]
+            )
         if self._jit_open:
             if self._py_time > self._jit_check:
                 # Wall time is cheap to read (process_time costs ~20 us here) but counts other
@@ -468,7 +470,8 @@ class Relaxation:
                     seen.add(g)
                     stack.append(g)
         h = len(ops) if self.unit else sum(task.ops[o].cost for o in ops)
-        preferred = [o for o in ops if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o]]
+        # ascending, as every backend returns them (the searches only test membership)
+        preferred = sorted(o for o in ops if state & pre_mask[o] == pre_mask[o] and not state & neg_mask[o])
         return h, preferred
 
     def hmax(self, state: int, cost_of: list[float] | None = None) -> tuple[list[float], list[int]]:

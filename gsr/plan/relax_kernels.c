@@ -238,6 +238,24 @@ int64_t gsr_relaxed_plan(relax_t *r, int64_t *out) {
     return n_out;
 }
 
+static int cmp_i64(const void *a, const void *b) {
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Ascending: insertion sort of short lists, qsort of long ones. */
+static void sort_i64(int64_t *out, int64_t n) {
+    if (n > 64) {
+        qsort(out, (size_t)n, sizeof(int64_t), cmp_i64);
+        return;
+    }
+    for (int64_t i = 1; i < n; i++) {
+        int64_t x = out[i], j = i - 1;
+        while (j >= 0 && out[j] > x) { out[j + 1] = out[j]; j--; }
+        out[j + 1] = x;
+    }
+}
+
 /* The operators' atoms, for the preferred operators of gsr_ff (arrays owned by the caller). */
 void gsr_relax_set_ops(relax_t *r, const int64_t *opre_ptr, const int64_t *opre_idx, const int64_t *oneg_ptr,
                        const int64_t *oneg_idx) {
@@ -245,7 +263,8 @@ void gsr_relax_set_ops(relax_t *r, const int64_t *opre_ptr, const int64_t *opre_
 }
 
 /* h_FF of ``state``: the relaxed plan's operators go to ``out``, those applicable in ``state`` (the
- * preferred operators; their number in ``*n_pref``) first, each group in discovery order. Returns the
+ * preferred operators, ascending as the Python path returns them; their number in ``*n_pref``) first,
+ * then the others in discovery order. Returns the
  * plan's size, or -1 when the goal is unreachable, -2 when out of memory. Needs gsr_relax_set_ops. */
 int64_t gsr_ff(relax_t *r, const uint8_t *state, int64_t n_bytes, int64_t *out, int64_t *n_pref) {
     if (gsr_hadd(r, state, n_bytes) < 0) return -2;
@@ -261,6 +280,7 @@ int64_t gsr_ff(relax_t *r, const uint8_t *state, int64_t n_bytes, int64_t *out, 
         if (ok) out[k++] = o; else rest[n_rest++] = o;
     }
 #undef HOLDS
+    sort_i64(out, k);
     memcpy(out + k, rest, (size_t)n_rest * sizeof(int64_t));
     *n_pref = k;
     return n;
@@ -307,11 +327,6 @@ void gsr_reach_without(int64_t n_atoms, const int64_t *first, int64_t n_first, i
     }
 }
 
-static int cmp_i64(const void *a, const void *b) {
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* Applicable operators of ``state`` (ascending ids into ``out``; returns their number): operators without a
  * positive precondition (``always``, tested for negative ones), and the operators indexed under each true
  * atom (by_ptr/by_idx), each tested on its positive (pre) and negative (neg) atoms. */
@@ -341,15 +356,6 @@ int64_t gsr_applicable(const uint8_t *state, int64_t n_bytes, int64_t n_atoms, c
         }
     }
 #undef HOLDS
-    /* ascending (the buckets interleave): insertion sort of short lists, qsort of long ones */
-    if (n > 64) {
-        qsort(out, (size_t)n, sizeof(int64_t), cmp_i64);
-    } else {
-        for (int64_t i = 1; i < n; i++) {
-            int64_t x = out[i], j = i - 1;
-            while (j >= 0 && out[j] > x) { out[j + 1] = out[j]; j--; }
-            out[j + 1] = x;
-        }
-    }
+    sort_i64(out, n); /* ascending (the buckets interleave) */
     return n;
 }
