@@ -713,7 +713,18 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     lift(m, z_transit)
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     above = (np.array([goal[0], goal[1], z_transit]), quat)
-    m.move_continuous(above, [above, (goal + np.array([0, 0, 0.04]), quat), (goal, quat)])
+    way_down = [above, (goal + np.array([0, 0, 0.04]), quat), (goal, quat)]
+    try:
+        m.move_continuous(above, way_down)
+    except SkillError as exc:
+        if exc.failure is not Failure.BLOCKED:
+            raise
+        # the arm, not the hand, met something on the way over (a shoulder against a tall cabinet by
+        # the desk): a base spot from which the arm above the spot touches nothing, then again
+        base, _ = m.plan_base(goal, [above, (goal, quat)], clear=True)
+        lift(m, z_transit)
+        m.move_base(float(base[0]), float(base[1]))
+        m.move_continuous(above, way_down)
     # the object shifts in the fingers on the way (the two fingers are not coupled, and the wrist turned):
     # re-measure it above the spot, before descending past neighbours and walls, and again just above
     goal = _recentre(world, m, obj, spot, goal, quat, z_transit)
