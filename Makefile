@@ -30,9 +30,9 @@ $(VENV)/.installed-test: pyproject.toml Makefile | $(PY)
 	$(PIP) install -e '.[dev,sim,vision,serve,llm,dist,fast]'
 	@touch $@ $(VENV)/.installed-demo
 
-# --oracle-masks: the detector (gsr demo's default) does not yet verify this goal (docs/performance.md, issue 22)
+# perceives from RGB-D alone with the shipped detector (`gsr demo --oracle-masks`: the simulator's labelled masks)
 demo: sysdeps $(VENV)/.installed-demo
-	$(VENV)/bin/gsr demo --oracle-masks
+	$(VENV)/bin/gsr demo
 
 test: sysdeps $(VENV)/.installed-test
 	$(VENV)/bin/ruff check .
