@@ -476,9 +476,11 @@ def model_card(meta: dict[str, Any]) -> str:
         "Textured or multi-coloured objects get their dominant colour.",
         "- Gravity must be world -z (the camera pose is needed): the support plane is the largest "
         "horizontal surface.",
-        "- Parts that show no geometric or colour boundary (an open drawer whose side is inset by a "
-        "centimetre from its cabinet's side, seen from that side; a lid of the box's colour) stay in their "
-        "parent's segment; closed drawers are found only through their visible handles.",
+        "- Parts that show no geometric or colour boundary stay in their parent's segment: a lid of the "
+        "box's colour; an open drawer whose side is inset by a centimetre from its cabinet's side when no "
+        "view shows the cabinet's top (with the top in view the detector cuts out what stands beyond the "
+        "top's edge, a geometric rule outside these weights); closed drawers are found only through their "
+        "visible handles.",
         "",
     ]
     return "\n".join(lines)
