@@ -61,9 +61,12 @@ def _cache_dirs() -> list[Path]:
 
 def _build(cc: list[str], target: Path) -> str:
     """Compile into ``target`` atomically; returns an error message, or "" on success."""
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=target.stem + ".", suffix=".tmp.so", dir=target.parent)
-    os.close(fd)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=target.stem + ".", suffix=".tmp.so", dir=target.parent)
+        os.close(fd)
+    except OSError as err:
+        return f"cannot write to {target.parent}: {err}"
     try:
         run = subprocess.run(
             [*cc, *FLAGS, "-o", tmp, str(SOURCE)], capture_output=True, text=True, timeout=120, check=False

@@ -191,3 +191,46 @@ def test_compiled_landmark_exploration_gives_the_same_landmarks_and_values(
             h_p, pref_p = python.value(acc_p, state)
             h_c, pref_c = compiled.value(acc_c, state, task.applicable(state))
             assert h_p == h_c and sorted(pref_p) == sorted(pref_c)
+
+
+def test_without_a_compiler_the_c_kernels_are_skipped_with_a_reason(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    from gsr.plan import relax_c
+
+    monkeypatch.setattr(relax_c, "_lib", None)
+    monkeypatch.setattr(relax_c, "_cache_dirs", lambda: [tmp_path / "cache"])
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
+    monkeypatch.delenv("GSR_PLAN_CC", raising=False)
+    monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
+    assert relax_c.library() is None
+    assert "no-such-cc" in relax_c.why_not
+    assert not list((tmp_path / "cache").glob("*.so"))  # no half-written library left behind
+    task = next(_tasks())
+    relax = Relaxation(task, unit=True)  # falls back to numba or Python, same values
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    python = Relaxation(task, unit=True)
+    for state in _walk(task, 10, seed=6):
+        assert relax.ff(state) == python.ff(state)
+
+
+def test_c_kernels_build_once_into_the_first_writable_cache(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    from gsr.plan import relax_c
+
+    if relax_c._compiler() is None:
+        pytest.skip("no C compiler")
+    monkeypatch.delenv("GSR_PLAN_CC", raising=False)
+    monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
+    blocked = tmp_path / "blocked"
+    blocked.write_text("a file, so no folder can be made under it (even as root)")
+    monkeypatch.setattr(relax_c, "_cache_dirs", lambda: [blocked / "sub", tmp_path / "cache"])
+    monkeypatch.setattr(relax_c, "_lib", None)
+    assert relax_c.library() is not None, relax_c.why_not
+    built = list((tmp_path / "cache").glob("relax_kernels-*.so"))
+    assert len(built) == 1 and not list((tmp_path / "cache").glob("*.tmp.so"))
+    stamp = built[0].stat().st_mtime_ns
+    monkeypatch.setattr(relax_c, "_lib", None)
+    assert relax_c.library() is not None  # loaded, not rebuilt
+    assert built[0].stat().st_mtime_ns == stamp
