@@ -199,9 +199,6 @@ def _clear_start(world: World, margin: float = 0.02) -> None:
 DRAWER_SLOT_X, DRAWER_ROW_PITCH = 0.065, 0.05
 #: Room kept between a tall fixture and a movable object (m): a hand's width.
 HAND_CLEARANCE = 0.06
-#: How far behind a tall fixture (away from the robot) nothing movable starts (m): the arm reaching over
-#: a 32 cm cabinet meets it with its wrist closer than that.
-SHADOW = 0.2
 #: Footprints whose circumscribed radius is larger than this (m) are separated as rectangles.
 LARGE_FOOTPRINT = 0.08
 
@@ -263,18 +260,6 @@ def separate_footprints(
             off[o.id] = -sweep / 2 * np.array([np.cos(yaw), np.sin(yaw)])
     fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
     tall = {o.id for o in items if o.id in fixed and make_asset(o.asset, o.size).extent[2] > 0.15}
-    # behind a tall fixture (seen from the robot, which stands at -x) the arm would have to reach over
-    # it and down: its wrist meets the fixture (a cube 14 cm behind the 32 cm cabinet: blocked from
-    # every base spot). The fixture's footprint reaches that far back too.
-    for oid in tall:
-        half_xy, yaw = rect[oid]
-        k = 0 if abs(np.cos(yaw)) >= abs(np.sin(yaw)) else 1  # the local axis nearest the world's x
-        axis = np.array([np.cos(yaw), np.sin(yaw)]) if k == 0 else np.array([-np.sin(yaw), np.cos(yaw)])
-        sign = 1.0 if axis[0] > 0 else -1.0  # the local direction pointing away from the robot
-        grow = np.zeros(2)
-        grow[k] = SHADOW / 2
-        rect[oid] = (half_xy + grow, yaw)
-        off[oid] = off[oid] + sign * SHADOW / 2 * axis
     # a push keeps an object on the table (an object the layout puts nearer an edge may stay there):
     # what a push along x cannot take goes sideways along y, and the other way round
     half = np.array(layout.table_size[:2], dtype=float) / 2
