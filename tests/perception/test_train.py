@@ -98,3 +98,19 @@ def test_broken_model_folders_are_clear_errors(tiny, tmp_path):
 def test_training_needs_frames_for_recognition(views):
     with pytest.raises(GSRError, match="more frames"):
         train(iter(views[:2]), TrainConfig(link_frames=1, merge_frames=5, epochs=5))
+
+
+def test_link_samples_are_the_links_the_model_decides(views):
+    """Plain links (no depth step, no colour change) are kept without the model, so they are never
+    training rows; the rows carry every link feature, the frame's depth noise included."""
+    from gsr.perception.segment import LINK_FEATURE_NAMES, plain_links
+    from gsr.perception.train import add_links
+
+    xs, ys = [], []
+    add_links(xs, ys, views[0], TrainConfig(link_samples=2000), np.random.default_rng(0))
+    x, y = np.concatenate(xs), np.concatenate(ys)
+    assert x.shape[1] == len(LINK_FEATURE_NAMES) and len(x) == len(y) > 100
+    assert not plain_links(x).any()
+    assert 0.0 < y.mean() <= 0.5  # boundaries at most a quarter of the quota, or all there are
+    noise = x[:, LINK_FEATURE_NAMES.index("noise")]
+    assert np.all(noise == noise[0]) and noise[0] < 2e-4  # one clean rendered frame
