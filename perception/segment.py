@@ -47,8 +47,6 @@ class SegmentParams:
     dark: float = 40.0  # pixels darker than this (sum of r, g, b / 3) have no reliable chromaticity
     min_pixels: int = 10  # segments with fewer strided pixels are dropped
     link_threshold: float = 0.5  # a trained link model's boundary probability from which a link is cut
-    step_cut: float = 0.0  # with a link model: also cut unexplained steps over this share of depth ...
-    step_cut_noise: float = 4.0  # ... and over this many times the frame's relative depth noise
     seal: int = 0  # pixels within this many grid steps of a cut link line the boundary (seal short gaps)
     max_depth: float = 10.0
     merge_threshold: float = 0.5  # merge adjacent segments whose merge score exceeds this
@@ -296,13 +294,8 @@ def _links(
         cut = np.zeros(len(feats), bool)
         if (~plain).any():
             cut[~plain] = np.asarray(link_scorer(feats[~plain])) >= params.link_threshold
-        jump = both & jump
-        if params.step_cut > 0:  # a step the frame's noise cannot explain is cut whatever the model says
-            unexplained = feats[:, 1] > max(params.step_cut, params.step_cut_noise * noise)
-            cut |= unexplained
-            jump[both] |= unexplained  # and counts as a depth jump for the merge features
         kept[both] = ~cut
-        out.append((kept, jump))
+        out.append((kept, both & jump))
     (kr, jr), (kd, jd) = out
     return kr, kd, jr, jd
 
