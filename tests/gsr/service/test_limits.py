@@ -18,6 +18,18 @@ EXPLODING_PROBLEM = (
     f"(define (problem boom) (:domain explode) (:objects {' '.join(OBJECTS)}) "
     f"(:init {' '.join(f'(p {o})' for o in OBJECTS)}) (:goal (q o1 o2 o3 o4 o5 o6)))"
 )
+# Grounding stops at the planner's own time limit (ground_task's deadline), so a runaway worker
+# needs work the planner cannot interrupt: one ground action whose precondition ranges over 40^6
+# object tuples.
+RUNAWAY_DOMAIN = """(define (domain runaway) (:requirements :adl)
+  (:predicates (p ?a) (q ?a ?b ?c ?d ?e ?f) (r))
+  (:action go :parameters ()
+    :precondition (forall (?a ?b ?c ?d ?e ?f) (or (p ?a) (q ?a ?b ?c ?d ?e ?f)))
+    :effect (r)))"""
+RUNAWAY_PROBLEM = (
+    f"(define (problem boom) (:domain runaway) (:objects {' '.join(OBJECTS)}) "
+    f"(:init {' '.join(f'(p {o})' for o in OBJECTS)}) (:goal (r)))"
+)
 CHECK = {"scene_graph": SCENE, "step": "(pick red_cube1 table)"}
 
 
@@ -86,7 +98,7 @@ def test_scene_plan_and_instruction_sizes(make_client) -> None:
 def test_time_budget_kills_a_runaway_worker_and_serving_goes_on(make_client) -> None:
     client = make_client(max_plan_seconds=0.5)
     start = time.perf_counter()
-    r = client.post("/v1/plan", json={"domain_pddl": EXPLODING_DOMAIN, "problem_pddl": EXPLODING_PROBLEM})
+    r = client.post("/v1/plan", json={"domain_pddl": RUNAWAY_DOMAIN, "problem_pddl": RUNAWAY_PROBLEM})
     elapsed = time.perf_counter() - start
     err = _limit_error(r, 422, "time_limit", "GSR_SERVICE_MAX_PLAN_SECONDS")
     assert "stopped" in err["message"]
@@ -102,6 +114,15 @@ def test_time_budget_kills_a_runaway_worker_and_serving_goes_on(make_client) -> 
     metrics = client.get("/metrics").text
     assert 'gsr_worker_restarts_total{reason="time_limit"} 1' in metrics
     assert 'gsr_rejections_total{reason="max_plan_seconds"} 1' in metrics
+
+
+def test_a_grounding_blow_up_stops_at_the_budget_without_a_restart(make_client) -> None:
+    # the planner stops grounding at its time limit itself: a timeout answer, the worker kept
+    client = make_client(max_plan_seconds=0.5)
+    r = client.post("/v1/plan", json={"domain_pddl": EXPLODING_DOMAIN, "problem_pddl": EXPLODING_PROBLEM})
+    assert r.status_code == 200, r.text
+    assert r.json()["status"] == "timeout" and "grounding did not finish" in r.json()["message"]
+    assert 'gsr_worker_restarts_total{reason="time_limit"}' not in client.get("/metrics").text
 
 
 def test_planner_budget_is_capped_by_the_server(make_client, pddl_dir) -> None:
