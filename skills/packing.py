@@ -299,16 +299,15 @@ def packed_spot(
     delta = -(((rel + math.pi / 4) % (math.pi / 2)) - math.pi / 4)
     size = tuple(2 * footprint(obj.model)[1])
     first = fitting_turn((*size, 0.0), rel, delta, tuple(half_room))
-    # a drawer: the hand may also turn a quarter more, so that its 22 cm length runs along the
-    # cabinet's front instead of reaching under the closed drawer above; any container: the other
-    # quarter turns when the first way round finds no free floor spot
-    # (a half turn was tried too: the arm then found no base spot reaching the turned hand); a turn
-    # the wrist's last joint cannot make is left out
+    # the hand may also turn a quarter more (a drawer: its 22 cm length then runs along the cabinet's
+    # front instead of reaching under the closed drawer above); a turn the wrist's last joint cannot
+    # make is left out (a half turn was tried too: the arm then found no base spot for the turned hand)
     turns = [delta, delta + math.pi / 2, delta - math.pi / 2]
     deltas = [first] + [d for d in turns if abs(d - first) > 1e-6 and _wrist_can(world, d)]
-    # of the spots each turn allows (the best of the first and the last row), the one that leaves room for the
-    # most further objects like this one (a mug whose handle can only point out of the drawer goes in
-    # the front row, so the back row still takes the others); then the row that fills first, then the smallest turn
+    # of the spots each turn allows (the best of the first and of the last row), the lowest rank, then
+    # the one that leaves room for the most further objects like this one (a mug whose handle can only
+    # point out of the drawer goes in the front row, so the back row still takes the others), then
+    # the row that fills first, then (outside drawers) the turn that fits first, then the smallest turn
     top = floor + float(world.body_aabb(obj.body)[1][2] - world.body_aabb(obj.body)[0][2])
     future = [_held(world, obj, yaw, closing_yaw, first + k * math.pi / 2) for k in range(4)]
     best: tuple[tuple, np.ndarray, float] | None = None
@@ -385,11 +384,12 @@ def _floor_spots(
     rows: int = 2,
     grid: int = 13,
 ) -> list[tuple[int, float, np.ndarray]]:
-    """``(rank, row key, spot)`` of the best floor spot in the row that fills first for one wrist turn and (with
-    ``rows`` > 1) of the nearest row; empty when the floor has no room for the object and the fingers. Rank 0: room for the
-    whole hand too; 1: the hand would meet a movable neighbour taller than its underside (it then
-    stops above it and lets go higher). ``walls``: the container's own walls where they are too high for
-    the hand to reach over them (they count for the hand only: the fingers stay inside anyway)."""
+    """``(rank, row key, spot)`` of the best floor spot in the row that fills first for one wrist turn
+    and (with ``rows`` > 1) of the row that fills last; empty when the floor has no room for the object
+    and the fingers. Rank 0: room for the fingers and the whole hand; higher: by how much higher the
+    hand would stop on what its fingers or its footprint meet (2 cm steps). ``walls``: the container's
+    own walls where they are too high for the hand to reach over them (they count for the hand only:
+    the fingers stay inside anyway)."""
     lo = -half_room + h.body + GAP_ACROSS
     hi = half_room - h.body - GAP_ACROSS
     if np.any(lo > hi + 1e-9):
