@@ -254,12 +254,15 @@ def _press(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     m.step(30)
 
 
-def _stopped(world: World, obj: SimObject, art: Articulation) -> bool:
-    """Whether the part rests against another object (a lid against a cabinet): pulling again is futile."""
+def _stopped(world: World, obj: SimObject, part: str, art: Articulation) -> bool:
+    """Whether the part rests against another object (a lid against a cabinet): moving it again is
+    futile. What rides in or on the part (a mug in the drawer) does not count."""
     import pybullet as p
 
     link = obj.links[art.link]
-    others = {o.body for o in world.objects.values()} - {obj.body}
+    node = _node_of(world, obj, part)
+    riders = {o.body for o in world.objects.values() if (support_of(world, o.id) or ("", ""))[1] == node}
+    others = {o.body for o in world.objects.values()} - {obj.body} - riders
     # what rides on the part presses down on it; what stops it pushes sideways (a horizontal normal)
     return any(
         pt[2] in others and pt[3] == link and abs(pt[7][2]) < 0.5
@@ -267,7 +270,7 @@ def _stopped(world: World, obj: SimObject, art: Articulation) -> bool:
     )
 
 
-#: An opening stroke that ends more than this fraction of the travel short is completed by a second one.
+#: A stroke that ends more than this fraction of the travel short is completed by a second one.
 SHORT_STROKE = 0.1
 
 
@@ -284,14 +287,11 @@ def operate(world: World, m: Motion, node_id: str, kind: str) -> dict:
         goal = art.open if kind == "open" else art.closed - 0.01 * np.sign(art.open - art.closed)
         if art.kind in ("drawer", "lid"):
             _slide(world, m, obj, part, art, float(goal))
-            # a stroke that ended short (the tab slipped in the fingers, a rider held the lid back)
-            # leaves a lid over part of the opening: take the handle again for the rest, once
+            # a stroke that ended short (the tab slipped in the fingers, the push stopped early) leaves
+            # a lid over part of the opening, or a drawer "closed" 9 cm out, in the way of the one
+            # below it: once more for the rest, unless the part rests against something
             short = abs(float(goal) - world.joint_position(obj, part))
-            if (
-                kind == "open"
-                and short > SHORT_STROKE * abs(art.open - art.closed)
-                and not _stopped(world, obj, art)
-            ):
+            if short > SHORT_STROKE * abs(art.open - art.closed) and not _stopped(world, obj, part, art):
                 _slide(world, m, obj, part, art, float(goal))
         elif art.kind == "door":
             _swing(world, m, obj, part, art, float(goal))

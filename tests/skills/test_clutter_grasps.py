@@ -189,3 +189,25 @@ def test_a_cube_by_a_deep_boxs_end_wall_is_dragged_inwards_then_picked() -> None
         assert all(_proxy_hits(world, cube, *cand) for cand in pick_candidates(world, cube))
         pick(world, Motion(world, 30000), cube)
         assert support_of(world, cube.id) == ("held", "")
+
+
+def test_a_drawer_close_that_ends_short_is_pushed_home_so_the_drawer_below_opens() -> None:
+    from gsr.skills.library import run_step
+
+    from gsr.step_grammar import parse_step_text
+
+    with build_world(_task("gsrgen_gg_complex_02"), seed=0) as world:
+        cab = world.objects["short_cabinet"]
+        for text in (  # the planner's first five steps
+            "(pick yellow_cube1 table)",
+            "(place_in yellow_cube1 short_cabinet/drawer_high)",
+            "(pick yellow_mug1 yellow_box)",
+            "(place_in yellow_mug1 short_cabinet/drawer_high)",
+            "(close short_cabinet/drawer_high)",
+        ):
+            result = run_step(world, parse_step_text(text))
+            assert result.ok, (text, result.message)
+        # one push left it 9 cm out ("closed": under half its travel), in the way of the hand below
+        assert world.joint_position(cab, "drawer_2") < 0.02
+        result = run_step(world, parse_step_text("(open short_cabinet/drawer_low)"))
+        assert result.ok, result.message
