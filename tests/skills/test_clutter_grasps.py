@@ -211,3 +211,24 @@ def test_a_drawer_close_that_ends_short_is_pushed_home_so_the_drawer_below_opens
         assert world.joint_position(cab, "drawer_2") < 0.02
         result = run_step(world, parse_step_text("(open short_cabinet/drawer_low)"))
         assert result.ok, result.message
+
+
+def test_a_box_taken_off_a_box_is_set_down_on_a_crowded_desk() -> None:
+    from gsr.skills.library import run_step
+
+    from gsr.step_grammar import parse_step_text
+
+    # GSR-Bench Complex stacks its 25 x 17 cm boxes on a full desk; before, the hand going down with the
+    # box stopped at the cube riding in it ("the hand stops 0.09 m above the release point")
+    with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
+        assert support_of(world, "blue_box") == ("on", "yellow_box")
+        rider = support_of(world, "yellow_cube1")
+        assert rider == ("in", "blue_box")
+        for text in ("(pick blue_box yellow_box)", "(place_on blue_box table)"):
+            result = run_step(world, parse_step_text(text))
+            assert result.ok, (text, result.message)
+        assert support_of(world, "blue_box") == ("on", "table")
+        assert support_of(world, "yellow_cube1") == ("in", "blue_box")
+        # nothing else ended in or on the box it was set down on
+        others = [o for o in world.objects if o not in ("blue_box", "yellow_cube1")]
+        assert not [o for o in others if (support_of(world, o) or ("", ""))[1] == "blue_box"]
