@@ -6,7 +6,8 @@ of GSR's time on mid-size IPC problems. A shared library built from ``relax_kern
 milliseconds and needs neither numba nor numpy, so the compiled relaxation can be used from the
 start of nearly every search.
 
-The library is compiled on first use (``$CC`` or ``cc``, ``-O2 -shared -fPIC``; ~0.5 s once) into
+The library is compiled on first use (``$CC``, ``cc``, or Zig's ``cc`` from the ``ziglang`` wheel when
+the machine has no compiler: ``pip install 'gsr[compiler]'``; ``-O2 -shared -fPIC``; ~0.5 s once) into
 the first writable of: this package's ``__pycache__``, ``$XDG_CACHE_HOME/gsr`` (``~/.cache/gsr``),
 the temporary directory. Its name carries a hash of the source, the compiler command and the
 platform, so an edited source is rebuilt and a stale library never loaded; it is written to a
@@ -18,6 +19,7 @@ build fails, ``library()`` is None and the planner uses numba or Python (``why_n
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import os
 import platform
 import shutil
@@ -50,8 +52,20 @@ def allowed() -> bool:
 
 
 def _compiler() -> list[str] | None:
-    cc = os.environ.get("CC", "").split() or [shutil.which("cc") or shutil.which("gcc") or ""]
-    return cc if cc[0] else None
+    """``$CC``, else the system's ``cc``/``gcc``, else Zig's C compiler from the ``ziglang`` wheel.
+
+    The last makes the C kernels a plain ``pip install`` away on a machine without a toolchain
+    (``pip install 'gsr[compiler]'``); the first build then also fills Zig's own cache (~8 s once).
+    """
+    env = os.environ.get("CC", "").split()
+    if env:
+        return env
+    system = shutil.which("cc") or shutil.which("gcc")
+    if system:
+        return [system]
+    if importlib.util.find_spec("ziglang") is not None:
+        return [sys.executable, "-m", "ziglang", "cc"]
+    return None
 
 
 def _cache_dirs() -> list[Path]:
@@ -92,7 +106,7 @@ def library() -> ctypes.CDLL | None:
             return None
         cc = _compiler()
         if cc is None:
-            why_not = "no C compiler (set CC or install cc)"
+            why_not = "no C compiler (set CC, install cc, or pip install 'gsr[compiler]' for Zig's)"
             return None
         key = hashlib.sha256(
             SOURCE.read_bytes() + " ".join((*cc, *FLAGS, platform.machine(), sys.platform)).encode()

@@ -234,3 +234,29 @@ def test_c_kernels_build_once_into_the_first_writable_cache(
     monkeypatch.setattr(relax_c, "_lib", None)
     assert relax_c.library() is not None  # loaded, not rebuilt
     assert built[0].stat().st_mtime_ns == stamp
+
+
+def test_without_a_system_compiler_zig_from_pypi_builds_the_kernels(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """`pip install 'gsr[compiler]'` is enough: with no CC and no cc/gcc on PATH, Zig's cc builds them."""
+    from gsr.plan import relax_c
+
+    pytest.importorskip("ziglang", reason="ziglang not installed (optional extra 'compiler')")
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.delenv("GSR_PLAN_CC", raising=False)
+    monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
+    monkeypatch.setattr(relax_c.shutil, "which", lambda *_a, **_k: None)
+    assert relax_c._compiler()[-3:] == ["-m", "ziglang", "cc"]
+    monkeypatch.setattr(relax_c, "_cache_dirs", lambda: [tmp_path / "cache"])
+    monkeypatch.setattr(relax_c, "_lib", None)
+    assert relax_c.library() is not None, relax_c.why_not
+    assert len(list((tmp_path / "cache").glob("relax_kernels-*.so"))) == 1
+    task = next(_tasks())
+    monkeypatch.setenv("GSR_PLAN_JIT", "1")
+    compiled = Relaxation(task, unit=True)
+    assert _kind(compiled) == "c"
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    python = Relaxation(task, unit=True)
+    for state in _walk(task, 10, seed=7):
+        assert compiled.ff(state) == python.ff(state)
