@@ -10,6 +10,7 @@ object rests where the step says after release.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from gsr.skills.asset_model import GraspSite
@@ -417,8 +418,17 @@ def _unweld(world: World, obj: SimObject) -> None:
         p.removeConstraint(cid, physicsClientId=world.client)
 
 
-def target_point(world: World, target: str, obj: SimObject, relation: str, turn: float = 0.0) -> np.ndarray:
-    """Where the held object's bottom centre should go: a free spot in the interior or on top of ``target``."""
+def target_point(
+    world: World,
+    target: str,
+    obj: SimObject,
+    relation: str,
+    turn: float = 0.0,
+    reachable: Callable[[np.ndarray, float], bool] | None = None,
+) -> np.ndarray:
+    """Where the held object's bottom centre should go: a free spot in the interior or on top of ``target``.
+
+    On the bare table ``reachable(spot, turn)`` (the arm reaches the release there) is asked too."""
     if relation == "in":
         for node_id, lo, hi, _ in interior_boxes(world):
             if node_id == target:
@@ -439,14 +449,23 @@ def target_point(world: World, target: str, obj: SimObject, relation: str, turn:
         ee = world.robot.ee_pose()[0]
         # near the hand first; the whole table when nothing near it is free (beside a cabinet whose
         # drawer is open over the table)
-        # (a 25 cm box on a crowded desk: at last up to 1 cm from the desk's edges)
+        # (a 25 cm box on a crowded desk: at last up to 1 cm from the desk's edges); in each, a spot where
+        # the whole hand clears everything and the arm reaches first (beside a cabinet the first free
+        # spot may put the 22 cm hand against the carcass); the first free spot only when none is
+        accept = (lambda c: reachable(c, turn)) if reachable is not None else None
+        fallback = None
         for reach, edge in ((0.25, 0.05), (2.0, 0.05), (2.0, 0.01)):
             lo = np.array([max(tlo[0] + edge, ee[0] - reach), max(tlo[1] + edge, ee[1] - reach), thi[2]])
             hi = np.array([min(thi[0] - edge, ee[0] + reach), min(thi[1] - edge, ee[1] + reach), thi[2]])
-            spot = _free_spot(world, obj, lo, hi, float(thi[2]), avoid_regions=True, turn=turn)
+            spot, good = _ranked_spot(
+                world, obj, lo, hi, float(thi[2]), avoid_regions=True, turn=turn, accept=accept
+            )
             if spot[2] <= thi[2] + 1e-6:
-                break
-        return spot
+                if good:
+                    return spot
+                if fallback is None:
+                    fallback = spot
+        return fallback if fallback is not None else spot
     lo, hi = world.aabb(loc.body, loc.link) if loc.part else world.body_aabb(loc.body)
     if world.objects[loc.object_id].model.fixed:
         # a fixture's top (stove, rack, cabinet top): a level spot that supports the whole footprint,
@@ -481,10 +500,16 @@ def riders_of(world: World, obj: SimObject) -> set[int]:
         hosts |= {o.id for o in more}
 
 
-def _spot_and_turn(world: World, target: str, obj: SimObject, relation: str) -> tuple[np.ndarray, float]:
+def _spot_and_turn(
+    world: World,
+    target: str,
+    obj: SimObject,
+    relation: str,
+    reachable: Callable[[np.ndarray, float], bool] | None = None,
+) -> tuple[np.ndarray, float]:
     """The release spot and a wrist turn (rad): a wide object (a 25 cm box taken off another box) that
     fits nowhere on a crowded table as held, turned by 45 degrees say, may fit turned square to it."""
-    spot = target_point(world, target, obj, relation)
+    spot = target_point(world, target, obj, relation, reachable=reachable)
     loc = world.locate(target) if target not in world.regions else None
     if loc is None or loc.body != world.table_body or max(obj.model.extent[:2]) < WIDE:
         return spot, 0.0
@@ -495,7 +520,7 @@ def _spot_and_turn(world: World, target: str, obj: SimObject, relation: str) -> 
     for turn in (square, square + math.pi / 2, square - math.pi / 2):
         if abs(turn) > math.pi * 0.6:
             continue
-        turned = target_point(world, target, obj, relation, turn=turn)
+        turned = target_point(world, target, obj, relation, turn=turn, reachable=reachable)
         if turned[2] <= world.body_aabb(world.table_body)[1][2] + 1e-6:
             return turned, turn
     return spot, 0.0
@@ -530,6 +555,12 @@ SPOT_STEP = 0.03
 FIXTURE_HAND_ROOM = 0.05
 
 
+#: Table spots a release-spot search asks ``accept`` (the arm's reach) about at most, and how far (m)
+#: a spot must be from one refused before it is asked about.
+ACCEPT_TRIES = 6
+ACCEPT_SPACING = 0.05
+
+
 def _free_spot(
     world: World,
     obj: SimObject,
@@ -547,6 +578,24 @@ def _free_spot(
     neighbours), across it half a centimetre. Free floor spots first; when the floor is full (cubes
     packed in a box), the spot whose objects underneath are lowest, at their top: a second layer.
     """
+    return _ranked_spot(world, obj, lo, hi, z, prefer_near, inside, avoid_regions, turn)[0]
+
+
+def _ranked_spot(
+    world: World,
+    obj: SimObject,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    z: float,
+    prefer_near: bool = False,
+    inside: bool = False,
+    avoid_regions: bool = False,
+    turn: float = 0.0,
+    accept: Callable[[np.ndarray], bool] | None = None,
+) -> tuple[np.ndarray, bool]:
+    """``_free_spot``'s point and whether it is a good one: free with the whole hand clear of
+    everything (inside a container: free) and, with ``accept``, taken by it. When no free spot is
+    good, the point is the first hand-clear free one, else the first free one, else a second layer."""
     ee_q = world.robot.ee_pose()[1]
     import pybullet as p
 
@@ -631,16 +680,12 @@ def _free_spot(
         )
 
     free = [c for c in candidates if not under(c) and not in_region(c)]
-    if free and not inside:
-        # the hand reaches past what it holds (it is 20 cm long; a box is held by its wall): of the
-        # free spots, those where the hand at the release point and above it touches nothing
-        from gsr.skills.hand_clearance import hand_clear_at
-
-        cleared = [c for c in free if hand_clear_at(world, obj, np.array([c[0], c[1], z]), turn)]
-        free = cleared or free
-    if free and avoid_regions:
-        # the bare table: of the free spots, one with a hand's width (10 cm) around it if there is one,
-        # so the object set down does not stand in the way of the next grasps and handles
+    if not free:
+        best = min(candidates, key=lambda c: max(under(c)))
+        return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)]), False
+    if avoid_regions:
+        # the bare table: spots with a hand's width (10 cm) around them first, so the object set down
+        # does not stand in the way of the next grasps and handles (stable: nearest first within a tie)
         def clearance(c: np.ndarray) -> float:
             gaps = [
                 max(abs(c[0] - oc[0]) - ohalf[0] - oh[0], abs(c[1] - oc[1]) - ohalf[1] - oh[1])
@@ -648,12 +693,32 @@ def _free_spot(
             ]
             return min([0.1, *gaps])
 
-        best_clear = max(clearance(c) for c in free)
-        free = [c for c in free if clearance(c) >= best_clear - 1e-9]
-    if free:
-        return np.array([free[0][0], free[0][1], z])
-    best = min(candidates, key=lambda c: max(under(c)))
-    return np.array([best[0], best[1], max(z, max(under(best)) + 0.003)])
+        free.sort(key=lambda c: -round(clearance(c), 9))
+    if inside:
+        return np.array([free[0][0], free[0][1], z]), True
+    # the hand reaches past what it holds (it is 20 cm long; a box is held by its wall): the first free
+    # spot where the hand at the release point and above it touches nothing, and that ``accept`` (the
+    # arm reaches it) takes; else the first hand-clear one; else the first free one
+    from gsr.skills.hand_clearance import hand_clear_at
+
+    cleared = None
+    refused: list[np.ndarray] = []
+    for c in free:
+        if not hand_clear_at(world, obj, np.array([c[0], c[1], z]), turn):
+            continue
+        if cleared is None:
+            cleared = c
+        if accept is None:
+            return np.array([c[0], c[1], z]), True
+        if len(refused) >= ACCEPT_TRIES:
+            break
+        if any(float(np.linalg.norm(c - r)) < ACCEPT_SPACING for r in refused):
+            continue  # a neighbour of a refused spot: most likely refused too
+        if accept(np.array([c[0], c[1], z])):
+            return np.array([c[0], c[1], z]), True
+        refused.append(c)
+    pick = cleared if cleared is not None else free[0]
+    return np.array([pick[0], pick[1], z]), False
 
 
 def _recentre(
@@ -668,6 +733,33 @@ def _recentre(
     goal = goal + np.array([err[0], err[1], 0.0])
     m.move_line((np.array([goal[0], goal[1], z]), quat))
     return goal
+
+
+def _release_reach(
+    m: Motion, offset: np.ndarray, quat: tuple, z_transit: float
+) -> Callable[[np.ndarray, float], bool]:
+    """``reachable(spot, turn)``: whether some base spot lets the arm hold the object (grasped with
+    ``offset`` / ``quat``, the wrist turned by ``turn``) at its release point over ``spot`` and straight
+    above it at transit height, as ``place`` will move it; nothing moves."""
+    import pybullet as p
+
+    def reachable(spot: np.ndarray, turn: float) -> bool:
+        q, off = quat, offset
+        if turn:
+            c, s = math.cos(turn), math.sin(turn)
+            off = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
+            q = tuple(
+                p.multiplyTransforms((0, 0, 0), p.getQuaternionFromEuler((0, 0, turn)), (0, 0, 0), quat)[1]
+            )
+        goal = np.asarray(spot, dtype=float) + off + np.array([0, 0, 0.012])
+        above = np.array([goal[0], goal[1], max(z_transit, goal[2] + APPROACH)])
+        try:
+            m.plan_base(goal, [(goal, q), (above, q)])
+        except SkillError:
+            return False
+        return True
+
+    return reachable
 
 
 def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
@@ -698,7 +790,15 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
     else:
         from gsr.skills.surfaces import uncrowded_turn
 
-        spot, delta = _spot_and_turn(world, target, obj, relation)
+        spot, delta = _spot_and_turn(
+            world,
+            target,
+            obj,
+            relation,
+            reachable=_release_reach(
+                m, offset, quat, transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,))
+            ),
+        )
         if not delta:
             # the hand's 22 cm length turned away from a tall neighbour (a bottle beside the bowl)
             delta = uncrowded_turn(world, obj, spot)
