@@ -754,7 +754,7 @@ def _release_reach(
         goal = np.asarray(spot, dtype=float) + off + np.array([0, 0, 0.012])
         above = np.array([goal[0], goal[1], max(z_transit, goal[2] + APPROACH)])
         try:
-            m.plan_base(goal, [(goal, q), (above, q)])
+            m.plan_base(goal, [(goal, q), (above, q)], clear=True)
         except SkillError:
             return False
         return True
