@@ -437,13 +437,8 @@ PART_IN_PARENT = 0.5
 _PART_MARGIN = 0.02
 
 
-def assign_parts(
-    instances: list[Instance],
-    grounds: Iterable[str] = ("table", "floor"),
-    params: GeometryParams | None = None,
-) -> None:
-    """Give anonymous part instances their parent object and ``<parent>/<category>_<k>`` keys (in place);
-    partial views of one part that fusion left apart are joined (:func:`merge_part_views`)."""
+def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "floor")) -> None:
+    """Give anonymous part instances their parent object and ``<parent>/<category>_<k>`` keys (in place)."""
     ground = frozenset(grounds)
     objects = [
         i
@@ -482,7 +477,6 @@ def assign_parts(
     spanning = spanning_parts(instances)
     if spanning:
         instances[:] = [i for i in instances if id(i) not in spanning]
-    adopted = merge_part_views(instances, adopted, params or GeometryParams())
     carve_parts(instances, adopted)
     for inst in instances:  # provenance was only needed here
         attrs = inst.label.attributes
@@ -553,83 +547,6 @@ def spanning_parts(instances: list[Instance]) -> set[int]:
         ]
         if len(inside) >= 2:
             out.add(id(p))
-    return out
-
-
-#: Two parts of one parent and category are one part when the lower one's height range lies this much
-#: inside the other's (share of the shorter range) ...
-PART_SAME_LEVEL = 0.5
-#: ... and this share of the smaller part's box lies in the larger one's box (grown by ``PART_JOIN_MARGIN``).
-PART_INSIDE = 0.5
-PART_JOIN_MARGIN = 0.01
-
-
-def _height_share(a: Instance, b: Instance) -> float:
-    """Overlap of two height ranges as a share of the shorter one."""
-    overlap = min(a.aabb_max[2], b.aabb_max[2]) - max(a.aabb_min[2], b.aabb_min[2])
-    shorter = min(a.aabb_max[2] - a.aabb_min[2], b.aabb_max[2] - b.aabb_min[2])
-    return max(float(overlap), 0.0) / max(float(shorter), 1e-3)
-
-
-def same_part(a: Instance, b: Instance) -> bool:
-    """Two fused part instances are partial views of one part: same parent and category, the shorter height
-    range mostly inside the other's (stacked drawers have distinct ranges), and the smaller box mostly
-    inside the larger one (a drawer's side seen by one camera, its front by another; drawers side by side
-    at one height do not overlap)."""
-    if a.label.parent is None or a.label.parent != b.label.parent or a.label.category != b.label.category:
-        return False
-    if _height_share(a, b) < PART_SAME_LEVEL:
-        return False
-    small, large = sorted((a, b), key=lambda x: float(np.prod(np.maximum(x.size, 1e-3))))
-    grown = dataclasses.replace(
-        large, aabb_min=large.aabb_min - PART_JOIN_MARGIN, aabb_max=large.aabb_max + PART_JOIN_MARGIN
-    )
-    return _box_contains_share(small, grown) >= PART_INSIDE
-
-
-def _spans_levels(part: Instance, parts: list[Instance]) -> bool:
-    """Whether ``part``'s height range holds the centres of two other parts of its parent that lie at
-    distinct levels (two stacked drawers fused into one tall box): it is no view of either."""
-    inside = [
-        q
-        for q in parts
-        if q is not part
-        and q.label.parent == part.label.parent
-        and part.aabb_min[2] <= q.center[2] <= part.aabb_max[2]
-    ]
-    return any(_height_share(q, r) < PART_SAME_LEVEL for k, q in enumerate(inside) for r in inside[k + 1 :])
-
-
-def merge_part_views(
-    instances: list[Instance], parts: list[Instance], params: GeometryParams
-) -> list[Instance]:
-    """Join the adopted parts that are one part (:func:`same_part`) in place in ``instances``; the parts left.
-
-    Fusion never groups two detections of one camera, so a camera that saw one drawer as two segments (or
-    a side view whose box is a slice of the front view's) leaves two or three nodes for one drawer. The
-    larger part keeps its key; points are united and the box refitted, so levels and openings are measured
-    on the whole drawer. A part whose height range spans two stacked parts takes no part in a join."""
-    present = {id(i) for i in instances}
-    out = [p for p in parts if id(p) in present]
-    merged = True
-    while merged:
-        merged = False
-        for i, a in enumerate(out):
-            for j in range(i + 1, len(out)):
-                b = out[j]
-                if not same_part(a, b) or _spans_levels(a, out) or _spans_levels(b, out):
-                    continue
-                large, small = (a, b) if float(np.prod(a.size)) >= float(np.prod(b.size)) else (b, a)
-                joined = _join(large, small, params=params, keep_label=True)
-                if joined is None:
-                    continue
-                joined.key = large.key
-                instances[:] = [joined if x is large else x for x in instances if x is not small]
-                out = [joined if x is large else x for x in out if x is not small]
-                merged = True
-                break
-            if merged:
-                break
     return out
 
 
