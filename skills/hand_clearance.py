@@ -173,18 +173,10 @@ def container_frame(world: World, obj: SimObject) -> tuple[np.ndarray, float, np
     from gsr.skills.sim_graph import support_of
 
     rel, node = support_of(world, obj.id) or ("", "")
-    if rel != "in":
+    found = world.interior_of(node) if rel == "in" else None
+    if found is None:
         return None
-    if node in world.objects:
-        host, part = world.objects[node], ""
-    elif node in world.parts:
-        host_id, part = world.parts[node]
-        host = world.objects[host_id]
-    else:
-        return None
-    interior = host.model.interiors.get(part)
-    if interior is None:
-        return None
+    host, _, interior = found
     link = host.links[interior.link]
     centre = world.to_world(host.body, link, interior.center)
     return centre, world.yaw_of(host.body, link), np.array(interior.size) / 2

@@ -63,21 +63,14 @@ Rect = tuple[np.ndarray, np.ndarray, float]
 
 def _container(world: World, target: str) -> tuple[SimObject, Interior, int, bool] | None:
     """The object, interior, interior link and whether it is a drawer, behind a container node."""
-    drawer = False
-    if target in world.objects:
-        o = world.objects[target]
-        interior = o.model.interiors.get("")
-    elif target in world.parts:
-        obj_id, part = world.parts[target]
-        o = world.objects[obj_id]
-        art = o.model.articulations.get(part)
-        if art is not None and art.kind != "drawer":
-            return None
-        drawer = art is not None
-        interior = o.model.interiors.get(part)
-    else:
+    found = world.interior_of(target)
+    if found is None:
         return None
-    return (o, interior, o.links[interior.link], drawer) if interior is not None else None
+    o, part, interior = found
+    art = o.model.articulations.get(part) if part else None
+    if art is not None and art.kind != "drawer":
+        return None
+    return o, interior, o.links[interior.link], art is not None
 
 
 def footprint(model: AssetModel) -> tuple[np.ndarray, np.ndarray]:

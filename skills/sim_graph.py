@@ -76,16 +76,10 @@ def _centre_inside(world: World, node_id: str, point: np.ndarray) -> bool:
     turned by 45 degrees has a world bounding box half again as wide as itself)."""
     import pybullet as p
 
-    if node_id in world.objects:
-        o, part = world.objects[node_id], ""
-    elif node_id in world.parts:
-        obj_id, part = world.parts[node_id]
-        o = world.objects[obj_id]
-    else:
+    found = world.interior_of(node_id)
+    if found is None:
         return True
-    interior = o.model.interiors.get(part)
-    if interior is None:
-        return True
+    o, _, interior = found
     pos, orn = world.link_pose(o.body, o.links[interior.link])
     inv = p.invertTransform(tuple(pos), tuple(orn))
     local = np.array(p.multiplyTransforms(inv[0], inv[1], tuple(point), (0, 0, 0, 1))[0])

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from gsr.skills.asset_model import Articulation, AssetModel
+from gsr.skills.asset_model import Articulation, AssetModel, Interior
 from gsr.skills.robot import Robot
 
 from gsr.errors import GSRError
@@ -83,6 +83,19 @@ class World:
         if node_id == self.table_id or node_id in self.regions:
             return Located(self.table_id, "", self.table_body, -1)
         raise GSRError(f"node {node_id!r} has no body in the simulated world")
+
+    def interior_of(self, node_id: str) -> tuple[SimObject, str, Interior] | None:
+        """The object, part name and interior behind a container node (a box, a drawer); None when the
+        node is no object or part, or has no interior."""
+        if node_id in self.objects:
+            o, part = self.objects[node_id], ""
+        elif node_id in self.parts:
+            obj_id, part = self.parts[node_id]
+            o = self.objects[obj_id]
+        else:
+            return None
+        interior = o.model.interiors.get(part)
+        return (o, part, interior) if interior is not None else None
 
     def part_link(self, object_id: str, part: str) -> int:
         """Link index of an asset part (articulation, interior or plain part link); -1 for the base."""
