@@ -353,22 +353,39 @@ def _join(*insts: Instance, params: GeometryParams, keep_label: bool = False) ->
     group = list(insts)
     category = first.label.category if keep_label else (_vote(group, "category") or first.label.category)
     color = first.label.color if keep_label else _vote(group, "color")
+    cameras = {m.split("m")[0] for m in members if m.startswith("f")}
+    provenance = {MEMBERS: members, PARENT_MEMBERS: parents}
+    views = len(cameras) or sum(g.views for g in group)
+    return _combined(first, group, category, color, provenance, params, views)
+
+
+def _combined(
+    base: Instance,
+    group: list[Instance],
+    category: str,
+    color: str | None,
+    provenance: dict,
+    params: GeometryParams,
+    views: int,
+) -> Instance | None:
+    """``group``'s points as one instance under ``base``'s key and label (category, colour and provenance
+    set, the highest confidence kept), re-gridded; None when too few points remain."""
     scores = [
         float(s)
         for s in (g.label.attributes.get("confidence") for g in group)
         if isinstance(s, int | float) and not isinstance(s, bool)
     ]
-    attrs = {**first.label.attributes, MEMBERS: members, PARENT_MEMBERS: parents}
+    attrs = {**base.label.attributes, **provenance}
     if scores:
         attrs["confidence"] = round(max(scores), 3)
-    label = dataclasses.replace(first.label, category=category, color=color, attributes=attrs)
+    label = dataclasses.replace(base.label, category=category, color=color, attributes=attrs)
     points = np.concatenate([g.points for g in group])
     rgb = np.concatenate([g.rgb for g in group])
+    # each cloud is already cleaned of outliers: only the voxel grid is re-applied
     points, rgb = clean_points(points, rgb, dataclasses.replace(params, outlier_neighbors=len(points)))
     if len(points) < params.min_points:
         return None
-    cameras = {m.split("m")[0] for m in members if m.startswith("f")}
-    inst = Instance(first.key, label, points, rgb, views=len(cameras) or sum(g.views for g in group))
+    inst = Instance(base.key, label, points, rgb, views=views)
     fit_boxes(inst)
     return inst
 
@@ -412,24 +429,7 @@ def _merge_group(group: list[Instance], params: GeometryParams) -> Instance | No
     base = group[0]
     category = _vote(group, "category") or base.label.category
     color = _vote(group, "color")
-    scores = [
-        float(s)
-        for s in (g.label.attributes.get("confidence") for g in group)
-        if isinstance(s, int | float) and not isinstance(s, bool)
-    ]
-    attrs = {**base.label.attributes, **_provenance(group)}
-    if scores:
-        attrs["confidence"] = round(max(scores), 3)
-    label = dataclasses.replace(base.label, category=category, color=color, attributes=attrs)
-    points = np.concatenate([g.points for g in group])
-    rgb = np.concatenate([g.rgb for g in group])
-    # each view's cloud is already cleaned of outliers: only the voxel grid is re-applied
-    points, rgb = clean_points(points, rgb, dataclasses.replace(params, outlier_neighbors=len(points)))
-    if len(points) < params.min_points:
-        return None
-    inst = Instance(base.key, label, points, rgb, views=sum(g.views for g in group))
-    fit_boxes(inst)
-    return inst
+    return _combined(base, group, category, color, _provenance(group), params, sum(g.views for g in group))
 
 
 #: A part belongs to the object whose box holds at least this share of the part's box (grown 2 cm).
