@@ -389,6 +389,8 @@ def run_suite_task(job: tuple[dict, int, int, float]) -> dict:
         "steps": r.steps,
         "recoveries": len(failures),
         "failures": failures,
+        # neighbours set aside for refused picks (gsr.skills.recovery), with what followed
+        "clearances": list(getattr(ex, "recoveries", [])),
         "out_of_time": ex.out_of_time,
         "reason": r.reason,
         "wall_s": round(time.perf_counter() - t0, 2),

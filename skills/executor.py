@@ -11,7 +11,7 @@ observed graph (``ExecutionResult.final_graph``).
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -146,8 +146,11 @@ class PhysicalExecutor:
         """Run the step's skill in the world (a perceiving subclass first resolves its node ids to bodies)."""
         return run_step(self.world, step, self.budget)
 
-    def step(self, step: Step, index: int = 1) -> StepOutcome:
-        """Execute one step: check it on the observed graph, run the skill, observe, compare."""
+    def step(self, step: Step, index: int = 1, act: Callable[[], SkillResult] | None = None) -> StepOutcome:
+        """Execute one step: check it on the observed graph, run the skill, observe, compare.
+
+        ``act`` runs the step's skill instead of the library's (a recovery sets an object aside on a
+        table spot it chooses); the step is checked and its outcome compared all the same."""
         from gsr.transition import StepRejected, apply_step
 
         name = str(step)
@@ -161,7 +164,7 @@ class PhysicalExecutor:
                 None,
                 f"step {index} {name} is invalid in the {self.observed_word} state: {exc}",
             )
-        result = self._act(step)
+        result = act() if act is not None else self._act(step)
         self.graph = self._observe(expected)
         diff = self._divergence(expected)
         why = ""

@@ -10,6 +10,7 @@ object rests where the step says after release.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable
 
 import numpy as np
@@ -23,6 +24,9 @@ from gsr.skills.world import SimObject, World
 TRANSIT_CLEARANCE = 0.08  # m above the tallest thing under the path
 MAX_DROP = 0.06  # m: the most a placed object may be let go above its release point
 APPROACH = 0.1  # m above a grasp or release point
+
+#: Rectangles on the table: (centre xy, half sizes xy).
+Rects = tuple[tuple[np.ndarray, np.ndarray], ...] | list[tuple[np.ndarray, np.ndarray]]
 
 
 def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
@@ -283,10 +287,36 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
             m.move_line((np.array([m.pose()[0][0], m.pose()[0][1], z_transit]), m.pose()[1]), check=False)
             m.step(60)
     worst = max(errors, key=lambda e: list(Failure).index(e.failure)) if errors else None
+    named = in_the_way(world, obj, [e.message for e in errors])
     raise SkillError(
         worst.failure if worst else Failure.UNREACHABLE,
-        f"cannot reach a grasp on {obj.id}: " + "; ".join(_distinct(e.message for e in errors)[:3]),
+        f"cannot reach a grasp on {obj.id}: "
+        + "; ".join(_distinct(e.message for e in errors)[:3])
+        + (f" (in the way: {', '.join(named)})" if named else ""),
     )
+
+
+#: How a collision names its obstacle: ``collides with blue_mug1 (base) at the left finger``.
+_OBSTACLE = re.compile(r"collides with ([^\s()]+) \(")
+
+
+def in_the_way(world: World, obj: SimObject, messages: list[str]) -> list[str]:
+    """The movable objects the refused candidates of a pick of ``obj`` ran into, most often named first:
+    not fixtures, not what ``obj`` stands in or on (its box), not ``obj`` itself."""
+    hosts: set[str] = set()
+    node = obj.id
+    while node in world.objects and len(hosts) < 8:
+        support = support_of(world, node) or ("", "")
+        node = support[1].split("/")[0]
+        hosts.add(node)
+    counts: dict[str, int] = {}
+    for msg in messages:
+        for name in _OBSTACLE.findall(msg):
+            o = world.objects.get(name)
+            if o is None or o.model.fixed or name == obj.id or name in hosts:
+                continue
+            counts[name] = counts.get(name, 0) + 1
+    return sorted(counts, key=lambda n: -counts[n])
 
 
 def _distinct(messages) -> list[str]:
@@ -425,10 +455,12 @@ def target_point(
     relation: str,
     turn: float = 0.0,
     reachable: Callable[[np.ndarray, float], bool] | None = None,
+    keep_clear: Rects = (),
 ) -> np.ndarray:
     """Where the held object's bottom centre should go: a free spot in the interior or on top of ``target``.
 
-    On the bare table ``reachable(spot, turn)`` (the arm reaches the release there) is asked too."""
+    On the bare table ``reachable(spot, turn)`` (the arm reaches the release there) is asked too, and
+    the ``keep_clear`` rectangles ((centre, half sizes) on the table) count as occupied."""
     if relation == "in":
         for node_id, lo, hi, _ in interior_boxes(world):
             if node_id == target:
@@ -458,7 +490,15 @@ def target_point(
             lo = np.array([max(tlo[0] + edge, ee[0] - reach), max(tlo[1] + edge, ee[1] - reach), thi[2]])
             hi = np.array([min(thi[0] - edge, ee[0] + reach), min(thi[1] - edge, ee[1] + reach), thi[2]])
             spot, good = _ranked_spot(
-                world, obj, lo, hi, float(thi[2]), avoid_regions=True, turn=turn, accept=accept
+                world,
+                obj,
+                lo,
+                hi,
+                float(thi[2]),
+                avoid_regions=True,
+                turn=turn,
+                accept=accept,
+                keep_clear=keep_clear,
             )
             if spot[2] <= thi[2] + 1e-6:
                 if good:
@@ -506,10 +546,11 @@ def _spot_and_turn(
     obj: SimObject,
     relation: str,
     reachable: Callable[[np.ndarray, float], bool] | None = None,
+    keep_clear: Rects = (),
 ) -> tuple[np.ndarray, float]:
     """The release spot and a wrist turn (rad): a wide object (a 25 cm box taken off another box) that
     fits nowhere on a crowded table as held, turned by 45 degrees say, may fit turned square to it."""
-    spot = target_point(world, target, obj, relation, reachable=reachable)
+    spot = target_point(world, target, obj, relation, reachable=reachable, keep_clear=keep_clear)
     loc = world.locate(target) if target not in world.regions else None
     if loc is None or loc.body != world.table_body or max(obj.model.extent[:2]) < WIDE:
         return spot, 0.0
@@ -520,7 +561,9 @@ def _spot_and_turn(
     for turn in (square, square + math.pi / 2, square - math.pi / 2):
         if abs(turn) > math.pi * 0.6:
             continue
-        turned = target_point(world, target, obj, relation, turn=turn, reachable=reachable)
+        turned = target_point(
+            world, target, obj, relation, turn=turn, reachable=reachable, keep_clear=keep_clear
+        )
         if turned[2] <= world.body_aabb(world.table_body)[1][2] + 1e-6:
             return turned, turn
     return spot, 0.0
@@ -592,6 +635,7 @@ def _ranked_spot(
     avoid_regions: bool = False,
     turn: float = 0.0,
     accept: Callable[[np.ndarray], bool] | None = None,
+    keep_clear: Rects = (),
 ) -> tuple[np.ndarray, bool]:
     """``_free_spot``'s point and whether it is a good one: free with the whole hand clear of
     everything (inside a container: free) and, with ``accept``, taken by it. When no free spot is
@@ -648,6 +692,8 @@ def _ranked_spot(
         alo, ahi = world.body_aabb(o.body)
         if ahi[2] > z - 0.005 and alo[2] < z + 0.15 and support_of(world, o.id) != ("held", ""):
             others.append(((alo[:2] + ahi[:2]) / 2, (ahi[:2] - alo[:2]) / 2, float(ahi[2])))
+    # rectangles the caller keeps free (the hand's room round an object a pick must reach next)
+    others += [(np.asarray(c, dtype=float), np.asarray(h, dtype=float), z + 0.2) for c, h in keep_clear]
     # 7 x 7 spots at least, 3 cm apart at most (a 25 cm box needs a gap a coarse grid steps over)
     nx = int(min(41, max(7, math.ceil((xhi - xlo) / SPOT_STEP) + 1)))
     ny = int(min(41, max(7, math.ceil((yhi - ylo) / SPOT_STEP) + 1)))
@@ -762,8 +808,12 @@ def _release_reach(
     return reachable
 
 
-def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -> None:
-    """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome."""
+def place(
+    world: World, m: Motion, obj: SimObject, target: str, relation: str, keep_clear: Rects = ()
+) -> None:
+    """Put the held ``obj`` on or in ``target`` and release it; the caller checks the outcome.
+
+    ``keep_clear``: rectangles ((centre, half sizes) on the table) a bare-table spot must stay out of."""
     import pybullet as p
     from gsr.skills.packing import packed_spot
 
@@ -798,6 +848,7 @@ def place(world: World, m: Motion, obj: SimObject, target: str, relation: str) -
             reachable=_release_reach(
                 m, offset, quat, transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,))
             ),
+            keep_clear=keep_clear,
         )
         if not delta:
             # the hand's 22 cm length turned away from a tall neighbour (a bottle beside the bowl)

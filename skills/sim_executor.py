@@ -35,8 +35,21 @@ REFUSALS = frozenset({Failure.BLOCKED, Failure.UNREACHABLE})
 class SimExecutor:
     """A physical executor for the episode runner (one world per episode, closed after the next reset)."""
 
-    def __init__(self, seed: int = 0, frame_camera: str | None = "front", max_frames: int = 4) -> None:
+    def __init__(
+        self,
+        seed: int = 0,
+        frame_camera: str | None = "front",
+        max_frames: int = 4,
+        clear_blockers: bool = True,
+        max_episode_clearances: int = 6,
+    ) -> None:
         self.seed = seed
+        # a pick refused by movable neighbours in the hand's way sets them aside and tries again
+        # (gsr.skills.recovery): at most MAX_CLEARANCES per step and ``max_episode_clearances`` per episode
+        self.clear_blockers = clear_blockers
+        self.max_episode_clearances = max_episode_clearances
+        self.clearances = 0
+        self.recoveries: list[dict] = []
         self.frame_camera = frame_camera
         self.max_frames = max_frames
         self.domain: Domain | None = None
@@ -59,6 +72,8 @@ class SimExecutor:
         self.ex = PhysicalExecutor(world, domain, frame_camera=self.frame_camera)
         self.outcomes = []
         self._refused = {}
+        self.clearances = 0
+        self.recoveries = []
         return state_from_graph(self.ex.graph, domain)
 
     def execute(self, step: Step) -> Diagnosis:
@@ -86,11 +101,79 @@ class SimExecutor:
         self.outcomes.append(out)
         if out.ok:
             return checked
+        cleared = self._clear_and_retry(step, out)
+        if cleared is not None:
+            return cleared
         return Diagnosis(
             ok=False,
             step=step,
             message=f"physical execution failed: {out.diagnosis}",
             hints=("the scene graph now shows what the simulator observed; replan from it",),
+        )
+
+    def _clear_and_retry(self, step: Step, out: StepOutcome) -> Diagnosis | None:
+        """A pick refused because movable neighbours were in the hand's way: set at most
+        :data:`~gsr.skills.recovery.MAX_CLEARANCES` of them aside on the table (checked steps of their
+        own) and pick again. None when nothing was set aside; else a non-ok diagnosis that says what
+        moved and asks the agent to replan from the observed graph (the pick may have succeeded)."""
+        from gsr.skills.executor import PhysicalExecutor
+        from gsr.skills.recovery import MAX_CLEARANCES, blockers, keep_clear_around, set_aside, support_step
+
+        assert self.ex is not None
+        ex = self.ex
+        if (
+            not self.clear_blockers
+            or step.action != "pick"
+            or out.skill is None
+            or out.skill.failure is not Failure.BLOCKED
+            or type(ex)._act is not PhysicalExecutor._act  # steps name the world's objects
+            or self.clearances >= self.max_episode_clearances
+        ):
+            return None
+        target = step.args[0]
+        moved: list[str] = []
+        notes: list[str] = []
+        for _ in range(MAX_CLEARANCES):
+            names = [n for n in blockers(out.diagnosis, ex.world, ex.graph) if n not in moved and n != target]
+            if not names or self.clearances >= self.max_episode_clearances:
+                break
+            node = names[0]
+            lift = support_step(ex.graph, node)
+            if lift is None:
+                break
+            self.clearances += 1
+            moved.append(node)
+            taken = ex.step(lift, len(self.outcomes) + 1)
+            self.outcomes.append(taken)
+            if not taken.ok:
+                notes.append(f"setting {node} aside failed: {taken.diagnosis}")
+                break
+            keep = keep_clear_around(ex.world, target)
+            down = Step("place_on", (node, ex.world.table_id))
+            put = ex.step(
+                down, len(self.outcomes) + 1, act=lambda n=node, k=keep: set_aside(ex.world, n, k, ex.budget)
+            )
+            self.outcomes.append(put)
+            if not put.ok:
+                notes.append(f"setting {node} aside failed: {put.diagnosis}")
+                break
+            notes.append(f"set {node} aside on {ex.world.table_id}")
+            out = ex.step(step, len(self.outcomes) + 1)
+            self.outcomes.append(out)
+            if out.ok:
+                notes.append(f"{step} then succeeded")
+                break
+            notes.append(f"{step} refused again: {out.skill.message if out.skill else out.diagnosis}")
+            if out.skill is None or out.skill.failure is not Failure.BLOCKED:
+                break
+        if not moved:
+            return None
+        self.recoveries.append({"step": str(step), "moved": moved, "picked": out.ok, "notes": notes})
+        return Diagnosis(
+            ok=False,
+            step=step,
+            message=f"physical execution: clearance for {step}: " + "; ".join(notes),
+            hints=("neighbours were moved: the scene graph shows where; replan from it",),
         )
 
     def _fingerprint(self) -> tuple:

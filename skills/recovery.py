@@ -1,0 +1,95 @@
+"""Closed-loop recovery for a refused pick: set the neighbours in the hand's way aside, then pick again.
+
+A pick the motion planner refuses (``blocked``) names what its candidates ran into
+(:func:`gsr.skills.grasping.in_the_way`: a mug packed beside a cube in a box, a box beside a cube on the
+desk; never a fixture or the object's own container). The executor then sets the most often named
+neighbour aside: two ordinary checked steps, ``(pick N S)`` and ``(place_on N table)``, the release
+spot a free one the arm reaches that keeps the hand's room round the object free
+(:data:`HAND_ROOM`); and tries the pick again. At most :data:`MAX_CLEARANCES` neighbours per step.
+The agent is told that the scene now differs from its plan (a neighbour moved) and replans from the
+observed graph; the episode's step outcomes list the clearance steps with their own diagnoses.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+
+import numpy as np
+from gsr.skills.result import Failure, SkillError, SkillResult
+from gsr.skills.world import World
+
+from gsr.scene_graph import SceneGraph
+from gsr.step import Step
+
+#: Neighbours set aside at most for one refused pick.
+MAX_CLEARANCES = 2
+#: Room (m) kept free round the object's footprint on the table: the hand reaches about 10 cm to
+#: either side of its grasp point along its closing axis.
+HAND_ROOM = 0.10
+
+_NAMED = re.compile(r"\(in the way: ([^)]*)\)")
+
+
+def blockers(message: str, world: World, graph: SceneGraph) -> list[str]:
+    """The movable neighbours a refused pick's diagnosis names as in the way, most often named first,
+    that the observed graph shows resting on or in something (so a pick of them is a checked step)."""
+    found = _NAMED.search(message)
+    if not found:
+        return []
+    rests = {e.source for e in graph.edges if e.relation in ("on", "in")}
+    names = [n.strip() for n in found.group(1).split(",")]
+    return [n for n in names if n in world.objects and n in rests]
+
+
+def support_step(graph: SceneGraph, node: str) -> Step | None:
+    """``(pick node support)`` for the node's support in the observed graph, or None."""
+    for e in graph.edges:
+        if e.source == node and e.relation in ("on", "in"):
+            return Step("pick", (node, e.target))
+    return None
+
+
+def keep_clear_around(world: World, node: str) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The table rectangle (centre, half sizes) round ``node``'s footprint that the hand needs free."""
+    lo, hi = world.body_aabb(world.objects[node].body)
+    return [((lo[:2] + hi[:2]) / 2, (hi[:2] - lo[:2]) / 2 + HAND_ROOM)]
+
+
+def set_aside(
+    world: World, node: str, keep_clear: list[tuple[np.ndarray, np.ndarray]], budget: int
+) -> SkillResult:
+    """Put the held ``node`` on the bare table, out of the ``keep_clear`` rectangles; the skill's result
+    (checked: it must rest on the table afterwards)."""
+    from gsr.skills.grasping import place
+    from gsr.skills.library import _settle
+    from gsr.skills.motion import Motion
+    from gsr.skills.sim_graph import support_of
+
+    t0 = time.perf_counter()
+    m = Motion(world, budget)
+    name = f"(place_on {node} {world.table_id})"
+    try:
+        if support_of(world, node) != ("held", ""):
+            raise SkillError(Failure.GRASP_SLIPPED, f"{node} is not in the hand")
+        obj = world.objects[node]
+        place(world, m, obj, world.table_id, "on", keep_clear=keep_clear)
+        _settle(world, m, obj.body)
+        got = support_of(world, node)
+        if got != ("on", world.table_id):
+            where = f"{got[0]} {got[1]}".strip() if got else "nowhere (still moving)"
+            raise SkillError(Failure.NOT_ACHIEVED, f"{node} ended {where}, not on {world.table_id}")
+    except SkillError as exc:
+        return SkillResult(
+            "place_on", name, False, exc.failure, exc.message, m.used, time.perf_counter() - t0
+        )
+    return SkillResult(
+        "place_on",
+        name,
+        True,
+        None,
+        "",
+        m.used,
+        time.perf_counter() - t0,
+        {"support": f"on {world.table_id}"},
+    )
