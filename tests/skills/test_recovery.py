@@ -1,0 +1,130 @@
+"""Closed-loop recovery for a refused pick (issue 20): neighbours in the hand's way are set aside.
+
+The scene is a generated GSR-Bench Complex cell (shipped code, no third-party data): a 3 cm cube in an
+8.5 cm deep box with a mug packed against it on either side along the box, as the plan's order left
+it in ``gsrgen_sod_complex_00`` (the blue mugs put in before the yellow cube was taken out).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from gsr.benchmarks.suites import get_suite
+from gsr.skills.result import Failure
+
+from gsr.resources import load_builtin_domain
+from gsr.step_grammar import parse_step_text
+
+pytestmark = pytest.mark.physics
+
+
+def _task(task_id: str):
+    return next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == task_id)
+
+
+def _packed(clear_blockers: bool):
+    """An executor on sod_complex_00 with both blue mugs packed against the yellow cube in the blue box."""
+    import pybullet as p
+    from gsr.skills.sim_executor import SimExecutor
+    from gsr.skills.sim_graph import scene_graph_from_sim, support_of
+
+    ex = SimExecutor(seed=0, frame_camera=None, clear_blockers=clear_blockers)
+    ex.reset(_task("gsrgen_sod_complex_00"), load_builtin_domain("tabletop"))
+    w = ex.ex.world
+    box, cube = w.objects["blue_box"], w.objects["yellow_cube1"]
+    _pos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=w.client)
+    yaw = p.getEulerFromQuaternion(bq)[2]
+    sx, sy = box.model.extent[:2]
+    along = (
+        np.array([math.cos(yaw), math.sin(yaw)]) if sx >= sy else np.array([-math.sin(yaw), math.cos(yaw)])
+    )
+    cpos, _ = p.getBasePositionAndOrientation(cube.body, physicsClientId=w.client)
+    floor = w.body_aabb(cube.body)[0][2]
+    for name, side in (("blue_mug1", 1), ("blue_mug2", -1)):
+        mug = w.objects[name]
+        mpos, mq = p.getBasePositionAndOrientation(mug.body, physicsClientId=w.client)
+        xy = np.array(cpos[:2]) + side * along * (0.015 + 0.022 + 0.006)  # 6 mm beside the cube
+        z = mpos[2] - w.body_aabb(mug.body)[0][2] + floor + 0.002
+        p.resetBasePositionAndOrientation(mug.body, (xy[0], xy[1], z), mq, physicsClientId=w.client)
+    for _ in range(240):
+        p.stepSimulation(physicsClientId=w.client)
+    ex.ex.graph = scene_graph_from_sim(w)
+    assert {support_of(w, n) for n in ("blue_mug1", "blue_mug2", "yellow_cube1")} == {("in", "blue_box")}
+    return ex
+
+
+def test_a_pick_blocked_by_packed_neighbours_sets_them_aside_and_succeeds() -> None:
+    from gsr.skills.sim_graph import support_of
+
+    step = parse_step_text("(pick yellow_cube1 blue_box)")
+    # without the recovery the pick is refused, naming the mugs as in the way
+    ex = _packed(clear_blockers=False)
+    try:
+        refused = ex.execute(step)
+        assert not refused.ok and ex.outcomes[-1].skill.failure is Failure.BLOCKED
+        assert "(in the way: blue_mug" in refused.message and not ex.recoveries
+    finally:
+        ex.close()
+    ex = _packed(clear_blockers=True)
+    try:
+        w = ex.ex.world
+        cube_xy = (
+            w.body_aabb(w.objects["yellow_cube1"].body)[0][:2]
+            + w.body_aabb(w.objects["yellow_cube1"].body)[1][:2]
+        ) / 2
+        d = ex.execute(step)
+        # the step is reported with what moved, so the agent replans from the observed graph
+        assert not d.ok and "clearance for (pick yellow_cube1 blue_box)" in d.message
+        assert "aside on table" in d.message and "then succeeded" in d.message
+        (rec,) = ex.recoveries
+        assert rec["picked"] and 1 <= len(rec["moved"]) <= 2
+        assert support_of(w, "yellow_cube1") == ("held", "")
+        for name in rec["moved"]:
+            assert support_of(w, name) == ("on", "table")
+            lo, hi = w.body_aabb(w.objects[name].body)
+            # set down out of the hand's room round the cube
+            assert float(np.max(np.abs((lo[:2] + hi[:2]) / 2 - cube_xy))) > 0.1
+        steps = [o.step for o in ex.outcomes]
+        assert (
+            steps[1] == f"(pick {rec['moved'][0]} blue_box)"
+            and steps[2] == f"(place_on {rec['moved'][0]} table)"
+        )
+        assert ex.outcomes[-1].ok and steps[-1] == str(step)
+        # the observed graph the agent replans from shows the cube held and the mugs on the table
+        graph = ex.graph()
+        assert "held" in next(n for n in graph.nodes if n.id == "yellow_cube1").states
+        assert {(e.source, e.target) for e in graph.edges if e.relation == "on"} >= {
+            (n, "table") for n in rec["moved"]
+        }
+    finally:
+        ex.close()
+
+
+def test_a_container_or_a_fixture_in_the_way_is_never_named_for_setting_aside() -> None:
+    from gsr.skills.grasping import in_the_way
+    from gsr.skills.recovery import blockers
+    from gsr.skills.world import build_world
+
+    with build_world(_task("gsrgen_ss_complex_01"), seed=0) as world:
+        cube = world.objects["yellow_cube2"]  # in blue_lid_box, which stands on the table by short_cabinet
+        msgs = [
+            "grasp pose collides with blue_lid_box (base) at the hand",  # its own box
+            "from every base position the arm collides: short_cabinet (base) at the link5",  # a fixture
+            "grasp pose collides with yellow_cube1 (base) at the left finger",
+            "grasp pose collides with blue_mug1 (base) at the hand",
+            "path to [0.1, 0.2, 0.3] collides with yellow_cube1 (base) at the right finger",
+            "grasp pose collides with yellow_cube2 (base) at the hand",  # itself
+            "grasp pose collides with table at the hand",
+        ]
+        assert in_the_way(world, cube, msgs) == ["yellow_cube1", "blue_mug1"]  # most often named first
+        from gsr.skills.sim_graph import scene_graph_from_sim
+
+        graph = scene_graph_from_sim(world)
+        said = "cannot reach a grasp on yellow_cube2: ... (in the way: yellow_cube1, blue_mug1)"
+        assert blockers(said, world, graph) == ["yellow_cube1", "blue_mug1"]
+        assert (
+            blockers("cannot reach a grasp on yellow_cube2: grasp pose collides with blue_mug1", world, graph)
+            == []
+        )
