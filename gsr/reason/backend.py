@@ -1,10 +1,12 @@
-"""The model backend protocol and ``make_backend(spec)`` for ``grounder``, ``transformers:PATH``, ``openai:MODEL``.
+"""The model backend protocol: ``Backend``, ``PlanProposer``, ``Query`` and the backend errors.
 
 A backend answers one prompt at a time. Any object with
 ``complete(prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str`` is a
-backend; a plain function ``str -> str`` is wrapped by :func:`as_backend` (it gets ``prompt.text()``).
+backend; a plain function ``str -> str`` is wrapped by ``gsr.reason.backends.as_backend`` (it gets ``prompt.text()``).
 ``query`` carries the structured request (scene graph, domain, goal, the answers already rejected for
 this step, and for constrained decoding the step lines allowed now) for backends that use it; text-only models ignore it.
+The backends themselves import this module; specs (``grounder``, ``transformers:PATH``, ``openai:MODEL``)
+become backends in :mod:`gsr.reason.backends`, the registry.
 """
 
 from __future__ import annotations
@@ -76,39 +78,3 @@ class FunctionBackend:
     def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
         """Call the function on the plain prompt text."""
         return self.fn(prompt.text())
-
-
-def as_backend(obj: Backend | Callable[[str], str] | str) -> Backend:
-    """A backend from a backend object, a ``str -> str`` function or a spec string."""
-    if isinstance(obj, str):
-        return make_backend(obj)
-    if hasattr(obj, "complete"):
-        return obj  # type: ignore[return-value]
-    if callable(obj):
-        return FunctionBackend(obj)
-    raise GSRError(f"not a backend: {obj!r}")
-
-
-_LOADED: dict[tuple, Backend] = {}
-
-
-def make_backend(spec: str, **options: object) -> Backend:
-    """``grounder`` | ``transformers:PATH`` | ``openai:MODEL``; options go to the backend's constructor."""
-    kind, _, arg = spec.partition(":")
-    if kind == "grounder" and not arg:
-        from gsr.reason.grounder_backend import GrounderBackend
-
-        return GrounderBackend(**options)  # type: ignore[arg-type]
-    if kind == "transformers" and arg:
-        from gsr.reason.hf_backend import TransformersBackend
-
-        # loading weights is slow: reuse a loaded model for the same path and options (service, benchmarks)
-        key = (arg, tuple(sorted((k, repr(v)) for k, v in options.items())))
-        if key not in _LOADED:
-            _LOADED[key] = TransformersBackend(arg, **options)  # type: ignore[arg-type]
-        return _LOADED[key]
-    if kind == "openai" and arg:
-        from gsr.reason.openai_backend import OpenAIBackend
-
-        return OpenAIBackend(arg, **options)  # type: ignore[arg-type]
-    raise GSRError(f"unknown backend {spec!r}: use grounder, transformers:PATH or openai:MODEL")

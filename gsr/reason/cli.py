@@ -80,7 +80,7 @@ def solve_command(
     to JSON output.
     """
     from gsr.io import load_scene
-    from gsr.reason.backend import make_backend
+    from gsr.reason.backends import make_backend
     from gsr.reason.reasoner import solve
 
     if fmt not in FORMATS:

@@ -1,14 +1,34 @@
-"""The built-in few-shot example, with effects computed by the checker so it always matches the domain."""
+"""Few-shot examples: the ``Example`` type and the built-in one, its effects computed by the checker so it
+always matches the domain."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 from gsr.diagnosis import Diagnosis
 from gsr.pddl.model import Atom, Domain
+from gsr.reason.scene_text import scene_text
 from gsr.scene_graph import SceneGraph
 from gsr.state import State
 from gsr.step import Step
+
+
+@dataclass(frozen=True)
+class Example:
+    """A few-shot example: scene text, instruction, and either step lines or a goal formula."""
+
+    scene: str
+    instruction: str
+    steps: tuple[str, ...] = ()
+    goal: str | None = None
+
+    def text(self, goal_mode: bool = False) -> str:
+        """The example as prompt text."""
+        answer = self.goal if goal_mode else "\n".join(self.steps)
+        label = "Goal" if goal_mode else "Steps"
+        return f"Scene:\n{self.scene}\nInstruction: {self.instruction}\n{label}:\n{answer}"
+
 
 _EXAMPLE_SCENE = {
     "nodes": ["table", "green_box", "yellow_cube1", "small_cabinet", "small_cabinet/drawer_top(closed)"],
@@ -53,12 +73,11 @@ def annotate_steps(domain: Domain, graph: SceneGraph, steps: Sequence[Step]) -> 
     return out
 
 
-_CACHE: dict[int, tuple[Domain, object]] = {}
+_CACHE: dict[int, tuple[Domain, Example]] = {}
 
 
-def _example(domain: Domain):
+def _example(domain: Domain) -> Example:
     from gsr.gsr_bench_format import graph_from_gsr_bench
-    from gsr.reason.prompt import Example, scene_text
     from gsr.reason.step_format import format_step
 
     graph = graph_from_gsr_bench(_EXAMPLE_SCENE)
@@ -68,10 +87,17 @@ def _example(domain: Domain):
     )
 
 
-def builtin_example(domain: Domain):
+def builtin_example(domain: Domain) -> Example:
     """The built-in tabletop example (scene, instruction, checked steps with effects, goal)."""
     hit = _CACHE.get(id(domain))
     if hit is None or hit[0] is not domain:  # keyed by identity: Domain is mutable, not hashable
         hit = (domain, _example(domain))
         _CACHE[id(domain)] = hit
     return hit[1]
+
+
+def default_examples(domain: Domain) -> tuple[Example, ...]:
+    """The built-in few-shot example (tabletop domain only; none for other domains)."""
+    if domain.name != "tabletop":
+        return ()
+    return (builtin_example(domain),)

@@ -18,19 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
-
-
-def libero_cases(folder: Path) -> list[tuple[str, Any, Any, str]]:
-    """(name, graph, benchmark goal formula, instruction) for every ``*.bddl`` under ``folder``, sorted."""
-    from gsr.libero import libero_task
-    from gsr.pddl.bddl import parse_bddl
-
-    cases = []
-    for path in sorted(folder.rglob("*.bddl")):
-        bddl = parse_bddl(path.read_text(encoding="utf-8"), str(path))
-        graph, problem = libero_task(bddl)
-        cases.append((f"{path.parent.name}/{path.stem}", graph, problem.goal, bddl.language or ""))
-    return cases
+from gsr.reason.cases import PROMPT_OPTIONS, libero_cases, split_cases
 
 
 def run_cases(
@@ -101,8 +89,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rows", action="store_true", help="print one JSON line per task too")
     args = parser.parse_args(argv)
     try:
-        from gsr.reason.backend import make_backend
-        from gsr.reason.tiny_model import PROMPT_OPTIONS, split_cases
+        from gsr.reason.backends import make_backend
 
         cases = split_cases(libero_cases(args.folder), args.split)[: args.limit]
         if not cases:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 from gsr.errors import GSRError
 
 if TYPE_CHECKING:
-    from gsr.reason.prompt import Example
+    from gsr.reason.examples import Example
 
 MODES = ("steps", "goal", "hybrid")
 

@@ -19,37 +19,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from gsr.diagnosis import typed_text
-from gsr.graph_text import to_prompt_text
 from gsr.pddl.model import Domain, Formula
 from gsr.pddl.writer import effect_inline, inline_formula
+from gsr.reason.examples import Example, default_examples
+from gsr.reason.scene_text import scene_text
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
-#: Static predicates the scene text already says (colour, parts) or that only encode counting.
-_SHOWN_STATIC = frozenset({"has_color", "part_of", "next"})
-#: Fluents the scene text already says (relations and node states).
-_SHOWN_FLUENTS = frozenset({"on", "in", "open", "turned_on", "holding"})
 DONE = "(done)"
 
 STEP_RULES = """Step format: one step per line: the ground action in parentheses, then every change it makes in the current state: +(atom) for each atom it makes true, -(atom) for each atom it makes false. Use the exact object names of the scene; a part is named object/part (e.g. short_cabinet/drawer_low). Answer with exactly one step line and nothing else. If the instruction is already achieved, answer (done)."""
 
 GOAL_RULES = """Answer with one PDDL goal formula over the scene's object names and the predicates above, on one line and nothing else: e.g. (and (in red_cube1 blue_box) (not (open short_cabinet/drawer_low))). Quantifiers are allowed: (forall (?x - cube) (imply (has_color ?x red) (in ?x blue_box)))."""
-
-
-@dataclass(frozen=True)
-class Example:
-    """A few-shot example: scene text, instruction, and either step lines or a goal formula."""
-
-    scene: str
-    instruction: str
-    steps: tuple[str, ...] = ()
-    goal: str | None = None
-
-    def text(self, goal_mode: bool = False) -> str:
-        """The example as prompt text."""
-        answer = self.goal if goal_mode else "\n".join(self.steps)
-        label = "Goal" if goal_mode else "Steps"
-        return f"Scene:\n{self.scene}\nInstruction: {self.instruction}\n{label}:\n{answer}"
 
 
 @dataclass(frozen=True)
@@ -88,33 +69,6 @@ def predicate_text(domain: Domain) -> str:
     return "\n".join(
         f"({' '.join(filter(None, (p.name, typed_text(p.params))))})" for p in domain.predicates.values()
     )
-
-
-def scene_text(graph: SceneGraph, domain: Domain | None = None) -> str:
-    """Compact scene text plus the facts it does not show (affordances, counters, hand) for ``domain``."""
-    from gsr.facts import state_from_graph
-    from gsr.semantics import compile_domain
-
-    text = to_prompt_text(graph)
-    if domain is None:
-        return text
-    state = state_from_graph(graph, domain)
-    fluents = compile_domain(domain).fluents
-    unary: dict[str, list[str]] = {}
-    other: list[str] = []
-    for atom in sorted(state.atoms, key=lambda a: (a.predicate, a.args)):
-        if atom.predicate in (_SHOWN_FLUENTS if atom.predicate in fluents else _SHOWN_STATIC):
-            continue
-        if len(atom.args) == 1 and atom.predicate not in fluents:
-            unary.setdefault(atom.predicate, []).append(atom.args[0])
-        else:
-            other.append(str(atom))
-    lines = [text]
-    if unary:
-        lines.append("affords: " + "; ".join(f"{p}: {', '.join(objs)}" for p, objs in unary.items()))
-    if other:
-        lines.append("facts: " + " ".join(other))
-    return "\n".join(lines)
 
 
 def _goal_line(goal: Goal | Formula | None) -> str:
@@ -185,12 +139,3 @@ def build_goal_prompt(
         user.append(f"Rejected goals (fix the problem):\n{tries}")
     user.append("Goal:")
     return Prompt("\n\n".join(parts), "\n".join(user), "Goal:")
-
-
-def default_examples(domain: Domain) -> tuple[Example, ...]:
-    """The built-in few-shot example (tabletop domain only; none for other domains)."""
-    if domain.name != "tabletop":
-        return ()
-    from gsr.reason.examples import builtin_example
-
-    return (builtin_example(domain),)

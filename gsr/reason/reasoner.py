@@ -14,10 +14,11 @@ from collections.abc import Callable, Sequence
 from gsr.diagnosis import Diagnosis
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain
-from gsr.reason.backend import Backend, as_backend
+from gsr.reason.backend import Backend
+from gsr.reason.backends import as_backend
+from gsr.reason.examples import Example
 from gsr.reason.loop import SolveLoop
 from gsr.reason.options import SolveOptions
-from gsr.reason.prompt import Example
 from gsr.reason.result import ReasonResult
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step

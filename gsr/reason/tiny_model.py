@@ -18,18 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
-
-#: Prompt options shared by the training pairs and the measurement runs.
-PROMPT_OPTIONS = {"examples": (), "prompt_actions": "signatures"}
-
-
-def split_cases(cases: list, split: str) -> list:
-    """``all`` cases, or the ``even`` / ``odd`` positions of the sorted list (a fixed train/test split)."""
-    if split == "all":
-        return cases
-    if split not in ("even", "odd"):
-        raise GSRError(f"unknown split {split!r}: all, even or odd")
-    return cases[split == "odd" :: 2]
+from gsr.reason.cases import PROMPT_OPTIONS, libero_cases, split_cases
 
 
 def random_goals(graph: Any, count: int, seed: int) -> list[tuple[Any, str]]:
@@ -178,8 +167,6 @@ def train(
 def main(argv: list[str] | None = None) -> int:
     """Command-line entry point."""
     import json
-
-    from gsr.reason.measure import libero_cases
 
     parser = argparse.ArgumentParser(
         prog="python -m gsr.reason.tiny_model", description=__doc__.splitlines()[0]

@@ -58,7 +58,8 @@ def row_example(row: dict[str, Any], domain: Domain, chat: Any | None = None) ->
     """The training example of one dataset row (None for a type without a text form)."""
     from gsr.graph_text import to_prompt_text
     from gsr.pddl.parser import parse_formula
-    from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt, scene_text
+    from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt
+    from gsr.reason.scene_text import scene_text
     from gsr.reason.step_format import format_step
     from gsr.step import Step
 

@@ -26,7 +26,7 @@ class OpenLoopAgent:
     def __init__(
         self, backend: str = "grounder", constrained: bool = False, max_new_tokens: int = 160
     ) -> None:
-        from gsr.reason.backend import make_backend
+        from gsr.reason.backends import make_backend
 
         if not isinstance(backend, str) or not backend.startswith("transformers:"):
             raise GSRError("OpenLoopAgent: backend must be transformers:PATH")

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 
-from gsr.reason.measure import libero_cases, main, run_cases, summary
-from gsr.reason.tiny_model import random_goals, split_cases, trace_pairs
+from gsr.reason.cases import libero_cases, split_cases
+from gsr.reason.measure import main, run_cases, summary
+from gsr.reason.tiny_model import random_goals, trace_pairs
 
 
 def test_grounder_solves_libero_tasks(libero_dir, capsys):
