@@ -8,13 +8,18 @@ and, when solved, validated with gsr.validate; with ``--fd``, Fast Downward (lam
 the same files to tell the domains it accepts. Each domain runs in its own subprocess under a hard
 wall limit, so a grounding that does not finish cannot stall the run.
 
-Usage: python -m gsr.benchmarks.bench_ipc_language ROOT [--timeout 60] [--planner lazy-ff] [--pick 0]
-       [--fd] [--only a,b] [--save FILE] [--markdown]
+Usage: python -m gsr.benchmarks.bench_ipc_language ROOT [--timeout 60] [--clock wall|cpu]
+       [--planner lazy-ff] [--pick 0] [--fd] [--only a,b] [--save FILE] [--markdown]
 
-Columns: load (parsed), plan (solved / timeout / unsolvable / error / killed / crash), valid (plan
-checked), GSR wall and CPU time of the whole child process (start-up, parse, ground, search,
-validate), plan length; with --fd, FD's status, wall and CPU time (its own processes) and plan
-length. A ROOT that does not exist is skipped with one line (exit 0): the collection is not shipped.
+``--clock cpu`` makes --timeout a CPU-time limit for each planner's own processes (GSR's child
+process through RLIMIT_CPU, FD through its driver's --overall-time-limit, which is CPU time): on a
+machine shared with other jobs a wall limit cuts both planners at a load-dependent point.
+
+Columns: load (parsed), ground (GSR's grounding: wall seconds and ground operators, or "not
+finished" within the limit), plan (solved / timeout / unsolvable / error / killed / crash), valid
+(plan checked), GSR wall and CPU time of the whole child process (start-up, parse, ground, search,
+validate), plan length; with --fd, FD's translator (wall seconds and operators from its log, or "not
+finished"), status, wall and CPU time (its own processes) and plan length. A ROOT that does not exist is skipped with one line (exit 0): the collection is not shipped.
 """
 
 from __future__ import annotations
@@ -23,6 +28,7 @@ import argparse
 import json
 import os
 import resource
+import signal
 import subprocess
 import sys
 import tempfile
@@ -52,25 +58,70 @@ def pick_problem(folder: Path, pick: int) -> tuple[Path, Path] | None:
     return dom, prob
 
 
-def run_one(domain_file: Path, problem_file: Path, timeout: float, planner: str = "lazy-ff") -> dict:
-    """Parse, plan and validate in this process (called in a subprocess by ``main``)."""
-    from gsr.errors import GSRError
-    from gsr.pddl.parser import load_domain, load_problem
-    from gsr.plan import plan
-    from gsr.validate import validate_plan
+class CpuLimit(BaseException):
+    """The child's CPU-time limit (``--clock cpu``) ran out (raised from the SIGXCPU handler)."""
 
+
+def _on_sigxcpu(signum, frame):  # a signal handler
+    raise CpuLimit
+
+
+def limit_cpu(seconds: float) -> None:
+    """Stop this process's work after ``seconds`` of CPU time: SIGXCPU raises CpuLimit (the hard
+    limit, 10 s later, kills a process stuck where Python cannot handle the signal)."""
+    signal.signal(signal.SIGXCPU, _on_sigxcpu)
+    soft = max(1, round(seconds))
+    resource.setrlimit(resource.RLIMIT_CPU, (soft, soft + 10))
+
+
+def run_one(
+    domain_file: Path, problem_file: Path, timeout: float, planner: str = "lazy-ff", cpu: bool = False
+) -> dict:
+    """Parse, plan and validate in this process (called in a subprocess by ``main``); with ``cpu``
+    the limit is on this process's CPU time (the planner's own wall deadline is set far out)."""
     row: dict = {"load": False, "plan": None, "valid": None, "length": None}
     start = time.perf_counter()
+    if not cpu:
+        _run_into(row, domain_file, problem_file, timeout, planner)
+    else:
+        limit_cpu(timeout)
+        try:
+            _run_into(row, domain_file, problem_file, 10 * timeout + 60, planner)
+        except CpuLimit:
+            row.update(plan="timeout", valid=None, length=None, message=f"over {timeout:g} s CPU")
+    row["time"] = time.perf_counter() - start
+    return row
+
+
+def _run_into(row: dict, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> None:
+    """Fill ``row`` step by step, so that what was done survives a CPU-limit interruption."""
+    import gsr.plan.api as api
+    from gsr.errors import GSRError
+    from gsr.pddl.parser import load_domain, load_problem
+    from gsr.validate import validate_plan
+
     try:
         domain = load_domain(domain_file)
         problem = load_problem(problem_file, domain)
     except GSRError as err:
-        return {**row, "message": str(err), "time": time.perf_counter() - start}
+        row["message"] = str(err)
+        return
     row["load"] = True
     row["axioms"] = len(domain.axioms)
-    result = plan(domain, problem, planner=planner, timeout=timeout)
+    ground = api.ground_task
+
+    def recording(*args, **kwargs):  # the grounding's size as soon as it is known
+        t0 = time.perf_counter()
+        task = ground(*args, **kwargs)
+        row["ground_time"], row["operators"] = time.perf_counter() - t0, len(task.ops)
+        return task
+
+    api.ground_task = recording
+    try:
+        result = api.plan(domain, problem, planner=planner, timeout=timeout)
+    finally:
+        api.ground_task = ground
     row["plan"] = result.status
-    row["ground_time"] = result.ground_time
     if result.status != "solved":
         row["message"] = result.message
     else:
@@ -79,20 +130,27 @@ def run_one(domain_file: Path, problem_file: Path, timeout: float, planner: str 
         row["length"] = len(result.plan)
         if not report.valid:
             row["message"] = report.message
-    row["time"] = time.perf_counter() - start
-    return row
 
 
-def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
+def run_fd(domain_file: Path, problem_file: Path, timeout: float, cpu: bool = False) -> dict:
     """Fast Downward lama-first on the files: status ('n/a' when it is not installed), wall and CPU
-    time (FD's own processes: the driver, translator and search), plan length."""
+    time (FD's own processes: the driver, translator and search), plan length; with ``cpu`` the
+    limit is FD's --overall-time-limit (CPU time) and the wall limit is far out."""
     from gsr.errors import GSRError
     from gsr.plan.fast_downward import run_fast_downward
 
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
+    details: dict = {}
     try:
-        status, plan, _ = run_fast_downward(domain_file, problem_file, timeout, memory_limit="4G")
+        status, plan, _ = run_fast_downward(
+            domain_file,
+            problem_file,
+            10 * timeout + 60 if cpu else timeout,
+            memory_limit="4G",
+            details=details,
+            cpu_limit=timeout if cpu else None,
+        )
     except GSRError:
         return {"status": "n/a"}
     wall = time.perf_counter() - start
@@ -104,13 +162,22 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float) -> dict:
         if status == "timeout"
         else (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     )
-    return {"status": status, "time": wall, "cpu": cpu, "length": len(plan) if plan is not None else None}
+    return {
+        "status": status,
+        "time": wall,
+        "cpu": cpu,
+        "length": len(plan) if plan is not None else None,
+        **details,  # translated, translate_cpu / translate_wall, operators, axioms
+    }
 
 
-def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
-    hard = 3 * timeout + 60  # grounding is not interruptible: the wall limit is the subprocess's
+def _subprocess_row(
+    domain_file: Path, problem_file: Path, timeout: float, planner: str, cpu: bool = False
+) -> dict:
+    # Grounding is not interruptible: the wall limit is the subprocess's.
+    hard = (10 if cpu else 3) * timeout + 60
     cmd = [sys.executable, __file__, "--one", str(domain_file), str(problem_file), "--timeout", str(timeout)]
-    cmd += ["--planner", planner]
+    cmd += ["--planner", planner] + (["--clock", "cpu"] if cpu else [])
     env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
     start = time.perf_counter()
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -135,28 +202,71 @@ def _subprocess_row(domain_file: Path, problem_file: Path, timeout: float, plann
     return row
 
 
+def _ground_cell(r: dict) -> str:
+    """GSR's grounding: wall seconds and ground operators, or why there are none."""
+    if r.get("operators") is not None:
+        return f"{r.get('ground_time', 0):.2f} ({r['operators']})"
+    return "not finished" if r.get("load") else "-"
+
+
+def _translate_cell(f_: dict) -> str:
+    """FD's translator: wall seconds and operators from its log, or 'not finished'."""
+    if not f_ or f_.get("status") == "n/a":
+        return "-"
+    if not f_.get("translated"):
+        return "not finished"
+    return f"{f_.get('translate_wall', 0):.2f} ({f_.get('operators', '?')})"
+
+
 def markdown(rows: list[dict], fd: bool) -> str:
     """The rows as a Markdown table (GSR's wall/CPU time are the whole child process: start-up,
-    parse, ground, search and validation)."""
-    head = "| domain | problem | load | GSR plan | valid | GSR wall / CPU (s) | length |"
-    rule = "|---|---|---|---|---|---:|---:|"
+    parse, ground, search and validation; the ground column is the grounding alone, wall seconds
+    and ground operators; FD's translate column the same from its translator's log)."""
+    head = "| domain | problem | load | GSR ground s (ops) | GSR plan | valid | GSR wall / CPU (s) | length |"
+    rule = "|---|---|---|---:|---|---|---:|---:|"
     if fd:
-        head += " FD lama-first | FD wall / CPU (s) | FD length |"
-        rule += "---|---:|---:|"
+        head += " FD translate s (ops) | FD lama-first | FD wall / CPU (s) | FD length |"
+        rule += "---:|---|---:|---:|"
     out = [head, rule]
     for r in rows:
         t = f"{r.get('wall', r.get('time', 0)):.2f} / {r.get('cpu', 0):.2f}"
         line = (
-            f"| {r['domain']} | {r['problem']} | {'yes' if r['load'] else 'no'} | {r['plan']} | "
-            f"{'yes' if r['valid'] else '-' if r['valid'] is None else 'no'} | {t} | {r.get('length') or '-'} |"
+            f"| {r['domain']} | {r['problem']} | {'yes' if r['load'] else 'no'} | {_ground_cell(r)} | "
+            f"{r['plan']} | {'yes' if r['valid'] else '-' if r['valid'] is None else 'no'} | {t} | "
+            f"{r.get('length') or '-'} |"
         )
         if fd:
             f_ = r.get("fd") or {}
             cpu = "-" if f_.get("cpu") is None else f"{f_['cpu']:.2f}"
             ft = f"{f_['time']:.2f} / {cpu}" if "time" in f_ else "-"
-            line += f" {f_.get('status')} | {ft} | {f_.get('length') or '-'} |"
+            line += f" {_translate_cell(f_)} | {f_.get('status')} | {ft} | {f_.get('length') or '-'} |"
         out.append(line)
     return "\n".join(out)
+
+
+def summary(rows: list[dict], timeout: float, fd: bool) -> str:
+    """Counts: domains that load, ground, plan and validate (and FD's translate / solve)."""
+    n = len(rows)
+    loaded = sum(bool(r["load"]) for r in rows)
+    grounded = sum(r.get("operators") is not None for r in rows)
+    solved = sum(r["plan"] == "solved" for r in rows)
+    valid = sum(bool(r["valid"]) for r in rows)
+    lines = [
+        f"domains {n}: load {loaded}, ground {grounded}, plan {solved} (limit {timeout:g} s), validate {valid}"
+    ]
+    if fd:
+        translated = sum(bool((r.get("fd") or {}).get("translated")) for r in rows)
+        fd_solved = [r for r in rows if (r.get("fd") or {}).get("status") == "solved"]
+        both = sum(r["plan"] == "solved" and bool(r["valid"]) for r in fd_solved)
+        only_gsr = sum(
+            r["plan"] == "solved" and bool(r["valid"]) and (r.get("fd") or {}).get("status") != "solved"
+            for r in rows
+        )
+        lines.append(
+            f"Fast Downward translated {translated}, solved {len(fd_solved)} of {n}; GSR solved and "
+            f"validated {both} of those, and {only_gsr} FD did not solve"
+        )
+    return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -166,6 +276,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=10.0, help="planner limit per problem (s)")
     parser.add_argument("--planner", default="lazy-ff", help="GSR planner (see gsr.plan.PLANNERS)")
     parser.add_argument("--pick", type=int, default=0, help="which problem by size (0: smallest)")
+    parser.add_argument(
+        "--clock",
+        choices=("wall", "cpu"),
+        default="wall",
+        help="what --timeout limits: wall-clock seconds, or CPU seconds of each planner's own "
+        "processes (GSR's child; FD's --overall-time-limit) - steadier on a loaded machine",
+    )
     parser.add_argument("--fd", action="store_true", help="also run Fast Downward lama-first")
     parser.add_argument("--only", default="", help="comma-separated domain folders")
     parser.add_argument("--save", type=Path, help="write the rows as JSON")
@@ -175,7 +292,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--one", nargs=2, type=Path, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.one:
-        print(json.dumps(run_one(args.one[0], args.one[1], args.timeout, args.planner)))
+        print(json.dumps(run_one(args.one[0], args.one[1], args.timeout, args.planner, args.clock == "cpu")))
         return 0
     if args.root is None:
         parser.error("give ROOT, a folder with one subfolder per domain")
@@ -193,10 +310,10 @@ def main(argv: list[str] | None = None) -> int:
         row = {
             "domain": folder.name,
             "problem": files[1].name,
-            **_subprocess_row(*files, args.timeout, args.planner),
+            **_subprocess_row(*files, args.timeout, args.planner, args.clock == "cpu"),
         }
         if args.fd:
-            row["fd"] = run_fd(*files, args.timeout)
+            row["fd"] = run_fd(*files, args.timeout, args.clock == "cpu")
         rows.append(row)
         fd = f"  fd:{row['fd'].get('status')} {row['fd'].get('time', 0):.2f}s" if args.fd else ""
         msg = f"  {row.get('message', '')[:90]}" if row.get("message") else ""
@@ -205,15 +322,7 @@ def main(argv: list[str] | None = None) -> int:
             f"valid:{row['valid']!s:5} {row.get('wall', row.get('time', 0)):7.2f}s{fd}{msg}",
             flush=True,
         )
-    n = len(rows)
-    loaded = sum(bool(r["load"]) for r in rows)
-    solved = sum(r["plan"] == "solved" for r in rows)
-    valid = sum(bool(r["valid"]) for r in rows)
-    print(f"domains {n}: load {loaded}, plan {solved} (limit {args.timeout:g} s), validate {valid}")
-    if args.fd:
-        fd_solved = [r for r in rows if r["fd"].get("status") == "solved"]
-        both = sum(r["plan"] == "solved" and bool(r["valid"]) for r in fd_solved)
-        print(f"Fast Downward solved {len(fd_solved)} of {n}; GSR solved and validated {both} of those")
+    print(summary(rows, args.timeout, args.fd))
     if args.markdown:
         print(markdown(rows, args.fd))
     if args.save:

@@ -40,6 +40,8 @@ class PlanResult:
     search_time: float
     planner: str
     message: str = ""
+    operators: int | None = None  # ground operators and atoms (None when grounding did not finish)
+    atoms: int | None = None
 
     @property
     def solved(self) -> bool:
@@ -150,6 +152,8 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
             t - ground_time,
             planner,
             "goal is unreachable even ignoring delete effects",
+            len(task.ops),
+            len(task.atoms),
         )
     result, how = _search(task, relax, planner, deadline)
     total = time.perf_counter() - start
@@ -172,6 +176,8 @@ def plan(domain: Domain, problem: Problem, planner: str = "lazy-ff", timeout: fl
         total - ground_time,
         planner,
         message,
+        len(task.ops),
+        len(task.atoms),
     )
 
 

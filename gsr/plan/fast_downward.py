@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -38,6 +39,22 @@ def parse_sas_plan(text: str) -> Plan:
     return Plan(tuple(steps))
 
 
+_TRANSLATOR_DONE = re.compile(r"^Done! \[([0-9.]+)s CPU, ([0-9.]+)s wall-clock\]", re.MULTILINE)
+_TRANSLATOR_COUNT = re.compile(r"^Translator (operators|axioms): (\d+)", re.MULTILINE)
+
+
+def translator_stats(log: str) -> dict:
+    """From FD's log: ``translated`` (the translator finished), ``translate_cpu``/``translate_wall``
+    (its own seconds) and ``operators``/``axioms`` (ground counts after its simplification)."""
+    out: dict = {"translated": "translate exit code: 0" in log}
+    done = _TRANSLATOR_DONE.search(log)
+    if done:
+        out["translate_cpu"], out["translate_wall"] = float(done.group(1)), float(done.group(2))
+    for name, value in _TRANSLATOR_COUNT.findall(log):
+        out[name] = int(value)
+    return out
+
+
 def run_fast_downward(
     domain_file: Path,
     problem_file: Path,
@@ -46,12 +63,18 @@ def run_fast_downward(
     alias: str | None = "lama-first",
     search: str | None = None,
     memory_limit: str | None = None,
+    details: dict | None = None,
+    cpu_limit: float | None = None,
 ) -> tuple[str, Plan | None, str]:
     """Run FD on two files; returns (status, plan, message) with status solved/unsolvable/timeout/error.
 
+    ``details``, when given, receives what FD's log tells about its translator (translator_stats):
+    whether it finished, its CPU and wall seconds, operator and axiom counts (also after a timeout).
+
     FD runs in its own session so that a timeout kills the translator and search processes too (the
     driver alone would leave an orphaned search running); ``memory_limit`` (e.g. "4G") is passed to
-    the driver's --overall-memory-limit.
+    the driver's --overall-memory-limit; ``cpu_limit`` (seconds) to its --overall-time-limit, which
+    FD enforces on CPU time (``timeout`` stays the wall-clock limit of the whole run).
     """
     cmd = find_fast_downward()
     if cmd is None:
@@ -63,6 +86,8 @@ def run_fast_downward(
         args = [*cmd, "--plan-file", str(plan_file)]
         if memory_limit is not None:
             args += ["--overall-memory-limit", memory_limit]
+        if cpu_limit is not None:
+            args += ["--overall-time-limit", f"{max(1, round(cpu_limit))}s"]
         if search is not None:
             args += [str(Path(domain_file).resolve()), str(Path(problem_file).resolve()), "--search", search]
         else:
@@ -72,7 +97,8 @@ def run_fast_downward(
                 str(Path(domain_file).resolve()),
                 str(Path(problem_file).resolve()),
             ]
-        env = dict(os.environ, PYTHONHASHSEED="0")
+        # Unbuffered: the log of a run killed at the limit still says how far the translator got.
+        env = dict(os.environ, PYTHONHASHSEED="0", PYTHONUNBUFFERED="1")
         proc = subprocess.Popen(
             args,
             cwd=tmp,
@@ -86,11 +112,15 @@ def run_fast_downward(
             stdout, stderr = proc.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
+            stdout, _ = proc.communicate()
+            if details is not None:
+                details.update(translator_stats(stdout or ""))
             return "timeout", None, f"Fast Downward exceeded {timeout:.1f} s"
         finally:
             if proc.poll() is None:  # interrupted (e.g. Ctrl-C): never leave FD running
                 os.killpg(proc.pid, signal.SIGKILL)
+        if details is not None:
+            details.update(translator_stats(stdout))
         if plan_file.is_file():
             return "solved", parse_sas_plan(plan_file.read_text()), "fast downward"
         # Exit codes (https://www.fast-downward.org/ExitCodes): 11/12 proven unsolvable; 21/23 out of

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import shutil
 from pathlib import Path
 
 import pytest
-from gsr.benchmarks.bench_ipc_language import main, markdown, pick_problem
+from gsr.benchmarks.bench_ipc_language import _subprocess_row, main, markdown, pick_problem, summary
 
 from tests.data_paths import PDDL
 
@@ -49,10 +50,17 @@ def test_rows_load_plan_validate_and_a_broken_domain(collection: Path, tmp_path:
     for name in ("blocks", "miconic-per-problem"):
         assert rows[name]["load"] and rows[name]["plan"] == "solved" and rows[name]["valid"] is True
         assert rows[name]["length"] > 0 and rows[name]["cpu"] > 0
+        assert rows[name]["operators"] > 0 and rows[name]["ground_time"] >= 0
     assert rows["broken"]["load"] is False and "domain.pddl" in rows["broken"]["message"]
+    assert "operators" not in rows["broken"]
     text = capsys.readouterr().out
-    assert "domains 3: load 2, plan 2 (limit 20 s), validate 2" in text
-    assert "| blocks | probBLOCKS-4-0.pddl | yes | solved | yes |" in text
+    assert "domains 3: load 2, ground 2, plan 2 (limit 20 s), validate 2" in text
+    ops = rows["blocks"]["operators"]
+    assert (
+        f"| blocks | probBLOCKS-4-0.pddl | yes | {rows['blocks']['ground_time']:.2f} ({ops}) | solved | yes |"
+        in text
+    )
+    assert "| broken | p01.pddl | no | - | None | - |" in text
     assert [p.name for p in tmp_path.iterdir()] == ["collection", "rows.json"]  # written atomically
 
 
@@ -61,12 +69,45 @@ def test_an_absent_collection_is_skipped_with_one_line(tmp_path: Path, capsys) -
     assert capsys.readouterr().out.startswith("skipped:")
 
 
-def test_markdown_with_fd_columns() -> None:
+def test_markdown_and_summary_with_fd_columns() -> None:
     row = {"domain": "d", "problem": "p.pddl", "load": True, "plan": "timeout", "valid": None, "wall": 61.0}
     row["cpu"] = 30.5
-    row["fd"] = {"status": "solved", "time": 1.5, "cpu": 1.25, "length": 7}
-    killed = {**row, "domain": "e", "plan": "solved", "valid": True, "length": 3}
-    killed["fd"] = {"status": "timeout", "time": 60.2, "cpu": None, "length": None}
+    row["fd"] = {"status": "solved", "time": 1.5, "cpu": 1.25, "length": 7, "translated": True}
+    row["fd"].update(translate_wall=0.5, operators=12)
+    killed = {
+        **row,
+        "domain": "e",
+        "plan": "solved",
+        "valid": True,
+        "length": 3,
+        "operators": 9,
+        "ground_time": 0.25,
+    }
+    killed["fd"] = {"status": "timeout", "time": 60.2, "cpu": None, "length": None, "translated": False}
     table = markdown([row, killed], fd=True).splitlines()
-    assert table[2] == "| d | p.pddl | yes | timeout | - | 61.00 / 30.50 | - | solved | 1.50 / 1.25 | 7 |"
-    assert table[3] == "| e | p.pddl | yes | solved | yes | 61.00 / 30.50 | 3 | timeout | 60.20 / - | - |"
+    assert table[2] == (
+        "| d | p.pddl | yes | not finished | timeout | - | 61.00 / 30.50 | - | 0.50 (12) | solved | 1.50 / 1.25 | 7 |"
+    )
+    assert table[3] == (
+        "| e | p.pddl | yes | 0.25 (9) | solved | yes | 61.00 / 30.50 | 3 | not finished | timeout | 60.20 / - | - |"
+    )
+    assert summary([row, killed], 60, fd=True).splitlines() == [
+        "domains 2: load 2, ground 1, plan 1 (limit 60 s), validate 1",
+        "Fast Downward translated 1, solved 1 of 2; GSR solved and validated 0 of those, and 1 FD did not solve",
+    ]
+
+
+def test_cpu_clock_stops_the_child_on_cpu_time_and_keeps_what_it_did(tmp_path: Path) -> None:
+    # A task whose search cannot finish: 14 blocks to reverse with blind breadth-first search.
+    blocks = [f"b{i}" for i in range(14)]
+    on = " ".join(f"(on {a} {b})" for a, b in itertools.pairwise(blocks))
+    goal = " ".join(f"(on {b} {a})" for a, b in itertools.pairwise(blocks))
+    problem = tmp_path / "tower.pddl"
+    problem.write_text(
+        f"(define (problem tower) (:domain BLOCKS) (:objects {' '.join(blocks)})"
+        f" (:init (handempty) (clear b0) (ontable b13) {on}) (:goal (and {goal})))"
+    )
+    row = _subprocess_row(PDDL / "blocks" / "domain.pddl", problem, 2.0, "bfs", cpu=True)
+    assert row["load"] is True and row["plan"] == "timeout" and row["message"] == "over 2 s CPU"
+    assert row["operators"] > 0  # grounding finished before the limit and is reported
+    assert 1.5 < row["cpu"] < 15  # stopped by its CPU time (plus start-up), not by the wall limit
