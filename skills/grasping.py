@@ -692,8 +692,9 @@ def _ranked_spot(
         alo, ahi = world.body_aabb(o.body)
         if ahi[2] > z - 0.005 and alo[2] < z + 0.15 and support_of(world, o.id) != ("held", ""):
             others.append(((alo[:2] + ahi[:2]) / 2, (ahi[:2] - alo[:2]) / 2, float(ahi[2])))
-    # rectangles the caller keeps free (the hand's room round an object a pick must reach next)
-    others += [(np.asarray(c, dtype=float), np.asarray(h, dtype=float), z + 0.2) for c, h in keep_clear]
+    # rectangles the caller keeps free (the hand's room round an object a pick must reach next); with
+    # no free spot anywhere, the fallback may still use them at the table's height (never on top of them)
+    others += [(np.asarray(c, dtype=float), np.asarray(h, dtype=float), z) for c, h in keep_clear]
     # 7 x 7 spots at least, 3 cm apart at most (a 25 cm box needs a gap a coarse grid steps over)
     nx = int(min(41, max(7, math.ceil((xhi - xlo) / SPOT_STEP) + 1)))
     ny = int(min(41, max(7, math.ceil((yhi - ylo) / SPOT_STEP) + 1)))
