@@ -47,7 +47,9 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
         raise GSRError("perceive: no frames given")
     instances, segments = build_instances(frame_list, params.geometry)
     plane = _ground_plane(instances, frame_list, params)
-    assign_parts(instances, GROUND_CATEGORIES)  # detector parts (drawers, doors) get their objects
+    assign_parts(
+        instances, GROUND_CATEGORIES, params.geometry
+    )  # detector parts (drawers, doors) get their objects
     world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
     states = part_states(instances, params.articulation)
     closed = frozenset(k for k, (st, _) in states.items() if "closed" in st)

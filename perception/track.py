@@ -302,25 +302,7 @@ def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Inst
     containers = [c for c in fused if not _no_object(c) and "container" in affordances(c.label.category)]
     if not containers:
         return fused
-    pieces: dict[int, Instance] = {}
-    for x in fused:
-        if x.views != 1 or _no_object(x, allow_unknown=True):
-            continue
-        for c in sorted(containers, key=lambda c: float(np.prod(c.size))):
-            if c is x or float(np.prod(x.size)) >= float(np.prod(c.size)) or id(c) in pieces:
-                continue
-            lo, hi = c.aabb_min - 0.01, c.aabb_max + 0.01
-            if float(np.mean(np.all((x.points >= lo) & (x.points <= hi), axis=1))) < FRAGMENT_INSIDE:
-                continue
-            rim = rim_box(c)
-            if rim is None or not rim.footprint_contains(x.center[None, :2])[0]:
-                continue
-            x_bottom = float(np.percentile(x.points[:, 2], 2.0))
-            c_bottom = float(np.percentile(c.points[:, 2], 2.0))
-            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= rim.aabb_max[2] - 0.01
-            if wall_like and cloud_overlap(x, c) >= FRAGMENT_OVERLAP:
-                pieces[id(x)] = c
-                break
+    pieces = _wall_pieces(fused, containers, lambda c: rim_box(c))
     if not pieces:
         return fused
     out: list[Instance] = []
@@ -336,6 +318,61 @@ def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Inst
             continue
         out.append(grown.get(id(x), x))
     return out
+
+
+def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> dict[int, Instance]:
+    """One-camera objects that are pieces of a container's walls (see :func:`absorb_fragments`), each to
+    its container; ``rim_of(c)`` gives the box of c's rim (None: no rim to test against)."""
+    pieces: dict[int, Instance] = {}
+    for x in fused:
+        if x.views != 1 or _no_object(x, allow_unknown=True):
+            continue
+        for c in sorted(containers, key=lambda c: float(np.prod(c.size))):
+            if c is x or float(np.prod(x.size)) >= float(np.prod(c.size)) or id(c) in pieces:
+                continue
+            lo, hi = c.aabb_min - 0.01, c.aabb_max + 0.01
+            if float(np.mean(np.all((x.points >= lo) & (x.points <= hi), axis=1))) < FRAGMENT_INSIDE:
+                continue
+            rim = rim_of(c)
+            if rim is None or not rim.footprint_contains(x.center[None, :2])[0]:
+                continue
+            x_bottom = float(np.percentile(x.points[:, 2], 2.0))
+            c_bottom = float(np.percentile(c.points[:, 2], 2.0))
+            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= rim.aabb_max[2] - 0.01
+            if wall_like and cloud_overlap(x, c) >= FRAGMENT_OVERLAP:
+                pieces[id(x)] = c
+                break
+    return pieces
+
+
+def absorb_part_fragments(
+    instances: list[Instance], parts: list[Instance], params: GeometryParams
+) -> list[Instance]:
+    """Merge one-camera pieces of a drawer's walls, read as objects (a pulled drawer's side seen as a
+    ``cabinet``), into the drawer (in place; the same test as :func:`absorb_fragments`, the drawer's box
+    standing for its rim where the rim is not measured: a drawer seen from the front shows none); the
+    parts after the merge."""
+    from gsr.perception.relations import is_container, rim_box
+
+    present = {id(i) for i in instances}
+    live = [p for p in parts if id(p) in present]
+    # a "drawer" lying inside another part is no drawer (drawers do not nest; objects in a drawer read
+    # as one): it absorbs nothing
+    drawers = [p for p in live if is_container(p) and not any(q is not p and _inside(p, q) for q in live)]
+    if not drawers:
+        return parts
+    pieces = _wall_pieces(instances, drawers, lambda c: c if (r := rim_box(c)) is None else r)
+    if not pieces:
+        return parts
+    grown: dict[int, Instance] = {}
+    for c in drawers:
+        mine = [x for x in instances if pieces.get(id(x)) is c]
+        if mine:
+            joined = _join(c, *mine, params=params, keep_label=True)
+            if joined is not None:
+                grown[id(c)] = joined
+    instances[:] = [grown.get(id(x), x) for x in instances if id(x) not in pieces]
+    return [grown.get(id(p), p) for p in parts]
 
 
 def _no_object(inst: Instance, allow_unknown: bool = False) -> bool:
@@ -437,8 +474,14 @@ PART_IN_PARENT = 0.5
 _PART_MARGIN = 0.02
 
 
-def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "floor")) -> None:
-    """Give anonymous part instances their parent object and ``<parent>/<category>_<k>`` keys (in place)."""
+def assign_parts(
+    instances: list[Instance],
+    grounds: Iterable[str] = ("table", "floor"),
+    params: GeometryParams | None = None,
+) -> None:
+    """Give anonymous part instances their parent object and ``<parent>/<category>_<k>`` keys (in place);
+    parts spanning two stacked levels are dropped (:func:`spanning_parts`) and pieces of one part that
+    different cameras saw apart are joined (:func:`join_part_halves`)."""
     ground = frozenset(grounds)
     objects = [
         i
@@ -477,6 +520,8 @@ def assign_parts(instances: list[Instance], grounds: Iterable[str] = ("table", "
     spanning = spanning_parts(instances)
     if spanning:
         instances[:] = [i for i in instances if id(i) not in spanning]
+    adopted = join_part_halves(instances, adopted, params or GeometryParams())
+    adopted = absorb_part_fragments(instances, adopted, params or GeometryParams())
     carve_parts(instances, adopted)
     for inst in instances:  # provenance was only needed here
         attrs = inst.label.attributes
@@ -528,15 +573,22 @@ def _adopt(part: Instance, parent: Instance, counts: dict[tuple[str, str], int])
     part.key = f"{parent.key}/{part.label.category}_{k}"
 
 
+def _z_iou(a: Instance, b: Instance) -> float:
+    """Intersection over union of two height ranges."""
+    overlap = min(a.aabb_max[2], b.aabb_max[2]) - max(a.aabb_min[2], b.aabb_min[2])
+    union = max(a.aabb_max[2], b.aabb_max[2]) - min(a.aabb_min[2], b.aabb_min[2])
+    return max(float(overlap), 0.0) / max(float(union), 1e-6)
+
+
 def spanning_parts(instances: list[Instance]) -> set[int]:
-    """Part detections one camera saw as one piece that other views split into several stacked parts (two
-    drawers read as one): a single-view part whose height range holds the centres of two other parts of
-    the same parent. Their box would only blur the real parts' levels and openings, so they are dropped."""
+    """Part detections that read two stacked parts as one (two drawers in one box): a part whose height
+    range holds the centres of two other, shorter parts of the same parent. Dropped when it was seen by one
+    camera, or when those parts lie at two distinct levels (height ranges at IoU < ``PART_Z_IOU``) and one
+    of them was seen by as many cameras as it: the levels are then better evidenced than the tall box,
+    which would only blur their openings and put their contents in one drawer."""
     out: set[int] = set()
     parts = [i for i in instances if i.label.parent is not None and is_part_category(i.label.category)]
     for p in parts:
-        if p.views > 1:
-            continue
         inside = [
             q
             for q in parts
@@ -545,8 +597,114 @@ def spanning_parts(instances: list[Instance]) -> set[int]:
             and p.aabb_min[2] - 0.005 <= q.center[2] <= p.aabb_max[2] + 0.005
             and q.size[2] < 0.75 * p.size[2]
         ]
-        if len(inside) >= 2:
+        if len(inside) < 2:
+            continue
+        if p.views == 1:
             out.add(id(p))
+            continue
+        levels = [(q, r) for k, q in enumerate(inside) for r in inside[k + 1 :] if _z_iou(q, r) < PART_Z_IOU]
+        if any(max(q.views, r.views) >= p.views for q, r in levels):
+            out.add(id(p))
+    return out
+
+
+#: Pieces of one part from different cameras are joined when their boxes are at most this far apart.
+PART_JOIN_GAP = 0.01
+
+
+def _cameras(inst: Instance) -> set[str]:
+    """The cameras (``f<view>``) whose detections make up a fused instance."""
+    return {m.split("m")[0] for m in inst.label.attributes.get(MEMBERS, ()) if m.startswith("f")}
+
+
+def _box_gap(a: Instance, b: Instance) -> float:
+    """Largest per-axis separation of two axis-aligned boxes (0 or less when they overlap)."""
+    return float(np.max(np.maximum(a.aabb_min - b.aabb_max, b.aabb_min - a.aabb_max)))
+
+
+#: A part whose box lies this much inside another's is a piece of it, whatever its height range.
+PART_NESTED = 0.9
+
+
+#: ... and covers at most this share of its footprint: a part as wide and deep as the box it lies in is one
+#: level of a box that spans two (the upper drawer in a two-level box), not a piece of it.
+PART_PIECE_FOOTPRINT = 0.5
+
+
+def _inside(a: Instance, b: Instance) -> bool:
+    """A's box lies (``PART_NESTED``) inside B's and is a piece of it, not one of its levels."""
+    if float(np.prod(a.size[:2])) > PART_PIECE_FOOTPRINT * float(np.prod(b.size[:2])):
+        return False
+    return _box_contains_share(a, b) >= PART_NESTED
+
+
+def _nested(a: Instance, b: Instance) -> bool:
+    return _inside(a, b) or _inside(b, a)
+
+
+def join_part_halves(
+    instances: list[Instance], parts: list[Instance], params: GeometryParams
+) -> list[Instance]:
+    """Join pieces of one part that different cameras saw apart (in place); the parts left.
+
+    One camera sees a pulled drawer's left half (the rest hidden by what stands in it), another its right
+    half: the two clouds share few voxels, so fusion keeps two drawers at one level. Two parts are pieces
+    of one when they have the same parent and category, come from disjoint cameras (one camera's segments
+    stay apart: it would have shown two drawers side by side as two), lie at one level (height ranges at
+    IoU >= ``PART_Z_IOU``, the rule of fusion, or one box >= ``PART_NESTED`` inside the other) and their
+    boxes touch (within ``PART_JOIN_GAP``). A join
+    whose box would reach into a neighbouring level (hold the centre of another part of the parent that
+    lies at another level) is refused: a two-level box never absorbs a drawer. A one-camera part inside
+    another part of its kind that the same camera saw is dropped (drawers do not nest: it is what stands in
+    the drawer, read as a drawer)."""
+    present = {id(i) for i in instances}
+    out = [p for p in parts if id(p) in present]
+
+    def reaches_other_level(lo: np.ndarray, hi: np.ndarray, skip: tuple[Instance, ...]) -> bool:
+        return any(
+            q.label.parent == skip[0].label.parent
+            and all(q is not s for s in skip)
+            and lo[2] + 0.005 < q.center[2] < hi[2] - 0.005
+            and all(_z_iou(q, s) < PART_Z_IOU for s in skip)
+            for q in out
+        )
+
+    merged = True
+    while merged:
+        merged = False
+        for i, a in enumerate(out):
+            for b in out[i + 1 :]:
+                if a.label.parent is None or a.label.parent != b.label.parent:
+                    continue
+                if a.label.category != b.label.category:
+                    continue
+                if _cameras(a) & _cameras(b):
+                    # one camera's part inside another part of its own (drawers do not nest): the objects
+                    # in the drawer read as one more drawer; dropped when no other camera saw it
+                    inner = a if _inside(a, b) else b if _inside(b, a) else None
+                    if inner is not None and inner.views == 1:
+                        instances[:] = [x for x in instances if x is not inner]
+                        out = [x for x in out if x is not inner]
+                        merged = True
+                        break
+                    continue
+                level = _z_iou(a, b) >= PART_Z_IOU or _nested(a, b)
+                if not level or _box_gap(a, b) > PART_JOIN_GAP:
+                    continue
+                lo, hi = np.minimum(a.aabb_min, b.aabb_min), np.maximum(a.aabb_max, b.aabb_max)
+                if reaches_other_level(lo, hi, (a, b)):
+                    continue
+                large, small = (a, b) if len(a.points) >= len(b.points) else (b, a)
+                joined = _join(large, small, params=params, keep_label=True)
+                if joined is None:
+                    continue
+                joined.key = large.key
+                instances[:] = [joined if x is large else x for x in instances if x is not small]
+                out = [joined if x is large else x for x in out if x is not small]
+                merged = True
+                break
+            if merged:
+                break
     return out
 
 

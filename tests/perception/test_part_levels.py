@@ -1,0 +1,125 @@
+"""Drawer levels without the oracle: a part spanning two stacked drawers is dropped, pieces of one drawer
+that different cameras saw apart are joined (never across levels), one camera's drawer inside a drawer is
+dropped, and a drawer's wall read as an object joins the drawer (exact synthetic clouds, no rendering)."""
+
+from __future__ import annotations
+
+import numpy as np
+from gsr.perception.frame import InstanceLabel
+from gsr.perception.geometry import GeometryParams, Instance, fit_boxes
+from gsr.perception.relations import RelationThresholds, supports
+from gsr.perception.track import MEMBERS, PARENT_MEMBERS, assign_parts
+
+PARAMS = GeometryParams(voxel=0)
+PLANE = np.array([0.0, 0.0, 1.0, 0.0])
+CABINET_MEMBERS = ("f0m1", "f1m1", "f2m1", "f3m1")
+
+
+def _inst(key: str, category: str, pts: np.ndarray, members: tuple[str, ...], parent_of=()) -> Instance:
+    attrs = {MEMBERS: members, PARENT_MEMBERS: tuple(parent_of)}
+    label = InstanceLabel(category=category, attributes=attrs)
+    inst = Instance(key, label, pts, np.full((len(pts), 3), 128, np.uint8), len({m[:2] for m in members}))
+    fit_boxes(inst)
+    return inst
+
+
+def _faces(lo, hi, step: float = 0.005, top: bool = True) -> np.ndarray:
+    """Points on a box's side faces and floor (and its top when ``top``)."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    xs, ys, zs = (np.arange(lo[k], hi[k] + 1e-9, step) for k in range(3))
+    pts = [np.array([(x, y, z) for y in ys for z in zs]) for x in (lo[0], hi[0])]
+    pts += [np.array([(x, y, z) for x in xs for z in zs]) for y in (lo[1], hi[1])]
+    for z in (lo[2], hi[2]) if top else (lo[2],):
+        pts.append(np.array([(x, y, z) for x in xs for y in ys]))
+    return np.concatenate(pts)
+
+
+def drawer(key: str, lo, hi, members: tuple[str, ...]) -> Instance:
+    return _inst(key, "drawer", _faces(lo, hi, top=False), members, parent_of=[m[:2] + "m1" for m in members])
+
+
+def cabinet() -> Instance:
+    return _inst("cabinet_1", "cabinet", _faces((0.0, 0.04, 0.0), (0.3, 0.4, 0.32)), CABINET_MEMBERS)
+
+
+def cube(key: str, lo, hi, members: tuple[str, ...] = ("f1m9", "f2m9")) -> Instance:
+    return _inst(key, "cube", _faces(lo, hi), members)
+
+
+def table() -> Instance:
+    xy = np.stack(np.meshgrid(np.arange(-0.6, 0.6, 0.02), np.arange(-0.6, 0.6, 0.02)), -1).reshape(-1, 2)
+    return _inst("table_1", "table", np.column_stack([xy, np.zeros(len(xy))]), ("f0m0", "f1m0"))
+
+
+def _drawers(instances: list[Instance]) -> list[Instance]:
+    return sorted((i for i in instances if i.label.category == "drawer"), key=lambda i: float(i.aabb_min[2]))
+
+
+def test_a_two_level_part_is_dropped_and_the_halves_of_the_middle_drawer_are_joined():
+    # cameras 0 and 3 read the pulled middle and upper drawers as one tall part; cameras 1 and 2 each see
+    # one half of the middle drawer (the rest hidden), and both see the upper drawer
+    tall = drawer("d_tall", (-0.42, 0.04, 0.136), (-0.114, 0.39, 0.322), ("f0m4", "f3m9"))
+    high = drawer("d_high", (-0.417, 0.041, 0.23), (-0.166, 0.395, 0.308), ("f1m7", "f2m10"))
+    half_a = drawer("d_a", (-0.37, 0.258, 0.14), (-0.169, 0.395, 0.217), ("f1m6",))
+    half_b = drawer("d_b", (-0.37, 0.041, 0.14), (-0.167, 0.269, 0.217), ("f2m9",))
+    inside = cube("cube_1", (-0.31, 0.09, 0.147), (-0.277, 0.125, 0.177))
+    instances = [table(), cabinet(), tall, high, half_a, half_b, inside]
+    assign_parts(instances, params=PARAMS)
+    low, up = _drawers(instances)
+    assert len(_drawers(instances)) == 2
+    assert abs(low.aabb_min[1] - 0.041) < 0.01 and abs(low.aabb_max[1] - 0.395) < 0.01  # the whole width
+    assert low.aabb_max[2] < 0.22 and up.aabb_min[2] > 0.225  # the levels stay apart
+    sup = supports(instances, PLANE, RelationThresholds())
+    assert sup["cube_1"] == ("in", low.key)
+
+
+def test_a_two_level_box_never_absorbs_the_drawer_it_holds():
+    # the demo's failure: a box over two levels and the upper drawer alone; both stay as they are
+    tall = drawer("d_tall", (-0.42, 0.04, 0.136), (-0.114, 0.39, 0.322), ("f0m4", "f3m9"))
+    high = drawer("d_high", (-0.417, 0.041, 0.23), (-0.166, 0.395, 0.308), ("f1m7",))
+    instances = [table(), cabinet(), tall, high]
+    assign_parts(instances, params=PARAMS)
+    heights = [round(float(d.size[2]), 3) for d in _drawers(instances)]
+    assert len(heights) == 2 and min(heights) < 0.09 < max(heights)
+
+
+def test_one_cameras_two_drawers_at_one_level_stay_two():
+    left = drawer("d_l", (-0.37, 0.258, 0.14), (-0.169, 0.395, 0.217), ("f1m6",))
+    right = drawer("d_r", (-0.37, 0.041, 0.14), (-0.167, 0.262, 0.217), ("f1m7",))
+    instances = [table(), cabinet(), left, right]
+    assign_parts(instances, params=PARAMS)
+    assert len(_drawers(instances)) == 2
+    # the same two pieces from two cameras are one drawer
+    right = drawer("d_r", (-0.37, 0.041, 0.14), (-0.167, 0.262, 0.217), ("f2m7",))
+    left = drawer("d_l", (-0.37, 0.258, 0.14), (-0.169, 0.395, 0.217), ("f1m6",))
+    instances = [table(), cabinet(), left, right]
+    assign_parts(instances, params=PARAMS)
+    assert len(_drawers(instances)) == 1
+
+
+def test_a_drawer_one_camera_saw_inside_its_own_drawer_is_dropped():
+    real = drawer("d_real", (-0.294, 0.166, 0.23), (-0.038, 0.52, 0.308), ("f0m9", "f1m4", "f2m9"))
+    # camera 2 also read the two cubes standing in the drawer as a drawer
+    fake = drawer("d_fake", (-0.188, 0.215, 0.237), (-0.149, 0.351, 0.267), ("f2m2",))
+    c1 = cube("cube_1", (-0.19, 0.216, 0.237), (-0.149, 0.256, 0.267))
+    c2 = cube("cube_2", (-0.19, 0.288, 0.237), (-0.149, 0.327, 0.267))
+    cab = _inst("cabinet_1", "cabinet", _faces((-0.03, 0.163, 0.0), (0.25, 0.523, 0.322)), CABINET_MEMBERS)
+    instances = [table(), cab, real, fake, c1, c2]
+    assign_parts(instances, params=PARAMS)
+    (only,) = _drawers(instances)
+    sup = supports(instances, PLANE, RelationThresholds())
+    assert sup["cube_1"] == sup["cube_2"] == ("in", only.key)
+
+
+def test_a_drawer_wall_read_as_an_object_joins_the_drawer_and_what_stands_in_it_does_not():
+    box = drawer("d_mid", (-0.305, 0.03, 0.14), (-0.054, 0.384, 0.217), ("f0m3", "f2m4", "f3m5"))
+    # camera 1 saw the drawer's -x side wall (up to its top edge) and named it a cabinet
+    wall = box.points[np.abs(box.points[:, 0] + 0.305) < 1e-6]
+    piece = _inst("cabinet_2", "cabinet", wall[wall[:, 1] < 0.24], ("f1m8",))
+    inside = cube("cube_1", (-0.2, 0.1, 0.141), (-0.17, 0.13, 0.171), ("f1m9",))
+    instances = [table(), cabinet(), box, piece, inside]
+    assign_parts(instances, params=PARAMS)
+    assert sorted(i.label.category for i in instances) == ["cabinet", "cube", "drawer", "table"]
+    (mid,) = _drawers(instances)
+    assert len(mid.points) == len(box.points) + len(piece.points)
+    assert supports(instances, PLANE, RelationThresholds())["cube_1"] == ("in", mid.key)
