@@ -9,14 +9,13 @@ reason naming the rule. Actions GSR-Bench does not have (turn on, press, push) a
 
 from __future__ import annotations
 
-from gsr.benchmarks.runner import SymbolicExecutor
-
 from gsr.diagnosis import Diagnosis, Reason, ReasonKind
 from gsr.gsr_bench_rules import Command, Verdict, check_command, transition
 from gsr.pddl.model import Domain
 from gsr.scene_graph import SceneGraph
 from gsr.state import State
 from gsr.step import Step
+from gsr.symbolic_executor import SymbolicExecutor
 from gsr.task_spec import TaskSpec
 
 #: Suites whose episodes run under GSR-Bench's rules.

@@ -1,8 +1,9 @@
 """The episode runner: agents propose steps, the checker validates each, the goal is scored at the end.
 
 The agent, executor and result types are the core's episode seams (:mod:`gsr.episode`). ``executor``
-is the seam for physical execution: the default :class:`SymbolicExecutor` applies a step through
-:func:`gsr.check.check_step`; a simulator executor (``skills``) implements the same
+is the seam for physical execution: the default :class:`~gsr.symbolic_executor.SymbolicExecutor`
+applies a step through :func:`gsr.check.check_step` (``GSRBenchExecutor`` adds GSR-Bench's rules for
+its suites); a simulator executor (``skills``) implements the same
 :class:`~gsr.episode.Executor` protocol and returns the observed state. Episodes run in-process, in
 local worker processes (``backend="local"``, multiprocessing) or as Ray tasks (``backend="ray"``);
 every episode's random choices derive from (seed, task id, trial), so all backends give the same
@@ -19,51 +20,16 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gsr.benchmarks.agents import make_agent
+from gsr.benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
 from gsr.benchmarks.scoring import score_task
 
 from gsr.diagnosis import Diagnosis
 from gsr.episode import AgentFailure, EpisodeResult, Executor
 from gsr.errors import GSRError
-from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain
-from gsr.scene_graph import SceneGraph
 from gsr.semantics import holds
-from gsr.state import State
-from gsr.step import Step
+from gsr.symbolic_executor import SymbolicExecutor
 from gsr.task_spec import TaskSpec, task_from_dict
-
-
-class SymbolicExecutor:
-    """Steps run on the symbolic state through the PDDL checker (no simulator)."""
-
-    def __init__(self) -> None:
-        self.domain: Domain | None = None
-        self.state: State | None = None
-        self._graph: SceneGraph | None = None
-        self._stale = False
-
-    def reset(self, task: TaskSpec, domain: Domain) -> State:
-        """The task's initial graph as a state."""
-        self.domain, self._graph, self._stale = domain, task.initial, False
-        self.state = state_from_graph(task.initial, domain)
-        return self.state
-
-    def execute(self, step: Step) -> Diagnosis:
-        """check_step; on success the state advances."""
-        from gsr.check import check_step
-
-        assert self.domain is not None and self.state is not None
-        diagnosis = check_step(self.domain, self.state, step)
-        if diagnosis.ok and diagnosis.next_state is not None:
-            self.state, self._stale = diagnosis.next_state, True
-        return diagnosis
-
-    def graph(self) -> SceneGraph:
-        """The graph of the current state (rebuilt lazily: agents that plan once never pay for it)."""
-        assert self._graph is not None and self.state is not None
-        if self._stale:
-            self._graph, self._stale = graph_with_state(self._graph, self.state), False
-        return self._graph
 
 
 def episode_seed(seed: int, task_id: str, trial: int) -> int:
@@ -83,8 +49,6 @@ def run_episode(
 ) -> EpisodeResult:
     """Run one episode: ask the agent for steps until done, a rejected step, or the step limit."""
     if executor is None:
-        from gsr.benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
-
         executor = GSRBenchExecutor() if task.suite in GSR_BENCH_SUITES else SymbolicExecutor()
     eseed = episode_seed(seed, task.id, trial)
     start = time.perf_counter()

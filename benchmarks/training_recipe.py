@@ -21,6 +21,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from gsr.benchmarks.checker_ablation import DEFAULT_CONDITIONS, markdown, run_condition
+
 
 @dataclass(frozen=True)
 class Recipe:
@@ -249,8 +251,6 @@ def run_recipe(
     """Data, training, task export and the ablation; prints the table and the summary line.
 
     ``train_budget`` (CPU seconds) replaces the recipe's training time, split 2:1 between the rounds."""
-    from gsr.benchmarks.bench_training import DEFAULT_CONDITIONS, markdown, run_condition
-
     from gsr.datagen.runner import RunConfig, generate_dataset
     from gsr.io import write_text_atomic
 

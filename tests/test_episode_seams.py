@@ -15,9 +15,11 @@ def test_the_runner_and_its_executors_use_the_core_seams() -> None:
     from gsr.benchmarks import agents, runner
     from gsr.benchmarks.gsr_bench_executor import GSRBenchExecutor
 
+    from gsr.symbolic_executor import SymbolicExecutor
+
     # one definition: the upper layer names the core's types, it does not redefine them
     assert runner.Executor is Executor and runner.EpisodeResult is EpisodeResult and agents.Agent is Agent
-    for executor in (runner.SymbolicExecutor(), GSRBenchExecutor()):
+    for executor in (SymbolicExecutor(), GSRBenchExecutor()):
         assert isinstance(executor, Executor), type(executor).__name__
 
 

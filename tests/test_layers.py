@@ -244,10 +244,7 @@ KNOWN_CYCLES = (
     {"gsr.plan.effects", "gsr.plan.ground", "gsr.plan.intern"},
     {"gsr.plan.heuristics", "gsr.plan.relax_c", "gsr.plan.relax_jit"},
     {"gsr.skills.build", "gsr.skills.sim_graph", "gsr.skills.world"},
-    {"gsr.language.measure", "gsr.language.paraphrase"},
     {"gsr.skills.articulated", "gsr.skills.grasping"},
-    {"gsr.benchmarks.gsr_bench_executor", "gsr.benchmarks.runner"},
-    {"gsr.benchmarks.bench_training", "gsr.benchmarks.training_recipe"},
 )
 
 

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.language.paraphrase import Item, load_items, same_goal_states, scene_graph
 
 KINDS = ("equivalent", "wrong_goal", "unknown_word", "not_understood", "ambiguous", "no_match", "other_error")
 
@@ -120,10 +121,24 @@ def measure(rows: Iterator[dict[str, Any]], limit: int | None = None, examples: 
     }
 
 
+def classify_item(item: Item) -> tuple[str, str]:
+    """(kind, detail) of one paraphrase item (gsr.language.paraphrase) on its scene."""
+    from gsr.pddl.parser import parse_formula
+
+    graph = scene_graph(item.scene)
+    reference = parse_formula(item.goal, f"{item.part}: {item.say!r}")
+    return classify(item.say, graph, reference, equivalent=same_goal_states)
+
+
+def run_items(items: list[Item]) -> Iterator[tuple[Item, str, str]]:
+    """Each item with its outcome kind and detail."""
+    for item in items:
+        kind, detail = classify_item(item)
+        yield item, kind, detail
+
+
 def measure_paraphrase(parts: dict[str, int]) -> dict[str, Any]:
     """The paraphrase benchmark (gsr.language.paraphrase): a report per part, examples only when asked."""
-    from gsr.language.paraphrase import load_items, run_items
-
     out: dict[str, Any] = {}
     for part, examples in parts.items():
         counts: Counter[str] = Counter()

@@ -9,7 +9,6 @@ have the same satisfying states among the states where every object is at one pl
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -161,24 +160,3 @@ def _satisfiable(clauses: list[frozenset[int]]) -> bool:
         return True
     lit = next(iter(clauses[0]))
     return _satisfiable([*clauses, frozenset({lit})]) or _satisfiable([*clauses, frozenset({-lit})])
-
-
-# ------------------------------------------------------------------ measurement
-
-
-def classify_item(item: Item) -> tuple[str, str]:
-    """(kind, detail) of one item, the kinds of gsr.language.measure."""
-    from gsr.pddl.parser import parse_formula
-
-    graph = scene_graph(item.scene)
-    reference = parse_formula(item.goal, f"{item.part}: {item.say!r}")
-    from gsr.language.measure import classify
-
-    return classify(item.say, graph, reference, equivalent=same_goal_states)
-
-
-def run_items(items: list[Item]) -> Iterator[tuple[Item, str, str]]:
-    """Each item with its outcome kind and detail."""
-    for item in items:
-        kind, detail = classify_item(item)
-        yield item, kind, detail

@@ -263,7 +263,7 @@ def test_physical_run_from_perception(libero_goal_tasks) -> None:
 
 def test_reasoner_agent_is_closed_loop_on_the_graph_it_is_shown(task, domain) -> None:
     """A skill that reports success but leaves the world unchanged: the reasoner sees the graph and re-plans."""
-    from gsr.benchmarks.runner import SymbolicExecutor
+    from gsr.symbolic_executor import SymbolicExecutor
 
     class SlippingExecutor(SymbolicExecutor):
         """The first pick 'succeeds' but the object slips: the state does not change."""

@@ -6,7 +6,8 @@ import pytest
 
 from gsr.gsr_bench_format import graph_from_gsr_bench
 from gsr.language import GroundingError, ground
-from gsr.language.paraphrase import PARTS, load_items, run_items, same_goal_states, scene_graph
+from gsr.language.measure import run_items
+from gsr.language.paraphrase import PARTS, load_items, same_goal_states, scene_graph
 from gsr.pddl.parser import parse_formula
 from gsr.plan import plan_graph
 from gsr.transition import apply_steps
