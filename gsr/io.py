@@ -58,6 +58,8 @@ def read_text(path: str | Path) -> str:
 
 
 _DEFINES_DOMAIN = re.compile(r"^\s*\(\s*define\s*\(\s*domain\b", re.IGNORECASE)
+_DEFINES_DOMAIN_ANYWHERE = re.compile(r"\(\s*define\s*\(\s*domain\b", re.IGNORECASE)
+_COMMENT = re.compile(r";[^\n]*")
 
 
 def _is_bddl(path: Path, text: str) -> bool:
@@ -120,7 +122,17 @@ def load_domain_and_problem(
         assert isinstance(problem, Problem)
         return domain, problem
     if domain_file is None:
-        raise GSRError(f"{problem_path}: a PDDL problem needs its DOMAIN file as well")
+        if _DEFINES_DOMAIN_ANYWHERE.search(_COMMENT.sub("", text)):
+            raise GSRError(f"{problem_path}: this is a domain file; give DOMAIN PROBLEM")
+        from gsr.pddl.files import find_domain_file
+
+        # As `gsr plan` and Fast Downward's driver: domain.pddl, NAME-domain.pddl, ... beside it.
+        domain_file = find_domain_file(problem_path)
+        if domain_file is None:
+            raise GSRError(
+                f"{problem_path}: a PDDL problem needs its DOMAIN file (none beside it: domain.pddl, "
+                f"{problem_path.stem}-domain.pddl, domain_{problem_path.name}, ...)"
+            )
     domain = parse_domain(read_text(domain_file), str(domain_file))
     return domain, parse_problem(text, str(problem_path), domain=domain)
 

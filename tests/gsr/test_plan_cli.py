@@ -218,3 +218,23 @@ def test_gsr_validate_on_a_deeply_nested_problem_is_one_line(
     assert done.returncode == 1
     assert done.stderr.startswith("error:") and done.stderr.count("\n") == 1, done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_gsr_validate_finds_the_domain_beside_the_problem(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from gsr.cli import app
+
+    runner = CliRunner()
+    problem = tmp_path / "p01.pddl"
+    problem.write_text(TOY_UNSOLVABLE.replace("(and (at-a) (at-b))", "(at-b)"))
+    plan = tmp_path / "plan.txt"
+    plan.write_text("(go)\n")
+    lonely = runner.invoke(app, ["validate", str(problem), str(plan)])  # gsr.cli.main prints GSRError
+    assert lonely.exit_code == 1 and "needs its DOMAIN file (none beside it" in str(lonely.exception)
+    (tmp_path / "domain.pddl").write_text(TOY_DOMAIN)
+    found = runner.invoke(app, ["validate", str(problem), str(plan)])
+    assert found.exit_code == 0, found.output
+    # DOMAIN PROBLEM without the plan: the domain file is taken for the problem; say so in one line
+    swapped = runner.invoke(app, ["validate", str(tmp_path / "domain.pddl"), str(problem)])
+    assert swapped.exit_code == 1 and "this is a domain file; give DOMAIN PROBLEM" in str(swapped.exception)
