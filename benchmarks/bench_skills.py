@@ -254,8 +254,8 @@ TRIALS: dict[str, Callable[[random.Random], tuple[SceneGraph, list[Step], Step]]
 
 def run_trial(job: tuple[str, int]) -> dict:
     """One seeded trial of one skill: build, run setup, run the skill; a JSON-ready record."""
+    from gsr.skills.build import build_world
     from gsr.skills.library import run_step
-    from gsr.skills.world import build_world
 
     skill, seed = job
     rng = random.Random(f"{skill}-{seed}")
@@ -304,8 +304,8 @@ EPISODE = [
 
 def run_episode(seed: int) -> dict:
     """The 10-step episode (drawer, stove, three pick-and-places) closed loop; wall time with and without build."""
+    from gsr.skills.build import build_world
     from gsr.skills.executor import execute_plan
-    from gsr.skills.world import build_world
 
     rng = random.Random(f"episode-{seed}")
     graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
@@ -574,9 +574,9 @@ def render_figures(out: Path) -> list[Path]:
     """PNG figures for docs/skills.md: a 10-step episode's scene before and after, from two cameras."""
     from dataclasses import replace
 
+    from gsr.skills.build import build_world
     from gsr.skills.camera import default_views, render, save_png
     from gsr.skills.executor import execute_plan
-    from gsr.skills.world import build_world
 
     out.mkdir(parents=True, exist_ok=True)
     rng = random.Random("episode-0")

@@ -82,7 +82,7 @@ class RunnerSimExecutor(SimExecutor):
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world; the observed initial state (perceived when ``perceive``)."""
-        from gsr.skills.world import build_world
+        from gsr.skills.build import build_world
 
         from gsr.facts import state_from_graph
 

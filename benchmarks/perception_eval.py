@@ -108,9 +108,9 @@ def skills_scene(
     import random
 
     from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from gsr.skills.build import build_world
     from gsr.skills.camera import default_views, render_frame
     from gsr.skills.sim_graph import scene_graph_from_sim
-    from gsr.skills.world import build_world
 
     pick = random.Random(scene_seed)
     task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
@@ -156,9 +156,9 @@ def skills_scene_seen_open(
 
     import pybullet as p
     from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+    from gsr.skills.build import build_world
     from gsr.skills.camera import default_views
     from gsr.skills.sim_graph import scene_graph_from_sim
-    from gsr.skills.world import build_world
 
     pick = random.Random(scene_seed)
     task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]

@@ -115,7 +115,7 @@ def render_lit(world, spec, rng: np.random.Generator) -> Frame:
 
 def scene_frames(scene_seed: int, views: int) -> list[Frame]:
     """``views`` labelled, randomly lit and noised frames of one random scene."""
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     rng = np.random.default_rng([scene_seed, 7])
     world = build_world(_task(scene_seed), seed=scene_seed)

@@ -68,9 +68,9 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
     from gsr.perception import perceive
     from gsr.perception.evaluate import Score
+    from gsr.skills.build import build_world
     from gsr.skills.camera import render_frame
     from gsr.skills.sim_graph import scene_graph_from_sim
-    from gsr.skills.world import build_world
 
     needed = sorted({v for names in sets.values() for v in names})
     largest = max(sets, key=lambda k: len(sets[k]))

@@ -103,8 +103,8 @@ def _env_class() -> type:
         def reset(self, *, seed: int | None = None, options: dict | None = None):
             """Build the task's world (deterministic per seed) and observe it."""
             super().reset(seed=seed)
+            from gsr.skills.build import build_world
             from gsr.skills.executor import PhysicalExecutor
-            from gsr.skills.world import build_world
 
             if self.world is not None:
                 self.world.close()

@@ -61,8 +61,8 @@ class SimExecutor:
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world (deterministic per ``seed``); the observed initial state."""
+        from gsr.skills.build import build_world
         from gsr.skills.executor import PhysicalExecutor
-        from gsr.skills.world import build_world
 
         from gsr.facts import state_from_graph
 

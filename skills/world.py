@@ -9,7 +9,6 @@ poses and joint states. Scene-graph node ids map to bodies (objects) and links (
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from gsr.skills.asset_model import Articulation, AssetModel, Interior
@@ -229,19 +228,6 @@ class World:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-_BUILD_NAMES = ("build_world", "resolve_part", "separate_footprints")
-
-
-def __getattr__(name: str) -> Any:
-    """Building lives in gsr.skills.build (which imports this module); re-exported lazily, so either module
-    can be imported first without a circular import."""
-    if name in _BUILD_NAMES:
-        from gsr.skills import build
-
-        return getattr(build, name)
-    raise AttributeError(f"module 'gsr.skills.world' has no attribute {name!r}")
 
 
 __all__ = [

@@ -243,7 +243,6 @@ KNOWN_CYCLES = (
     },
     {"gsr.plan.effects", "gsr.plan.ground", "gsr.plan.intern"},
     {"gsr.plan.heuristics", "gsr.plan.relax_c", "gsr.plan.relax_jit"},
-    {"gsr.skills.build", "gsr.skills.sim_graph", "gsr.skills.world"},
     {"gsr.skills.articulated", "gsr.skills.grasping"},
 )
 

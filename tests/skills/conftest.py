@@ -31,7 +31,7 @@ def bowl_task(libero_dir: Path) -> TaskSpec:
 @pytest.fixture
 def bowl_world(bowl_task: TaskSpec):
     """A built world for the bowl task (seed 0), closed after the test."""
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     world = build_world(bowl_task, seed=0)
     yield world

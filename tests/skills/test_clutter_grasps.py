@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 from gsr.benchmarks.suites import get_suite
 from gsr.skills import hand_clearance as hc
+from gsr.skills.build import build_world
 from gsr.skills.grasping import MAX_CLOSES, _site_pose, grasp_candidates, pick, pick_candidates
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError
 from gsr.skills.robot import top_down
 from gsr.skills.sim_graph import support_of
-from gsr.skills.world import build_world
 
 pytestmark = pytest.mark.physics
 

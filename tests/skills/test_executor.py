@@ -37,7 +37,7 @@ def test_executor_runs_a_plan_and_tracks_the_graph(bowl_world) -> None:
 
 @pytest.mark.physics
 def test_libero_goal_plans_execute(libero_dir) -> None:
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     from gsr.plan.api import plan_graph
     from tests.skills.conftest import libero_goal_task

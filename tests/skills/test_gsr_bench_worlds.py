@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+from gsr.skills.build import build_world
 from gsr.skills.executor import symbolic_view
 from gsr.skills.sim_graph import scene_graph_from_sim
-from gsr.skills.world import build_world
 
 from gsr.graph_diff import diff_graphs
 

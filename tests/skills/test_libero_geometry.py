@@ -13,10 +13,9 @@ pytest.importorskip("pybullet")
 
 from gsr.benchmarks.suites.libero_suite import task_from_bddl
 from gsr.skills.assets import make_asset, make_book
-from gsr.skills.build import resolve_part
+from gsr.skills.build import build_world, resolve_part
 from gsr.skills.packing import fitting_turn
 from gsr.skills.surfaces import HANDLE_ROOM, hand_crowding, surface_spot
-from gsr.skills.world import build_world
 
 from gsr.scene_graph import Edge, Node, SceneGraph
 from gsr.task_spec import Layout, PlacedObject

@@ -7,8 +7,8 @@ import pytest
 
 pytest.importorskip("pybullet")
 
+from gsr.skills.build import build_world
 from gsr.skills.grasping import _footprints, _walls_near
-from gsr.skills.world import build_world
 
 from gsr.task_spec import Layout, PlacedObject
 

@@ -106,7 +106,7 @@ def test_generated_fixtures_do_not_overlap() -> None:
 
 def test_microwave_door_swings_out_towards_the_front() -> None:
     import pybullet as p
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     task = TaskSpec(id="mw", suite="t", instructions=("mw",), initial=_fixtures_graph(), goal="(and)")
     with build_world(task, seed=0) as world:
@@ -123,7 +123,7 @@ def test_microwave_door_swings_out_towards_the_front() -> None:
 
 def test_gsr_bench_world_uses_the_benchmarks_own_sizes(shared_data) -> None:
     from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     task = load_gsr_bench(shared_data / "gsr_bench" / "saved_configs_dev.yaml", numbers=[1])[0]
     with build_world(task, seed=0) as world:
@@ -139,8 +139,8 @@ def test_gsr_bench_world_uses_the_benchmarks_own_sizes(shared_data) -> None:
 @pytest.mark.physics
 @pytest.mark.parametrize("seed", [0, 1])
 def test_microwave_door_open_and_close(seed: int) -> None:
+    from gsr.skills.build import build_world
     from gsr.skills.library import run_step
-    from gsr.skills.world import build_world
 
     task = TaskSpec(id="mw", suite="t", instructions=("mw",), initial=_fixtures_graph(), goal="(and)")
     with build_world(task, seed=seed) as world:

@@ -28,7 +28,7 @@ def test_a_mug_footprint_is_its_body_and_handle_not_a_symmetric_square() -> None
 def _drawer_world(level: str, cell: str, index: int, part: str):
     import pybullet as p
     from gsr.benchmarks.suites.gsr_bench_gen import generate_cell
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     task = generate_cell(cell, level, n=index + 1)[index]
     world = build_world(task, seed=0)
@@ -96,9 +96,9 @@ def test_cubes_fill_a_gsr_bench_box_in_rows_from_the_near_wall() -> None:
     nearest the robot (the easiest to reach)."""
     import pybullet as p
     from gsr.benchmarks.suites.gsr_bench_gen import generate_cell
+    from gsr.skills.build import build_world
     from gsr.skills.packing import packed_spot
     from gsr.skills.sim_graph import support_of
-    from gsr.skills.world import build_world
 
     task = generate_cell("Semantic Object Disambiguation", "Simple", n=1)[0]
     world = build_world(task, seed=0)

@@ -103,9 +103,9 @@ def test_a_pick_blocked_by_packed_neighbours_sets_them_aside_and_succeeds() -> N
 
 
 def test_a_container_or_a_fixture_in_the_way_is_never_named_for_setting_aside() -> None:
+    from gsr.skills.build import build_world
     from gsr.skills.grasping import in_the_way
     from gsr.skills.recovery import blockers
-    from gsr.skills.world import build_world
 
     with build_world(_task("gsrgen_ss_complex_01"), seed=0) as world:
         cube = world.objects["yellow_cube2"]  # in blue_lid_box, which stands on the table by short_cabinet

@@ -6,8 +6,8 @@ import pytest
 
 pytest.importorskip("pybullet")
 
+from gsr.skills.build import build_world
 from gsr.skills.sim_graph import container_volumes, graph_from_layout, interior_boxes, scene_graph_from_sim
-from gsr.skills.world import build_world
 
 from gsr.scene_graph import Edge, SceneGraph
 from gsr.task_spec import Layout, PlacedObject

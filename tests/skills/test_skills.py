@@ -49,7 +49,7 @@ def test_place_without_holding_reports_it(bowl_world) -> None:
     ],
 )
 def test_articulated_and_push_skills(libero_dir, steps) -> None:
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     from tests.skills.conftest import libero_goal_task
 
@@ -61,7 +61,7 @@ def test_articulated_and_push_skills(libero_dir, steps) -> None:
 
 
 def test_debug_weld_is_off_by_default_and_explicit(bowl_task) -> None:
-    from gsr.skills.world import build_world
+    from gsr.skills.build import build_world
 
     with build_world(bowl_task, seed=0) as world:
         assert world.debug_weld is False

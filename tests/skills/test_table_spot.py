@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from gsr.benchmarks.suites import get_suite
+from gsr.skills.build import build_world
 from gsr.skills.grasping import target_point
 from gsr.skills.hand_clearance import hand_clear_at
 from gsr.skills.sim_graph import support_of
-from gsr.skills.world import build_world
 
 pytestmark = pytest.mark.physics
 

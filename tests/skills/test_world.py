@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gsr.skills.build import build_world
 from gsr.skills.executor import symbolic_view
 from gsr.skills.sim_graph import graph_from_layout, scene_graph_from_sim
-from gsr.skills.world import build_world
 
 from gsr.graph_diff import diff_graphs
 from gsr.task_spec import Layout, PlacedObject
