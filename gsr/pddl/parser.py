@@ -199,8 +199,9 @@ class Builder:
         if self.types is not None and name != OBJECT and name not in self.types:
             raise self.error(f"undeclared type {name!r}", node)
 
-    def typed_list(self, tree: Tree) -> list[tuple[Token, tuple[str, ...]]]:
-        """Group a flat ``a b - t c`` list into (name token, types); untyped names get ``object``."""
+    def typed_list(self, tree: Tree, *, lenient: bool = False) -> list[tuple[Token, tuple[str, ...]]]:
+        """Group a flat ``a b - t c`` list into (name token, types); untyped names get ``object``;
+        with ``lenient`` an undeclared type stands for ``object`` instead of being an error."""
         result: list[tuple[Token, tuple[str, ...]]] = []
         pending: list[Token] = []
         for child in tree.children:
@@ -211,6 +212,8 @@ class Builder:
             if not pending:
                 raise self.error("'-' with no names before it", child)
             names = tuple(str(t) for t in spec.children) if isinstance(spec, Tree) else (str(spec),)
+            if lenient and self.types is not None:
+                names = tuple(n if n == OBJECT or n in self.types else OBJECT for n in names)
             for name in names:
                 self.check_type(name, spec)
             result.extend((token, names) for token in pending)
@@ -218,14 +221,14 @@ class Builder:
         result.extend((token, (OBJECT,)) for token in pending)
         return result
 
-    def typed_vars(self, tree: Tree, *, repeats: bool = False) -> tuple[TypedVar, ...]:
-        """Parameters of an action or quantifier; a repeated variable is an error unless ``repeats``
-        (a predicate declaration only fixes the arity: logistics00 declares ``(in ?obj ?obj)``, which
-        Fast Downward accepts)."""
+    def typed_vars(self, tree: Tree, *, declaration: bool = False) -> tuple[TypedVar, ...]:
+        """Parameters of an action or quantifier. A predicate or function ``declaration`` only fixes
+        the arity, as Fast Downward reads it: a repeated variable (logistics00's ``(in ?obj ?obj)``)
+        is accepted there, and an undeclared type stands for ``object``; both are errors elsewhere."""
         seen: set[str] = set()
         params = []
-        for token, types in self.typed_list(tree):
-            if str(token) in seen and not repeats:
+        for token, types in self.typed_list(tree, lenient=declaration):
+            if str(token) in seen and not declaration:
                 raise self.error(f"duplicate parameter {token}", token)
             seen.add(str(token))
             params.append(TypedVar(str(token), types))
@@ -497,7 +500,7 @@ def _declare(tree: Tree, builder: Builder, into: dict[str, Predicate], what: str
     head = tree.children[0]
     if str(head) in into:
         raise builder.error(f"duplicate {what} {str(head)!r}", head)
-    into[str(head)] = Predicate(str(head), builder.typed_vars(tree.children[1], repeats=True))
+    into[str(head)] = Predicate(str(head), builder.typed_vars(tree.children[1], declaration=True))
 
 
 def _build_action(tree: Tree, builder: Builder) -> Action:

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from gsr.errors import GSRError
+from gsr.errors import GSRError, ParseError
 from gsr.pddl.axioms import derive, strata
 from gsr.pddl.model import Atom
 from gsr.pddl.parser import load_domain, load_problem, parse_domain, parse_problem
@@ -113,6 +113,24 @@ def test_type_under_two_parents_and_repeated_declaration_variables() -> None:
     assert parse_domain(write_domain(domain)).types == domain.types
 
 
+def test_an_undeclared_type_in_a_predicate_declaration_stands_for_object() -> None:
+    """Fast Downward's translator reads it (a declaration only fixes the arity); elsewhere it is an error."""
+    text = (
+        "(define (domain ut) (:requirements :typing) (:types block)"
+        " (:predicates (p ?x - ghost) (q ?x - block))"
+        " (:action a :parameters (?x - block) :precondition (q ?x) :effect (p ?x)))"
+    )
+    domain = parse_domain(text)
+    assert domain.predicates["p"].params[0].types == ("object",)
+    problem = parse_problem(
+        "(define (problem u) (:domain ut) (:objects b - block) (:init (q b)) (:goal (p b)))", domain=domain
+    )
+    result = plan(domain, problem)
+    assert result.status == "solved" and validate_plan(domain, problem, result.plan).valid
+    with pytest.raises(ParseError, match="undeclared type 'ghost'"):
+        parse_domain(text.replace(":parameters (?x - block)", ":parameters (?x - ghost)"))
+
+
 def test_validating_a_plan_never_grounds_the_task() -> None:
     """Tetris' 7-parameter moves over 40 cells: the empty plan is judged (goal false) in seconds."""
     domain = load_domain(PDDL / "tetris" / "domain.pddl")
@@ -145,7 +163,7 @@ def test_landmarks_of_a_logistics_like_task_and_the_lama_planner() -> None:
     )
     task = ground_task(domain, problem)
     lm = Landmarks(task)
-    names = {str(task.atoms[f]) for f in lm.facts}
+    names = {lm.describe(k) for k in range(len(lm.facts))}
     assert {"(at x c)", "(held x)", "(me c)", "(me b)"} <= names  # (me b): every pick of x is at b
     init_accepted = lm.accept(0, task.init)
     h, preferred = lm.value(init_accepted, task.init)
