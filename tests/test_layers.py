@@ -241,7 +241,6 @@ KNOWN_CYCLES = (
         "gsr.perception.relations",
         "gsr.perception.track",
     },
-    {"gsr.plan.effects", "gsr.plan.ground", "gsr.plan.intern"},
     {"gsr.plan.heuristics", "gsr.plan.relax_c", "gsr.plan.relax_jit"},
     {"gsr.skills.articulated", "gsr.skills.grasping"},
 )

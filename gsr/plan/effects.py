@@ -3,15 +3,12 @@ effects they queue for the reachability fixpoint (see gsr.plan.ground)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
 
 from gsr.pddl.model import Atom, Formula, TypedVar, is_variable
 from gsr.plan.normalize import Conjunction, Schema, to_dnf
 from gsr.plan.precondition import AtomKey
 from gsr.plan.simplify import Simplifier
-
-if TYPE_CHECKING:
-    from gsr.plan.ground import Variant
 
 # Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
 # a part takes effect under the union of base and inner. The parts list of a memoised effect group
@@ -23,6 +20,22 @@ if TYPE_CHECKING:
 EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
 EffectBlock = tuple[Conjunction, list[EffectPart]]
 EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
+
+
+@dataclass(slots=True)
+class Variant:
+    """A ground action: its simplified precondition formula; effects are grounded once it fires."""
+
+    name: str
+    args: tuple[str, ...]
+    pre: Formula
+    binding: dict[str, str]
+    schema: Schema
+    need: Formula  # what the delete relaxation tests of ``pre`` (see relaxed_core)
+    effects: list[EffectBlock] | None = None
+    fired: bool = False
+
+
 EMPTY: Conjunction = frozenset()
 
 
@@ -76,7 +89,7 @@ def effect_groups(schema: Schema, simplify: Simplifier) -> list[EffectGroup]:
     return out
 
 
-Deferred = tuple["Variant", EffectGroup, dict[str, str], Conjunction]
+Deferred = tuple[Variant, EffectGroup, dict[str, str], Conjunction]
 
 
 def ground_effects(

@@ -27,9 +27,9 @@ from gsr.pddl.model import (
 )
 from gsr.plan.effects import (
     Deferred,
-    EffectBlock,
     EffectGroup,
     EffectMemo,
+    Variant,
     effect_groups,
     ground_effects,
     ground_group,
@@ -63,20 +63,6 @@ _CHECK_EVERY = 4096  # bindings between two looks at the clock (a look costs ~50
 def _check(deadline: float | None) -> None:
     if deadline is not None and perf_counter() > deadline:
         raise GroundingTimeout("grounding did not finish within the time limit")
-
-
-@dataclass(slots=True)
-class Variant:
-    """A ground action: its simplified precondition formula; effects are grounded once it fires."""
-
-    name: str
-    args: tuple[str, ...]
-    pre: Formula
-    binding: dict[str, str]
-    schema: Schema
-    need: Formula  # what the delete relaxation tests of ``pre`` (see relaxed_core)
-    effects: list[EffectBlock] | None = None
-    fired: bool = False
 
 
 def _conjuncts(formula: Formula) -> list[Formula]:

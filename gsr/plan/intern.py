@@ -2,20 +2,14 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
-from gsr.plan.effects import EffectPart
+from gsr.plan.effects import EffectPart, Variant
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
 from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
 from gsr.plan.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task
-
-if TYPE_CHECKING:
-    from gsr.plan.ground import Variant
-
 
 AXIOM_PREFIX = "axiom:"  # no PDDL action name has a colon
 
