@@ -171,7 +171,7 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float, cpu: bool = Fa
     }
 
 
-def _subprocess_row(
+def subprocess_row(
     domain_file: Path, problem_file: Path, timeout: float, planner: str, cpu: bool = False
 ) -> dict:
     # Grounding is not interruptible: the wall limit is the subprocess's.
@@ -310,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
         row = {
             "domain": folder.name,
             "problem": files[1].name,
-            **_subprocess_row(*files, args.timeout, args.planner, args.clock == "cpu"),
+            **subprocess_row(*files, args.timeout, args.planner, args.clock == "cpu"),
         }
         if args.fd:
             row["fd"] = run_fd(*files, args.timeout, args.clock == "cpu")

@@ -331,7 +331,7 @@ def run_episode(seed: int) -> dict:
 RETRIES, EPISODE_CPU_S = 3, 600.0
 
 
-def _bounded(executor: Any, cpu_budget: float) -> Any:
+def cpu_bounded(executor: Any, cpu_budget: float) -> Any:
     """The executor with an episode CPU-time bound: once spent, every step is refused (no skill runs),
     so the runner's retry count ends the episode; a step already running finishes (skills are bounded
     by their own simulation-step budgets)."""
@@ -367,7 +367,7 @@ def run_suite_task(job: tuple[dict, int, int, float]) -> dict:
 
     data, seed, retries, cpu_budget = job
     task = task_from_dict(data)
-    ex = _bounded(SimExecutor(seed=seed, frame_camera=None), cpu_budget)
+    ex = cpu_bounded(SimExecutor(seed=seed, frame_camera=None), cpu_budget)
     t0, c0 = time.perf_counter(), time.process_time()
     try:
         r = run_episode(
@@ -410,25 +410,25 @@ def suite_markdown(rows: list[dict]) -> str:
     ]
     for (cat, level), rs in [*sorted(groups.items()), (("all", "-"), rows)]:
         ok = sum(r["success"] for r in rs)
-        fails = Counter(_failure_kind(r["reason"]) for r in rs if not r["success"])
+        fails = Counter(failure_kind(r["reason"]) for r in rs if not r["success"])
         main = ", ".join(f"{k} {v}" for k, v in fails.most_common(2)) or "-"
         wall, cpu = [r["wall_s"] for r in rs], [r.get("cpu_s", 0.0) for r in rs]
         recovered = sum(1 for r in rs if r["success"] and r.get("recoveries"))
         lines.append(
             f"| {cat} | {level} | {len(rs)} | {ok}/{len(rs)} ({100 * ok / len(rs):.0f}%) "
-            f"| {statistics.median(wall):.1f} / {_p95(wall):.1f} | {statistics.median(cpu):.1f} / {_p95(cpu):.1f} "
+            f"| {statistics.median(wall):.1f} / {p95(wall):.1f} | {statistics.median(cpu):.1f} / {p95(cpu):.1f} "
             f"| {recovered} | {main} |"
         )
     return "\n".join(lines)
 
 
-def _p95(values: list[float]) -> float:
+def p95(values: list[float]) -> float:
     """The 95th percentile (nearest rank)."""
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, max(0, -(-95 * len(ordered) // 100) - 1))]
 
 
-def _failure_kind(reason: str) -> str:
+def failure_kind(reason: str) -> str:
     for kind in (
         "unreachable",
         "blocked",

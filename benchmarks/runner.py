@@ -157,7 +157,7 @@ class RunConfig:
     oracle_masks: bool = False  # perceive: from the simulator's labelled masks instead of the detector
 
 
-def _episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
+def episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
     """Worker entry: rebuild the task and agent, run one episode, return its record."""
     from gsr.resources import load_builtin_domain
 
@@ -320,5 +320,5 @@ def run_tasks(
         if progress is not None:
             progress(out[-1])
 
-    run_jobs(_episode_job, jobs, config, workers, backend, address, collect)
+    run_jobs(episode_job, jobs, config, workers, backend, address, collect)
     return out

@@ -8,7 +8,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from gsr.benchmarks.bench_ipc_language import _subprocess_row, main, markdown, pick_problem, summary
+from gsr.benchmarks.bench_ipc_language import main, markdown, pick_problem, subprocess_row, summary
 
 from tests.data_paths import PDDL
 
@@ -107,7 +107,7 @@ def test_cpu_clock_stops_the_child_on_cpu_time_and_keeps_what_it_did(tmp_path: P
         f"(define (problem tower) (:domain BLOCKS) (:objects {' '.join(blocks)})"
         f" (:init (handempty) (clear b0) (ontable b13) {on}) (:goal (and {goal})))"
     )
-    row = _subprocess_row(PDDL / "blocks" / "domain.pddl", problem, 2.0, "bfs", cpu=True)
+    row = subprocess_row(PDDL / "blocks" / "domain.pddl", problem, 2.0, "bfs", cpu=True)
     assert row["load"] is True and row["plan"] == "timeout" and row["message"] == "over 2 s CPU"
     assert row["operators"] > 0  # grounding finished before the limit and is reported
     assert 1.5 < row["cpu"] < 15  # stopped by its CPU time (plus start-up), not by the wall limit

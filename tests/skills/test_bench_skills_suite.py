@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import time
 
-from gsr.benchmarks.bench_skills import _bounded, _failure_kind, _p95, suite_markdown
+from gsr.benchmarks.bench_skills import cpu_bounded, failure_kind, p95, suite_markdown
 
 from gsr.diagnosis import Diagnosis
 from gsr.step import Step
 
 
 def test_p95_is_the_nearest_rank() -> None:
-    assert _p95([3.0]) == 3.0
-    assert _p95([float(v) for v in range(1, 101)]) == 95.0
-    assert _p95([5.0, 1.0, 2.0, 4.0, 3.0]) == 5.0
+    assert p95([3.0]) == 3.0
+    assert p95([float(v) for v in range(1, 101)]) == 95.0
+    assert p95([5.0, 1.0, 2.0, 4.0, 3.0]) == 5.0
 
 
 def _row(cat: str, ok: bool, wall: float, reason: str = "goal reached", recoveries: int = 0) -> dict:
@@ -46,9 +46,9 @@ def test_suite_markdown_reports_each_cell_and_all() -> None:
 
 
 def test_failure_kinds() -> None:
-    assert _failure_kind("x: skill place_in failed (not_achieved): y") == "not_achieved"
-    assert _failure_kind("step 4 rejected: episode time bound: 601 of 600 CPU-s spent") == "out_of_time"
-    assert _failure_kind("step 2: reality diverges from the expected graph: - a on b") == "diverged"
+    assert failure_kind("x: skill place_in failed (not_achieved): y") == "not_achieved"
+    assert failure_kind("step 4 rejected: episode time bound: 601 of 600 CPU-s spent") == "out_of_time"
+    assert failure_kind("step 2: reality diverges from the expected graph: - a on b") == "diverged"
 
 
 class _Executor:
@@ -64,7 +64,7 @@ class _Executor:
 
 
 def test_the_episode_bound_refuses_steps_once_spent() -> None:
-    ex = _bounded(_Executor(), cpu_budget=0.01)
+    ex = cpu_bounded(_Executor(), cpu_budget=0.01)
     step = Step("pick", ("a", "table"))
     assert ex.execute(step).ok  # the first step runs
     refused = ex.execute(step)

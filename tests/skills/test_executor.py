@@ -70,10 +70,10 @@ def test_gym_env_episode(bowl_task) -> None:
 
 @pytest.mark.physics
 def test_runner_physical_mode(libero_dir) -> None:
-    from gsr.benchmarks.runner import RunConfig, _episode_job
+    from gsr.benchmarks.runner import RunConfig, episode_job
 
     from tests.skills.conftest import libero_goal_task
 
     task = libero_goal_task(libero_dir, "put_the_bowl_on_the_plate", "(on akita_black_bowl_1 plate_1)")
-    record = _episode_job(task.model_dump(mode="json"), 0, RunConfig(physical=True))
+    record = episode_job(task.model_dump(mode="json"), 0, RunConfig(physical=True))
     assert record["success"] and record["steps"] == 2, record["reason"]
