@@ -288,6 +288,8 @@ FRAGMENT_INSIDE = 0.9
 #: ... its centre is inside the container's rim, and it has a wall's extent: it reaches this far below the
 #: container's floor (down to the table, as the outer walls do) or up to within 1 cm of the rim.
 FRAGMENT_BELOW_FLOOR = 0.004
+#: ... or, whatever its extent, nearly all of its voxels lie on the container's (other cameras') surface.
+FRAGMENT_ON_SURFACE = 0.95
 
 
 def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Instance]:
@@ -339,7 +341,8 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
             x_bottom = float(np.percentile(x.points[:, 2], 2.0))
             c_bottom = float(np.percentile(c.points[:, 2], 2.0))
             wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= rim.aabb_max[2] - 0.01
-            if wall_like and cloud_overlap(x, c) >= FRAGMENT_OVERLAP:
+            overlap = cloud_overlap(x, c)
+            if (wall_like and overlap >= FRAGMENT_OVERLAP) or overlap >= FRAGMENT_ON_SURFACE:
                 pieces[id(x)] = c
                 break
     return pieces

@@ -260,3 +260,18 @@ def test_the_one_ground_keeps_its_id_wherever_its_visible_middle_moved():
     before = tracker.assign(SceneGraph(nodes=(table_node("table_1", -0.3),), edges=()), None)
     after = tracker.assign(SceneGraph(nodes=(table_node("table_1", 0.1),), edges=()), before)
     assert [n.id for n in after.nodes] == [before.nodes[0].id]
+
+
+def test_a_mid_height_piece_lying_on_the_containers_surface_joins_it():
+    # one camera segmented a patch of the box's wall between floor and rim (neither reaching the rim nor
+    # under the floor): all of its voxels lie on the surface the other cameras gave the box
+    box = open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    wall = box.points[np.abs(box.points[:, 1] + 0.1) < 1e-6]
+    patch = wall[(wall[:, 0] > 0.38) & (wall[:, 0] < 0.45) & (wall[:, 2] > 0.03) & (wall[:, 2] < 0.055)]
+    piece = _inst("cube_f2m4", "cube", patch + np.array([0.0, 0.004, 0.0]))
+    cube = solid("cube_f2m5", "cube", (0.4, -0.03, 0.008), (0.43, 0.0, 0.038))
+    out = absorb_fragments([box, piece, cube], PARAMS)
+    assert sorted(i.label.category for i in out) == ["box", "cube"]
+    assert len(next(i for i in out if i.label.category == "box").points) == len(box.points) + len(
+        piece.points
+    )
