@@ -4,6 +4,13 @@ The grammar fixes the sentence shapes ("fetch X from Y and deliver it to P", "br
 "P needs X. It is on Y", "can you bring P X"); the terminals (colours, object names, receptacles, rooms,
 names, roles, garments, hair) are generated from the scene graph's node attributes, so the parser knows
 exactly the words this building has. Earley with a dynamic lexer handles multi-word terminals.
+
+This is the reader of the generated tasks' own language, and it answers a :class:`Reference` to ids of
+the known building graph. PRS's free-form requests are a different input and a different answer, read by
+:mod:`gsr.benchmarks.delivery.prs_parse`: open vocabulary, words classified on the grounder's lexicon,
+the object phrase scored against the detector's type labels, the recipient by name or appearance words,
+and a ``ParsedRequest`` of phrases the agent resolves later. A sentence this grammar reads is exact or
+an error; a request that parser reads is a best reading. Neither replaces the other.
 """
 
 from __future__ import annotations
