@@ -385,3 +385,34 @@ def hand_clear(world: World, obj: SimObject, pos: np.ndarray, quat: tuple, openi
         return not proxy.hit(np.asarray(pos), quat, opening, _near_bodies(world, obj), world.table_body)
     finally:
         proxy.remove()
+
+
+def graspable_at(world: World, obj: SimObject, spot: np.ndarray, yaw: float | None = None) -> bool:
+    """Whether a later pick would find a top-down grasp (:func:`clear_grasps`) of ``obj``, an object
+    held whole (a cube, a package, a small mug), if it stood with its bottom centre at ``spot``, turned
+    to ``yaw`` (default: as now). What a placement into a deep box needs of its spot: a cube let go
+    against a wall fits no hand that must reach in past 8.5 cm walls. The object is moved there for
+    the check and put back exactly; nothing else moves. Objects not held whole are not judged (True)."""
+    import pybullet as p
+
+    whole = [g for g in obj.model.grasps if math.hypot(*g.xyz[:2]) < 1e-6]
+    if not whole:
+        return True
+    cid = world.client
+    pos, quat = p.getBasePositionAndOrientation(obj.body, physicsClientId=cid)
+    lo, hi = world.body_aabb(obj.body)
+    # the base frame relative to the bottom centre, turned with the object
+    off = np.asarray(pos) - np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2]])
+    new_quat = quat
+    if yaw is not None:
+        roll, pitch, now = p.getEulerFromQuaternion(quat)
+        new_quat = p.getQuaternionFromEuler((roll, pitch, yaw))
+        c, s = math.cos(yaw - now), math.sin(yaw - now)
+        off = np.array([c * off[0] - s * off[1], s * off[0] + c * off[1], off[2]])
+    target = np.asarray(spot, dtype=float) + off
+    p.resetBasePositionAndOrientation(obj.body, target.tolist(), new_quat, physicsClientId=cid)
+    try:
+        site = world.to_world(obj.body, obj.links[whole[0].link], whole[0].xyz)
+        return bool(clear_grasps(world, obj, site, whole[0].width, limit=1))
+    finally:
+        p.resetBasePositionAndOrientation(obj.body, pos, quat, physicsClientId=cid)

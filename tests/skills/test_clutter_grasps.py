@@ -232,3 +232,35 @@ def test_a_box_taken_off_a_box_is_set_down_on_a_crowded_desk() -> None:
         # nothing else ended in or on the box it was set down on
         others = [o for o in world.objects if o not in ("blue_box", "yellow_cube1")]
         assert not [o for o in others if (support_of(world, o) or ("", ""))[1] == "blue_box"]
+
+
+def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_cannot() -> None:
+    import pybullet as p
+    from gsr.skills.hand_clearance import graspable_at
+
+    with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
+        box, cube = world.objects["blue_box"], world.objects["yellow_cube1"]
+        assert support_of(world, cube.id) == ("in", "blue_box")
+        bpos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=world.client)
+        yaw = p.getEulerFromQuaternion(bq)[2]
+        sx, sy = box.model.extent[:2]
+        along = (
+            np.array([math.cos(yaw), math.sin(yaw)])
+            if sx >= sy
+            else np.array([-math.sin(yaw), math.cos(yaw)])
+        )
+        across = np.array([-along[1], along[0]])
+        half_len, half_w = max(sx, sy) / 2 - 0.01 - 0.017, min(sx, sy) / 2 - 0.01 - 0.017  # inside the walls
+        floor = world.body_aabb(cube.body)[0][2]
+        before = p.getBasePositionAndOrientation(cube.body, physicsClientId=world.client)
+
+        def at(a: float, b: float) -> bool:
+            xy = np.asarray(bpos[:2]) + along * a * half_len + across * b * half_w
+            return graspable_at(world, cube, np.array([xy[0], xy[1], floor]))
+
+        assert at(0.0, 0.0)  # the box's middle: the hand fits in along the box
+        assert (
+            not at(1.0, 0.0) and not at(1.0, 1.0) and not at(0.0, 1.0)
+        )  # against an end wall, a corner, a side
+        after = p.getBasePositionAndOrientation(cube.body, physicsClientId=world.client)
+        assert np.allclose(before[0], after[0]) and np.allclose(before[1], after[1])  # put back exactly
