@@ -116,7 +116,9 @@ class PerceivedScene:
             to_perceived = {w: p for p, w in self.binding.items()}
             held = {to_perceived[w] for w in held_objects(self.world) if w in to_perceived}
             observed, held = self._keep_grasped_id(observed, held, expected)
-        observed = with_map_regions(observed, self.world, table_only=not self.oracle_masks)
+        observed = with_map_regions(
+            observed, self.world, table_only=not self.oracle_masks, previous=self.belief
+        )
         observed = with_held(observed, held, self.belief, None if not self.oracle_masks else self.world.graph)
         prior = expected if expected is not None else self.belief
         observed = with_unseen_parts(observed, self.belief, prior)
@@ -280,12 +282,19 @@ def held_objects(world: World) -> set[str]:
     }
 
 
-def with_map_regions(graph: SceneGraph, world: World, table_only: bool = False) -> SceneGraph:
+def with_map_regions(
+    graph: SceneGraph, world: World, table_only: bool = False, previous: SceneGraph | None = None
+) -> SceneGraph:
     """Add the table's named regions (map nodes) and move objects on the table onto the region they are in.
 
     ``table_only`` (perception without the simulator's ids): only regions of the table itself come from
     the map — a drawer or a cabinet top that LIBERO also names as a region is perceived, not given — and
-    the table is whichever ground (``table``/``floor``) perception found."""
+    the table is whichever ground (``table``/``floor``) perception found.
+
+    ``previous`` (the belief before this observation): an object it had on a region stays on that region
+    while its perceived box still meets the region's rectangle. The centre rule alone flips an object
+    standing on a region's edge (LIBERO places some exactly there) with every millimetre the measured
+    centre moves as the arm hides another part of it; an object moved off the region leaves it wholly."""
     regions = [
         nid
         for nid in sorted(world.regions)
@@ -308,12 +317,18 @@ def with_map_regions(graph: SceneGraph, world: World, table_only: bool = False) 
             update["parent"] = ground  # the region belongs to the table perception found
         added.append(node.model_copy(update=update))
     nodes = graph.node_map()
+    before = {
+        e.source: e.target for e in (previous.edges if previous is not None else ()) if e.relation == "on"
+    }
     edges = []
     for e in graph.edges:
         node = nodes.get(e.source)
         if e.relation == "on" and e.target in grounds and node is not None and node.pose is not None:
             p = node.pose.position
             region = next((r for r in regions if _inside(world.regions[r].bounds, p.x, p.y)), None)
+            was = before.get(e.source)
+            if region is None and was in regions and _box_meets(node, world.regions[was].bounds):
+                region = was  # still on the region it was on: its centre measured just past the edge
             if region is not None:
                 e = Edge(source=e.source, relation="on", target=region)
         edges.append(e)
@@ -323,6 +338,16 @@ def with_map_regions(graph: SceneGraph, world: World, table_only: bool = False) 
             "edges": tuple(sorted(set(edges), key=Edge.key)),
         }
     )
+
+
+def _box_meets(node: Node, bounds: tuple[float, float, float, float]) -> bool:
+    """Whether a node's box (its centre when it has none) meets a region's rectangle."""
+    if node.bbox is None:
+        p = node.pose.position  # type: ignore[union-attr]
+        return _inside(bounds, p.x, p.y)
+    x0, y0, x1, y1 = bounds
+    lo, hi = node.bbox.min, node.bbox.max
+    return lo.x <= x1 and hi.x >= x0 and lo.y <= y1 and hi.y >= y0
 
 
 def _inside(bounds: tuple[float, float, float, float], x: float, y: float) -> bool:

@@ -64,6 +64,31 @@ def test_objects_on_the_table_inside_a_region_are_on_the_region() -> None:
     assert with_map_regions(seen, _MapWorld(truth)) == seen  # no regions: unchanged
 
 
+def test_an_object_on_a_regions_edge_stays_on_it_until_its_box_leaves_the_region() -> None:
+    from gsr.scene_graph import BoundingBox
+
+    region = Node(id="table/front_region", category="region", parent="table")
+    world = _MapWorld(
+        _graph([_node("table", "table"), region], []),
+        regions={"table/front_region": _Region((0.0, 0.17, 0.2, 0.25))},
+    )
+
+    def seen(y: float) -> SceneGraph:  # a 4 cm cheese box whose measured centre is at y
+        box = BoundingBox(min=Vec3(x=0.08, y=y - 0.02, z=0.8), max=Vec3(x=0.12, y=y + 0.02, z=0.85))
+        cheese = _node("cheese", "cream_cheese", 0.1, y, bbox=box)
+        return _graph([_node("table", "table"), cheese], [("cheese", "on", "table")])
+
+    first = with_map_regions(seen(0.1705), world)
+    assert ("cheese", "on", "table/front_region") in {e.key() for e in first.edges}
+    # the arm hides part of it: the measured centre moves 1 mm past the edge; it has not moved
+    again = with_map_regions(seen(0.1695), world, previous=first)
+    assert ("cheese", "on", "table/front_region") in {e.key() for e in again.edges}
+    # without the belief the centre rule alone decides; moved off, its box leaves the region
+    assert ("cheese", "on", "table") in {e.key() for e in with_map_regions(seen(0.1695), world).edges}
+    gone = with_map_regions(seen(0.12), world, previous=first)
+    assert ("cheese", "on", "table") in {e.key() for e in gone.edges}
+
+
 def test_held_objects_come_from_the_gripper_and_lose_their_support() -> None:
     seen = _graph([_node("table", "table"), _node("cup", "cup")], [("cup", "on", "table")])
     out = with_held(seen, {"cup"}, None)
