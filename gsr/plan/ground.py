@@ -47,9 +47,12 @@ from gsr.plan.simplify import ObjectsByType, Simplifier, free_variables
 from gsr.plan.task import Task
 
 __all__ = [
+    "GroundingTables",
     "GroundingTimeout",
     "ground_goal",
     "ground_task",
+    "grounding_tables",
+    "schema_bindings",
 ]  # ground_goal lives in gsr.plan.intern; re-exported here
 
 
@@ -127,7 +130,7 @@ def _index_atom(
             found.append(atom.args)
 
 
-def _bindings(
+def schema_bindings(
     schema: Schema,
     index: dict[str, set[tuple[str, ...]]],
     objects: ObjectsByType,
@@ -355,7 +358,7 @@ def _variant(
 
 
 @dataclass(frozen=True, slots=True)
-class _Compiled:
+class GroundingTables:
     """What grounding derives from a domain alone: normalised schemas and their per-schema tables."""
 
     schemas: list[Schema]
@@ -364,18 +367,18 @@ class _Compiled:
     alternatives: list[list[tuple[Formula, ...]]]
     narrow: list[list[tuple[Formula, tuple[str, ...]]]]
     parts: list[list[Part]]
-    disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see _bindings)
+    disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see schema_bindings)
     triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
 # run of plan() calls on one domain compiles its schemas once). The domain is kept in the entry so
 # that its id stays valid; domains are treated as immutable, like the rest of gsr.pddl.model.
-_COMPILED: list[tuple[Domain, _Compiled]] = []
+_COMPILED: list[tuple[Domain, GroundingTables]] = []
 _COMPILED_MAX = 4
 
 
-def _compile(domain: Domain) -> _Compiled:
+def grounding_tables(domain: Domain) -> GroundingTables:
     """The domain-only grounding tables of ``domain`` (memoised on its identity)."""
     for known, compiled in _COMPILED:
         if known is domain:
@@ -390,7 +393,7 @@ def _compile(domain: Domain) -> _Compiled:
     fluent = {e.literal.atom.predicate for s in schemas for e in s.effects}
     # Effect groups need only the fluent predicates (literal splitting, static guards).
     no_objects = Simplifier(ObjectsByType(domain, {}), fluent, ())
-    compiled = _Compiled(
+    compiled = GroundingTables(
         schemas,
         fluent,
         [effect_groups(s, no_objects) for s in schemas],
@@ -440,7 +443,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     time limit by more than a fraction of a second.
     """
     objects = ObjectsByType(domain, problem.all_objects(domain))
-    compiled = _compile(domain)
+    compiled = grounding_tables(domain)
     schemas, fluent = compiled.schemas, compiled.fluent
     init = set(problem.init)
     simplify = Simplifier(objects, fluent, init)
@@ -488,13 +491,15 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                 candidates = unfired[si]
             elif old is None or disjunctions[si] or not schema.join:
                 join_sizes[si] = sizes
-                candidates = _bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
+                candidates = schema_bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
             else:
                 # Semi-naive: only the bindings using an atom reached since the last listing are
                 # new; the others are fired already or waiting in unfired.
                 join_sizes[si] = sizes
                 delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
-                candidates = unfired[si] + _bindings(schema, index, objects, (), by_arg, delta, deadline)
+                candidates = unfired[si] + schema_bindings(
+                    schema, index, objects, (), by_arg, delta, deadline
+                )
             unfired[si] = still = []
             listed: set[tuple] = set()
             for count, binding in enumerate(candidates):

@@ -65,9 +65,8 @@ def test_split_cases_ground_the_same_operators_and_plan_validly(monkeypatch: pyt
     problem = parse_problem(_problem(6), domain)
     split = ground_task(domain, problem)
     monkeypatch.setattr(ground_module, "split_cases", lambda schema: [schema])
-    ground_module._COMPILED.clear()
-    whole = ground_task(domain, problem)
-    ground_module._COMPILED.clear()
+    unsplit = parse_domain(GRID)  # a new domain object: its grounding tables are compiled afresh
+    whole = ground_task(unsplit, parse_problem(_problem(6), unsplit))
     assert sorted((o.name, o.args) for o in split.ops) == sorted((o.name, o.args) for o in whole.ops)
     assert split.atoms == whole.atoms
     monkeypatch.undo()

@@ -9,7 +9,7 @@ from gsr.benchmarks.bench_planner import long_tabletop_task
 
 from gsr.facts import problem_from_graph
 from gsr.plan import plan
-from gsr.plan.ground import ObjectsByType, _bindings, _compile, ground_task
+from gsr.plan.ground import ObjectsByType, ground_task, grounding_tables, schema_bindings
 from gsr.plan.heuristics import Relaxation
 from gsr.plan.precondition import fast_dnf, id_dnf, relaxed, relaxed_core
 from gsr.plan.simplify import Simplifier
@@ -30,7 +30,7 @@ def _problem(seed: int):
 def _ground_preconditions(seed: int):
     """Every candidate action's simplified precondition (the fixpoint's inputs), with the problem."""
     domain, problem = _tabletop(), _problem(seed)
-    compiled = _compile(domain)
+    compiled = grounding_tables(domain)
     objects = ObjectsByType(domain, problem.all_objects(domain))
     simplify = Simplifier(objects, compiled.fluent, problem.init)
     index: dict[str, set[tuple[str, ...]]] = {}
@@ -38,7 +38,7 @@ def _ground_preconditions(seed: int):
         index.setdefault(a.predicate, set()).add(a.args)
     out = []
     for schema in compiled.schemas:
-        for binding in _bindings(schema, index, objects)[:40]:
+        for binding in schema_bindings(schema, index, objects)[:40]:
             pre = simplify(schema.residual, binding)
             out.append(pre)
     return problem, out
@@ -79,7 +79,7 @@ def test_disjunction_join_lists_exactly_the_bindings_the_filter_keeps() -> None:
     # pick's (or (on ?o ?from) (in ?o ?from)) is joined while listing bindings; without the join
     # every ?from is listed and the disjunction tested afterwards.
     domain, problem = _tabletop(), _problem(3)
-    compiled = _compile(domain)
+    compiled = grounding_tables(domain)
     objects = ObjectsByType(domain, problem.all_objects(domain))
     index: dict[str, set[tuple[str, ...]]] = {}
     for a in problem.init:
@@ -96,8 +96,8 @@ def test_disjunction_join_lists_exactly_the_bindings_the_filter_keeps() -> None:
     def key(b: dict[str, str]) -> tuple[str, ...]:
         return tuple(b[p.name] for p in schema.all_params)
 
-    joined = sorted(map(key, _bindings(schema, index, objects, disjunction)))
-    filtered = sorted(key(b) for b in _bindings(schema, index, objects) if holds(b))
+    joined = sorted(map(key, schema_bindings(schema, index, objects, disjunction)))
+    filtered = sorted(key(b) for b in schema_bindings(schema, index, objects) if holds(b))
     assert joined == filtered and len(joined) >= 5
 
 

@@ -158,13 +158,13 @@ def test_incremental_hadd_equals_counting_from_scratch_and_the_heap_version(
 def test_domain_tables_are_reused_per_domain_object_and_match_a_fresh_parse() -> None:
     # ground_task compiles the domain-only tables (normalised schemas, effect groups) once per
     # domain object; a freshly parsed copy of the domain must ground to the very same task.
-    from gsr.plan.ground import _compile
+    from gsr.plan.ground import grounding_tables
     from gsr.resources import domain_path
 
     domain = _tabletop()
-    assert _compile(domain) is _compile(domain)
+    assert grounding_tables(domain) is grounding_tables(domain)
     fresh = parse_domain(domain_path("tabletop").read_text())
-    assert fresh is not domain and _compile(fresh) is not _compile(domain)
+    assert fresh is not domain and grounding_tables(fresh) is not grounding_tables(domain)
     for seed in (2, 4):
         name, graph, goal, _ = long_tabletop_task(seed)
         problem = problem_from_graph(graph, goal, name=name, domain=domain)
