@@ -347,7 +347,7 @@ def _boundary_pixels(active: np.ndarray, kr: np.ndarray, kd: np.ndarray) -> np.n
     return edge
 
 
-def _sealed_components(
+def sealed_components(
     active: np.ndarray, kr: np.ndarray, kd: np.ndarray, rounds: int = 2, seal: int = 0
 ) -> np.ndarray:
     """Components that one stray kept link across a boundary cannot join.
@@ -565,7 +565,7 @@ def segment(
         support = np.zeros_like(valid)
         active = valid
     kr, kd, jr, jd = _links(z, small_rgb, normals, active, params, link_scorer, link_samples)
-    labels = _relabel(_sealed_components(active, kr, kd, seal=params.seal), params.min_pixels)
+    labels = _relabel(sealed_components(active, kr, kd, seal=params.seal), params.min_pixels)
     seg = Segments(
         stride=s,
         shape=(camera.height, camera.width),

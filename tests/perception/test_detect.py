@@ -146,15 +146,15 @@ def test_depth_noise_estimate_tells_clean_from_noisy_depth(front):
 
 def test_sealing_closes_short_gaps_in_a_boundary():
     """A boundary cut at every link but one still separates its two sides when sealed."""
-    from gsr.perception.segment import _sealed_components
+    from gsr.perception.segment import sealed_components
 
     active = np.ones((20, 20), bool)
     kr = np.ones((20, 19), bool)
     kd = np.ones((19, 20), bool)
     kr[:, 9] = False  # a vertical boundary between columns 9 and 10 ...
     kr[12, 9] = True  # ... with one kept link across it
-    leaky = _sealed_components(active, kr, kd, seal=0)
-    sealed = _sealed_components(active, kr, kd, seal=1)
+    leaky = sealed_components(active, kr, kd, seal=0)
+    sealed = sealed_components(active, kr, kd, seal=1)
     assert leaky[0, 0] == leaky[0, 19]
     assert sealed[0, 0] != sealed[0, 19]
     assert len(np.unique(sealed[:, :9])) == 1 and len(np.unique(sealed[:, 11:])) == 1
