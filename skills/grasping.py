@@ -119,7 +119,7 @@ MAX_CLOSING = 0.075  # m: the widest object the 8 cm gripper closes on with room
 NEAR = 0.12  # m: neighbours closer than this (footprint to grasp centre) shape the grasp candidates
 
 
-def _walls_near(world: World, obj: SimObject, z: float) -> list[float]:
+def walls_near(world: World, obj: SimObject, z: float) -> list[float]:
     """World yaws pointing from ``obj`` to the nearest face of each neighbour taller than ``z``."""
     lo, hi = world.body_aabb(obj.body)
     c = (lo[:2] + hi[:2]) / 2
@@ -127,7 +127,7 @@ def _walls_near(world: World, obj: SimObject, z: float) -> list[float]:
     for o in world.objects.values():
         if o.id == obj.id or support_of(world, o.id) == ("held", ""):
             continue
-        for centre, yaw, half, top in _footprints(world, o):
+        for centre, yaw, half, top in object_footprints(world, o):
             if top < z:
                 continue
             rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
@@ -140,7 +140,7 @@ def _walls_near(world: World, obj: SimObject, z: float) -> list[float]:
     return out
 
 
-def _footprints(world: World, o: SimObject) -> list[tuple[np.ndarray, float, np.ndarray, float]]:
+def object_footprints(world: World, o: SimObject) -> list[tuple[np.ndarray, float, np.ndarray, float]]:
     """(centre, yaw, half sizes, top) of an object's footprint; an open sliding lid apart from its box.
 
     A lid slid open lies beside its box at rim height, a wall of its own for the hand; the whole body's
@@ -199,7 +199,7 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
             return abs(math.cos(t)) * sx + abs(math.sin(t)) * sy
 
         extra = []
-        for to_wall in _walls_near(world, obj, float(pos[2]) + 0.03):
+        for to_wall in walls_near(world, obj, float(pos[2]) + 0.03):
             along = to_wall + math.pi / 2
             nearest_face = face + round((to_wall - face) / (math.pi / 2)) * math.pi / 2
             extra += [

@@ -8,7 +8,7 @@ import pytest
 pytest.importorskip("pybullet")
 
 from gsr.skills.build import build_world
-from gsr.skills.grasping import _footprints, _walls_near
+from gsr.skills.grasping import object_footprints, walls_near
 
 from gsr.task_spec import Layout, PlacedObject
 
@@ -30,7 +30,7 @@ def _layout(lid: float) -> Layout:
 def test_open_lid_is_its_own_footprint_beside_the_box() -> None:
     with build_world(_layout(1.0), seed=0) as w:
         box = w.objects["box"]
-        rects = _footprints(w, box)
+        rects = object_footprints(w, box)
         assert len(rects) == 2
         (bc, _, bhalf, btop), (lc, _, lhalf, ltop) = rects
         # the box by its own base (the grip fin moves its centre 2 cm), the lid a full travel away
@@ -45,9 +45,9 @@ def test_open_lid_is_its_own_footprint_beside_the_box() -> None:
         import pybullet as p
 
         p.resetBasePositionAndOrientation(cube.body, (*beside, 0.02), (0, 0, 0, 1), physicsClientId=w.client)
-        assert _walls_near(w, cube, 0.03)
+        assert walls_near(w, cube, 0.03)
 
 
 def test_closed_lid_keeps_one_footprint() -> None:
     with build_world(_layout(0.0), seed=0) as w:
-        assert len(_footprints(w, w.objects["box"])) == 1
+        assert len(object_footprints(w, w.objects["box"])) == 1
