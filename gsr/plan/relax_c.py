@@ -153,6 +153,7 @@ def _load(path: Path) -> ctypes.CDLL:
         i64,
         ptr,
         i64,
+        ptr,
         i64,
         ptr,
         ptr,
@@ -330,9 +331,10 @@ class CReach:
             ctypes.addressof(self._reached),
         )
 
-    def reached(self, fact: int) -> int:
-        """The reached atoms as a bitset."""
-        self.fn(*self._args, fact, *self._rest)
+    def reached(self, facts: tuple[int, ...]) -> int:
+        """The reached facts as a bitset when ``facts`` are never added."""
+        blocked = _ints(facts)
+        self.fn(*self._args, _addr(blocked), len(blocked), *self._rest)
         return int.from_bytes(self.reached_bytes, "little")
 
 

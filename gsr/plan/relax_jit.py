@@ -218,12 +218,12 @@ class CompiledReach:
         self.seen = np.empty(n_atoms, dtype=np.uint8)
         self.queue = np.empty(n_atoms, dtype=np.int64)
 
-    def reached(self, fact: int) -> int:
-        """The reached atoms as a bitset."""
+    def reached(self, facts: tuple[int, ...]) -> int:
+        """The reached facts as a bitset when ``facts`` are never added."""
         np = self.np
         self.kernel(
             self.first,
-            fact,
+            np.array(facts, dtype=np.int64),
             self.pre_of_ptr,
             self.pre_of_idx,
             self.add_ptr,

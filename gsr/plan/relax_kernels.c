@@ -288,13 +288,14 @@ int64_t gsr_ff(relax_t *r, const uint8_t *state, int64_t n_bytes, int64_t *out, 
 
 /* Landmarks' relaxed exploration from the facts ``first`` that never adds ``blocked``: ``reached`` (a
  * little-endian bitset of n_atoms bits, zeroed here) ends with the reached facts, ``blocked`` excluded. */
-void gsr_reach_without(int64_t n_atoms, const int64_t *first, int64_t n_first, int64_t blocked,
+void gsr_reach_without(int64_t n_atoms, const int64_t *first, int64_t n_first, const int64_t *blocked,
+                       int64_t n_blocked,
                        const int64_t *pre_of_ptr, const int64_t *pre_of_idx, const int64_t *add_ptr,
                        const int64_t *add_idx, const int64_t *npre, const int64_t *no_pre, int64_t n_no_pre,
                        int64_t *unsat, int64_t n_unary, uint8_t *seen, int64_t *queue, uint8_t *reached) {
     memcpy(unsat, npre, (size_t)n_unary * sizeof(int64_t));
     memset(seen, 0, (size_t)n_atoms);
-    seen[blocked] = 1;
+    for (int64_t j = 0; j < n_blocked; j++) seen[blocked[j]] = 1;
     int64_t n = 0;
     for (int64_t j = 0; j < n_first; j++) {
         int64_t f = first[j];
@@ -319,11 +320,10 @@ void gsr_reach_without(int64_t n_atoms, const int64_t *first, int64_t n_first, i
             }
         }
     }
-    seen[blocked] = 0;
     memset(reached, 0, (size_t)((n_atoms + 7) / 8));
-    for (int64_t k = 0; k < n; k++) {
+    for (int64_t k = 0; k < n; k++) {  /* the queue never holds a blocked fact */
         int64_t f = queue[k];
-        if (f != blocked) reached[f >> 3] |= (uint8_t)(1u << (f & 7));
+        reached[f >> 3] |= (uint8_t)(1u << (f & 7));
     }
 }
 

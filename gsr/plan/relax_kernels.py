@@ -175,11 +175,12 @@ def relaxed_plan(goal, sup, pre_ptr, pre_idx, owner, seen, mark, stamp, stack, o
 
 @njit(cache=True, nogil=True)
 def reach_without(first, blocked, pre_of_ptr, pre_of_idx, add_ptr, add_idx, npre, no_pre, unsat, seen, queue):
-    """Relaxed exploration from the facts ``first`` that never adds ``blocked`` (landmarks'
-    first achievers); ``seen`` ends with the reached facts (``blocked`` excluded)."""
+    """Relaxed exploration from the facts ``first`` that never adds the facts ``blocked``
+    (landmarks' first achievers); ``seen`` ends with the reached facts (``blocked`` excluded)."""
     unsat[:] = npre
     seen[:] = 0
-    seen[blocked] = 1
+    for b in blocked:
+        seen[b] = 1
     n = 0
     for f in first:
         if not seen[f]:
@@ -207,4 +208,5 @@ def reach_without(first, blocked, pre_of_ptr, pre_of_idx, add_ptr, add_idx, npre
                         seen[g] = 1
                         queue[n] = g
                         n += 1
-    seen[blocked] = 0
+    for b in blocked:
+        seen[b] = 0

@@ -63,7 +63,7 @@ def _walk(task, steps: int, seed: int) -> list[int]:
 
 
 def _reference_accept(lm: Landmarks, accepted: int, state: int) -> int:
-    todo = [k for k, f in enumerate(lm.facts) if state >> f & 1 and not accepted >> k & 1]
+    todo = [k for k in range(len(lm.facts)) if lm.holds(k, state) and not accepted >> k & 1]
     changed = True
     while changed:
         changed = False
@@ -78,10 +78,14 @@ def _reference_value(
     lm: Landmarks, accepted: int, state: int, applicable: list[int]
 ) -> tuple[int, list[int]]:
     h = sum(1 for k in range(len(lm.facts)) if not accepted >> k & 1)
+    # Accepted landmarks false again count when still needed: goals, and landmarks ordered
+    # before one not accepted yet.
+    needed = lm.goal_mask
+    for k in range(len(lm.facts)):
+        if not accepted >> k & 1:
+            needed |= lm.parents[k]
     h += sum(
-        1
-        for k, f in enumerate(lm.facts)
-        if lm.goal_mask >> k & 1 and accepted >> k & 1 and not state >> f & 1
+        1 for k in range(len(lm.facts)) if needed >> k & 1 and accepted >> k & 1 and not lm.holds(k, state)
     )
     ready = {
         k for k in range(len(lm.facts)) if not accepted >> k & 1 and accepted & lm.parents[k] == lm.parents[k]
