@@ -28,7 +28,7 @@ def _object(world: World, node_id: str):
     return world.objects[node_id]
 
 
-def _settle(world: World, m: Motion, body: int, limit: int = 240) -> None:
+def settle_released(world: World, m: Motion, body: int, limit: int = 240) -> None:
     """Let a released object come to rest (bounded): a mug rocking on its rim is not yet anywhere."""
     import pybullet as p
 
@@ -56,7 +56,7 @@ def _place(relation: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
     def run(world: World, m: Motion, args: tuple[str, ...]) -> dict:
         obj = _held_object(world, m, args[0])
         place(world, m, obj, args[1], relation)
-        _settle(world, m, obj.body)
+        settle_released(world, m, obj.body)
         got = support_of(world, obj.id)
         if got != (relation, args[1]):
             where = f"{got[0]} {got[1]}".strip() if got else "nowhere (still moving)"

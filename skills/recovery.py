@@ -62,7 +62,7 @@ def set_aside(
     """Put the held ``node`` on the bare table, out of the ``keep_clear`` rectangles; the skill's result
     (checked: it must rest on the table afterwards)."""
     from gsr.skills.grasping import place
-    from gsr.skills.library import _settle
+    from gsr.skills.library import settle_released
     from gsr.skills.motion import Motion
     from gsr.skills.sim_graph import support_of
 
@@ -74,7 +74,7 @@ def set_aside(
             raise SkillError(Failure.GRASP_SLIPPED, f"{node} is not in the hand")
         obj = world.objects[node]
         place(world, m, obj, world.table_id, "on", keep_clear=keep_clear)
-        _settle(world, m, obj.body)
+        settle_released(world, m, obj.body)
         got = support_of(world, node)
         if got != ("on", world.table_id):
             where = f"{got[0]} {got[1]}".strip() if got else "nowhere (still moving)"
