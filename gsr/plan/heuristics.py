@@ -147,30 +147,7 @@ class Relaxation:
         for a, c in self.comp.items():
             self.comp_of[a] = c
         self.ref = task.init
-        ref_facts = [f for _, f in self._start(task.init)]
-        self._ref_unsat = self.npre[:]
-        self._ref_cost = self._inf[:]
-        for f in ref_facts:
-            self._ref_cost[f] = 0
-            for u in self.pre_of[f]:
-                self._ref_unsat[u] -= 1
-        # Enabled operators fire in the order a fact-by-fact count would fire them (by their highest
-        # precondition id, then id), so supporters and h_FF's relaxed plans do not change.
-        order = sorted(range(len(pre)), key=[max(p) for p in pre].__getitem__)  # stable: ties by id
-        self._rank = [0] * len(pre)
-        for r, u in enumerate(order):
-            self._rank[u] = r
-        self._ref_zero = sorted(
-            (u for u, k in enumerate(self._ref_unsat) if not k), key=self._rank.__getitem__
-        )
-        # Packed counters of the bucket h_add (see _hadd_buckets): x = K * cost - unsettled.
-        self._shift = max(self.npre, default=0).bit_length()
-        self._low_bits = (1 << self._shift) - 1
-        if self.integral:
-            self._x0 = [(int(c) << self._shift) - k for c, k in zip(self.cost, self.npre, strict=True)]
-            self._ref_x = [
-                (int(c) << self._shift) - k for c, k in zip(self.cost, self._ref_unsat, strict=True)
-            ]
+        self._ref_built = False  # the reference level is built on the first Python h_add
         # The last h_add result: plan()'s reachability check and the search's first evaluation are
         # both of the initial state. Callers only read the returned lists.
         self._last: tuple[int, tuple[list[float], list[int]]] | None = None
@@ -274,6 +251,36 @@ class Relaxation:
                             heappush(heap, (v, g))
         return cost, sup
 
+    def _build_reference(self) -> None:
+        """The Python h_add's level 0 at the reference state and its packed counters (built on
+        first use: a relaxation that runs compiled from the start never needs them)."""
+        task, pre = self.task, self.pre
+        ref_facts = [f for _, f in self._start(task.init)]
+        self._ref_unsat = self.npre[:]
+        self._ref_cost = self._inf[:]
+        for f in ref_facts:
+            self._ref_cost[f] = 0
+            for u in self.pre_of[f]:
+                self._ref_unsat[u] -= 1
+        # Enabled operators fire in the order a fact-by-fact count would fire them (by their highest
+        # precondition id, then id), so supporters and h_FF's relaxed plans do not change.
+        order = sorted(range(len(pre)), key=[max(p) for p in pre].__getitem__)  # stable: ties by id
+        self._rank = [0] * len(pre)
+        for r, u in enumerate(order):
+            self._rank[u] = r
+        self._ref_zero = sorted(
+            (u for u, k in enumerate(self._ref_unsat) if not k), key=self._rank.__getitem__
+        )
+        # Packed counters of the bucket h_add (see _hadd_buckets): x = K * cost - unsettled.
+        self._shift = max(self.npre, default=0).bit_length()
+        self._low_bits = (1 << self._shift) - 1
+        if self.integral:
+            self._x0 = [(int(c) << self._shift) - k for c, k in zip(self.cost, self.npre, strict=True)]
+            self._ref_x = [
+                (int(c) << self._shift) - k for c, k in zip(self.cost, self._ref_unsat, strict=True)
+            ]
+        self._ref_built = True
+
     def _hadd_buckets(self, state: int) -> tuple[list[float], list[int]]:
         """h_add with a bucket queue indexed by (integer) cost; same costs as the heap version.
 
@@ -283,6 +290,8 @@ class Relaxation:
         fires when ``x & (K - 1)`` is 0 and its cost is then ``x >> shift``. One list read and write
         per edge instead of two (the inner loop is most of the search time).
         """
+        if not self._ref_built:
+            self._build_reference()
         sup = self._none[:]
         pre_of, add, goal = self.pre_of, self.add, self.goal_fact
         comp_of, stop, low_bits, shift = self.comp_of, self.goal_stop, self._low_bits, self._shift
