@@ -36,7 +36,13 @@ from gsr.perception.recognize import (
     rule_category,
     size_word,
 )
-from gsr.perception.recognize_parts import Part, split_drawer_fronts, split_open_drawers
+from gsr.perception.recognize_parts import (
+    Part,
+    cut_dark_handles,
+    drop_bare_handles,
+    split_drawer_fronts,
+    split_open_drawers,
+)
 from gsr.perception.segment import LINK_FEATURE_NAMES, SegmentParams, Segments, segment, upsample
 
 from gsr.errors import GSRError
@@ -246,7 +252,8 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             if category == UNKNOWN or float(col_p[i].max()) < COLOR_CONFIDENCE:
                 color = pixel_color(feats[i])  # open set, or a colour the model is unsure of
             parts.append(Part(seg.labels == i, category, score, color, i))
-        parts = split_drawer_fronts(seg, split_open_drawers(seg, parts))
+        parts = split_drawer_fronts(seg, cut_dark_handles(seg, split_open_drawers(seg, parts)))
+        parts = drop_bare_handles(seg, parts)
     first = len(out)
     for part in parts:
         f = feats[part.feature_index]

@@ -63,6 +63,12 @@ HANDLE_THICK = 0.03
 DRAWER_WIDTH = 0.6
 #: Marks a handle segment merged into the drawer it belongs to (dropped from the list).
 ABSORBED = "_absorbed"
+#: Dark pull bars inside a cabinet segment: pixels darker than DARK_RATIO x the segment's median brightness,
+#: in blobs of at least DARK_MIN_PIXELS grid pixels (blobs within HANDLE_JOIN m of each other in height and
+#: HANDLE_SIZE across are one handle).
+DARK_RATIO = 0.45
+DARK_MIN_PIXELS = 4
+HANDLE_JOIN = 0.03
 
 
 @dataclass
@@ -83,6 +89,106 @@ def _cloud(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
     ok = np.all(np.isfinite(pts), axis=1) & np.all(np.isfinite(nrm), axis=1)
     rows, cols = np.nonzero(mask)
     return pts[ok], nrm[ok], np.column_stack((rows[ok], cols[ok]))
+
+
+def cut_dark_handles(seg: Segments, parts: list[Part]) -> list[Part]:
+    """Pull bars the segmenter left in their cabinet's segment, as handle parts (category ``drawer``).
+
+    Seen at a grazing angle a closed drawer's handle shows no depth jump against the cabinet's face, and
+    the link model rightly keeps a handle with its drawer's front, which nothing separates from the
+    cabinet: the handle stays in the cabinet's segment and its drawer is lost. Here the cabinet's pixels
+    much darker than its median brightness are grouped into blobs; a blob that is handle-sized (at most
+    ``HANDLE_SIZE`` long and ``HANDLE_THICK`` thick), lies below the cabinet's top and stands off a
+    vertical face of the rest of the segment by ``STANDOFF`` becomes a handle, which
+    :func:`split_drawer_fronts` then turns into a drawer with its front band."""
+    from scipy.ndimage import label
+
+    out = list(parts)
+    for k, host in enumerate(parts):
+        if host.category not in ("cabinet", "cabinet_top"):
+            continue
+        rgb = seg.rgb.astype(np.float64).mean(axis=2)
+        bright = rgb[host.mask]
+        if bright.size < TOP_MIN_PIXELS * 2:
+            continue
+        below = _top_z(seg, host.mask)
+        dark = host.mask & (rgb < DARK_RATIO * float(np.median(bright)))
+        blobs, n = label(dark, np.ones((3, 3), bool))
+        found: list[tuple[np.ndarray, np.ndarray]] = []  # (mask, points)
+        for b in range(1, n + 1):
+            mask = blobs == b
+            if mask.sum() < DARK_MIN_PIXELS:
+                continue
+            pts, _, pix = _cloud(seg, mask)
+            # pixels on a silhouette get depths smeared towards the background: not part of the bar
+            near = np.all(np.abs(pts - np.median(pts, axis=0)) <= HANDLE_SIZE / 2, axis=1)
+            pts, pix = pts[near], pix[near]
+            mask = np.zeros_like(mask)
+            mask[pix[:, 0], pix[:, 1]] = True
+            if len(pts) < DARK_MIN_PIXELS or np.percentile(pts[:, 2], 98.0) > below:
+                continue
+            for i, (m, p) in enumerate(found):  # pieces of one bar (its posts, a bar broken by shading)
+                both = np.vstack((p, pts))
+                if abs(np.median(p[:, 2]) - np.median(pts[:, 2])) < HANDLE_JOIN and np.all(
+                    np.ptp(both, axis=0) <= HANDLE_SIZE
+                ):
+                    found[i] = (m | mask, both)
+                    break
+            else:
+                found.append((mask, pts))
+        for mask, pts in found:
+            size = np.sort(np.percentile(pts, 95.0, axis=0) - np.percentile(pts, 5.0, axis=0))
+            if size[-1] > HANDLE_SIZE or size[0] > HANDLE_THICK:
+                continue
+            rest = host.mask & ~mask
+            trial = [*out[:k], replace_mask(host, rest), *out[k + 1 :]]
+            handle = Part(mask, "drawer", host.score, None, host.feature_index)
+            face = _face_behind(seg, [*trial, handle], len(trial), pts)
+            if face is None or face[0] != k:
+                continue
+            host.mask = rest
+            out[k] = host
+            out.append(handle)
+    return out
+
+
+def drop_bare_handles(seg: Segments, parts: list[Part]) -> list[Part]:
+    """Give back to their host the drawers that are only a pull bar: no front band at least
+    ``OUT_MIN_WIDTH`` wide joined them (the drawer's face is seen edge-on or not at all). A bar alone is a
+    box a few centimetres wide that fusion keeps apart from the same drawer seen from the front (a second
+    drawer node), and it says nothing about the drawer's extent (measured: docs/performance.md, Issue 22)."""
+    drop = set()
+    for k, part in enumerate(parts):
+        if part.category != "drawer" or part.parent is None:
+            continue
+        pts, _, _ = _cloud(seg, part.mask)
+        if len(pts) >= 3 and np.max(np.ptp(pts[:, :2], axis=0)) >= OUT_MIN_WIDTH:
+            continue
+        host = parts[part.parent]
+        host.mask = host.mask | part.mask
+        drop.add(k)
+    if not drop:
+        return parts
+    keep = [i for i in range(len(parts)) if i not in drop]
+    index = {old: new for new, old in enumerate(keep)}
+    for i in keep:
+        if parts[i].parent is not None:
+            parts[i].parent = index.get(parts[i].parent)
+    return [parts[i] for i in keep]
+
+
+def replace_mask(part: Part, mask: np.ndarray) -> Part:
+    """A copy of ``part`` with another mask."""
+    return Part(mask, part.category, part.score, part.color, part.feature_index, part.parent)
+
+
+def _top_z(seg: Segments, mask: np.ndarray) -> float:
+    """World z of a segment's top less ``BELOW_TOP`` (a handle hangs below its cabinet's top)."""
+    pts = seg.points[mask]
+    z = pts[:, 2][np.isfinite(pts[:, 2])]
+    if z.size == 0:
+        return np.inf
+    return float(np.percentile(z, 98.0)) - BELOW_TOP
 
 
 def split_drawer_fronts(seg: Segments, parts: list[Part]) -> list[Part]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from gsr.perception.recognize_parts import Part, split_drawer_fronts
+from gsr.perception.recognize_parts import Part, cut_dark_handles, drop_bare_handles, split_drawer_fronts
 from gsr.perception.segment import Segments
 
 
@@ -63,6 +63,51 @@ def test_face_behind_handles_is_cut_into_one_band_per_drawer():
     assert (parts[1].mask & low).sum() == low.sum()  # the handles stay with their drawers
     assert (parts[2].mask & high).sum() == high.sum()
     assert not (parts[0].mask & face).any()  # the whole front went to the drawers
+
+
+def _one_segment(seg: Segments, handle_grey: int) -> list[Part]:
+    """The cabinet's face and both handles as ONE cabinet segment (a grazing view: no depth jump, and a
+    handle is rightly kept with its drawer's front); the face light grey, the handles ``handle_grey``."""
+    whole = seg.labels >= 0
+    seg.labels = np.where(whole, 0, -1).astype(np.int32)
+    seg.rgb[whole] = 170
+    seg.rgb[(seg.rgb.sum(axis=2) > 0) & (seg.points[..., 0] < 0.49)] = handle_grey
+    return [Part(whole, "cabinet", 0.9, None, 0)]
+
+
+def test_dark_pull_bars_left_in_the_cabinet_segment_become_drawers_with_their_bands():
+    seg, low, high = _grid(0.455)
+    parts = cut_dark_handles(seg, _one_segment(seg, handle_grey=40))
+    assert [p.category for p in parts] == ["cabinet", "drawer", "drawer"]
+    assert {int(p.mask.sum()) for p in parts[1:]} == {int(low.sum())}
+    assert not (parts[0].mask & (low | high)).any()  # the bars left the cabinet
+    parts = split_drawer_fronts(seg, parts)
+    z, face = seg.points[..., 2], seg.points[..., 0] > 0.49
+    assert all(p.parent == 0 for p in parts[1:])
+    mid = (0.1 + 0.25) / 2
+    low_drawer = next(p for p in parts[1:] if (p.mask & low).any())
+    assert np.array_equal(low_drawer.mask & face, face & (z < mid))
+
+
+def test_dark_marks_flush_with_the_face_or_only_a_little_darker_are_no_handles():
+    seg, low, high = _grid(0.5)  # dark patches ON the face (a shadow, a print): no standoff
+    parts = _one_segment(seg, handle_grey=170)
+    seg.rgb[low | high] = 40
+    assert [p.category for p in cut_dark_handles(seg, parts)] == ["cabinet"]
+    seg, _, _ = _grid(0.455)  # standing off, but only shaded (not under 0.45 x the face's brightness)
+    assert [p.category for p in cut_dark_handles(seg, _one_segment(seg, handle_grey=100))] == ["cabinet"]
+
+
+def test_a_drawer_that_is_only_its_pull_bar_goes_back_to_its_cabinet():
+    """A bar with no front band (its face edge-on or out of view) is no drawer node of its own; drawers
+    with their bands stay."""
+    seg, _, _ = _grid(0.455)
+    banded = drop_bare_handles(seg, split_drawer_fronts(seg, _parts(seg)))
+    assert [p.category for p in banded] == ["cabinet", "drawer", "drawer"]
+    seg, _, _ = _grid(0.3)  # too far in front for a face band: the bars stay bare
+    bare = drop_bare_handles(seg, split_drawer_fronts(seg, _parts(seg)))
+    assert [p.category for p in bare] == ["cabinet"]
+    assert np.array_equal(bare[0].mask, seg.labels >= 0)  # the bars' pixels are the cabinet's again
 
 
 def test_a_handle_far_in_front_is_an_open_drawer_and_cuts_nothing():
