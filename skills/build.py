@@ -11,6 +11,7 @@ import numpy as np
 from gsr.skills.asset_model import AssetModel
 from gsr.skills.assets import asset_urdf_path, make_asset
 from gsr.skills.robot import Robot
+from gsr.skills.shadow import keep_reachable
 from gsr.skills.world import JOINT_FRICTION, SETTLE_STEPS, SimObject, World
 
 from gsr.categories import is_a
@@ -166,6 +167,10 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_w
             world.parts[n.id] = (n.parent, part)
     _initial_joints(world, layout)
     _clear_start(world)
+    # an object behind a tall fixture that no pick reaches moves to the nearest spot one does
+    for oid, (dx, dy) in keep_reachable(world).items():
+        x0, y0 = world.adjusted.get(oid, (0.0, 0.0))
+        world.adjusted[oid] = (round(x0 + dx, 4), round(y0 + dy, 4))
     for _ in range(SETTLE_STEPS):
         world.robot.hold(world.robot.q())
         world.step()
@@ -258,6 +263,15 @@ def separate_footprints(
             half_xy, yaw = rect[o.id]
             rect[o.id] = (half_xy + np.array([sweep / 2, 0.0]), yaw)
             off[o.id] = -sweep / 2 * np.array([np.cos(yaw), np.sin(yaw)])
+    # a lidded box's open lid lies at rim height over the side lid_side_yaw chooses: what stood there
+    # would be under it (no hand reaches it), a fixture there would stop the lid short over the box
+    lids: dict[str, tuple[np.ndarray, tuple[np.ndarray, float]]] = {}
+    for o in items:
+        travel = _sliding_lid(make_asset(o.asset, o.size))
+        if travel is not None and not o.fixed:
+            yaw = lid_side_yaw(layout, o)
+            c, s = np.cos(yaw), np.sin(yaw)
+            lids[o.id] = (np.array([[c, -s], [s, c]]) @ travel, rect[o.id])
     fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
     tall = {o.id for o in items if o.id in fixed and make_asset(o.asset, o.size).extent[2] > 0.15}
     # a push keeps an object on the table (an object the layout puts nearer an edge may stay there):
@@ -310,6 +324,21 @@ def separate_footprints(
     def clash(a: str, b: str, pa: np.ndarray, pb: np.ndarray) -> tuple[np.ndarray, float] | None:
         """The push separating ``b`` at ``pb`` from ``a`` at ``pa`` (unit direction a -> b, length), or None."""
         d = pb - pa
+        pushes = [
+            # beside the open lid the hand needs its width, as beside a tall fixture
+            _rect_overlap(pb + lid_b[0] - pa - off[a], rect[a], lid_b[1], HAND_CLEARANCE)
+            for lid_b in [lids.get(b)]
+            if lid_b is not None
+        ] + [
+            _rect_overlap(pb + off[b] - pa - lid_a[0], lid_a[1], rect[b], HAND_CLEARANCE)
+            for lid_a in [lids.get(a)]
+            if lid_a is not None
+        ]
+        base = _footprint_clash(a, b, d)
+        found = [q for q in (*pushes, base) if q is not None]
+        return max(found, key=lambda q: q[1]) if found else None
+
+    def _footprint_clash(a: str, b: str, d: np.ndarray) -> tuple[np.ndarray, float] | None:
         if max(rad[a], rad[b]) > LARGE_FOOTPRINT:
             d = d + off[b] - off[a]
             # beside a tall fixture (a cabinet) the hand needs its own width to grasp
@@ -369,30 +398,43 @@ def separate_footprints(
     }
 
 
-def _lid_clear_yaw(world: World, placed: PlacedObject, model: AssetModel) -> float:
+def _sliding_lid(model: AssetModel) -> np.ndarray | None:
+    """The way a sliding lid moves from closed to open in the asset's frame (x, y; its length is the
+    travel), or None for an asset without one."""
+    lid = next((a for a in model.articulations.values() if a.kind == "lid"), None)
+    link = next((lk for lk in model.links if lid is not None and lk.name == lid.link), None)
+    if lid is None or link is None or link.joint is None or link.joint.type != "prismatic":
+        return None
+    return np.array(link.joint.axis[:2], dtype=float) * (lid.open - lid.closed)
+
+
+def lid_side_yaw(layout: Layout, placed: PlacedObject) -> float:
     """The layout's yaw or its half turn, whichever leaves the room a sliding lid opens into clearest.
 
     A box's rectangle is the same either way round; only the end its lid slides off differs. The open
     lid stays at rim height beside the box, and a hand reaching for anything under or next to it is
-    blocked, so the lid opens over the emptiest side, not past the table edge where the robot's base
-    slides, preferring the side away from the robot (-x).
+    blocked, so the lid opens over the emptiest side (a fixture in its way counts as much as the table's
+    near edge, where the robot's base slides), preferring the side away from the robot (-x). Decided on
+    the layout's own positions: :func:`separate_footprints` then keeps that side free.
     """
-    lid = next((a for a in model.articulations.values() if a.kind == "lid"), None)
-    link = next((lk for lk in model.links if lid is not None and lk.name == lid.link), None)
-    if lid is None or link is None or link.joint is None or link.joint.type != "prismatic":
+    model = make_asset(placed.asset, placed.size)
+    ax = _sliding_lid(model)
+    if ax is None or placed.on or placed.fixed or model.fixed:
         return placed.yaw
-    ax = np.array(link.joint.axis[:2], dtype=float) * (lid.open - lid.closed)
     half = np.array(model.extent[:2], dtype=float) / 2
-    others = []
-    for o in world.layout.objects:
+    others, fixtures = [], []
+    for o in layout.objects:
         if o.id == placed.id or o.on:
             continue
-        shift = world.adjusted.get(o.id, (0.0, 0.0))
-        others.append(np.array(o.position[:2]) + np.array(shift))
-    centre = np.array(placed.position[:2])
+        m = make_asset(o.asset, o.size)
+        if o.fixed or m.fixed:
+            fixtures.append((np.array(o.position[:2], dtype=float), o.yaw, np.array(m.extent[:2]) / 2))
+        else:
+            others.append(np.array(o.position[:2], dtype=float))
+    centre = np.array(placed.position[:2], dtype=float)
     # the robot's base slides over the table's near edge; a lid reaching 0.2 m past that edge was pushed
     # shut by it in GSR-Bench runs, one reaching 0.16 m past it was not
-    edge = -world.layout.table_size[0] / 2 - 0.18
+    edge = -layout.table_size[0] / 2 - 0.18
 
     def cost(yaw: float) -> float:
         c, s = np.cos(yaw), np.sin(yaw)
@@ -403,6 +445,10 @@ def _lid_clear_yaw(world: World, placed: PlacedObject, model: AssetModel) -> flo
             local = rot.T @ (q - lid_centre)
             gap = float(np.linalg.norm(np.maximum(np.abs(local) - half, 0.0)))
             total += max(0.0, 0.12 - gap)  # within a hand's reach of the lid's edge (or under it)
+        for f, fyaw, fhalf in fixtures:
+            # a lid running into a fixture stops short and still covers part of the box
+            if _rect_overlap(f - lid_centre, (half, yaw), (fhalf, fyaw), 0.0) is not None:
+                total += 1.0
         # far past the table's near edge the lid hangs where the robot's base slides and gets pushed shut
         corners = [lid_centre + rot @ (half * (i, j)) for i in (-1, 1) for j in (-1, 1)]
         if min(float(c[0]) for c in corners) < edge:
@@ -424,7 +470,8 @@ def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied
     th = world.layout.table_height
     yaw = placed.yaw
     if not placed.on and not fixed:
-        yaw = _lid_clear_yaw(world, placed, model)
+        # decided on the layout's own position, as separate_footprints kept that side free
+        yaw = lid_side_yaw(world.layout, next(o for o in world.layout.objects if o.id == placed.id))
         placed = placed.model_copy(update={"yaw": yaw})
     if placed.on:
         x, y, z = _rest_on(world, placed, model, occupied)

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import pytest
-from gsr.skills.assets import make_asset
-from gsr.skills.build import _lid_clear_yaw
+from gsr.skills.build import lid_side_yaw
 
 from gsr.task_spec import Layout, PlacedObject
 
@@ -16,9 +14,7 @@ BOX = (0.17, 0.25, 0.085)
 
 def _choose(box: PlacedObject, *others: PlacedObject, table: tuple[float, float] = (0.6, 1.2)) -> float:
     layout = Layout(objects=(box, *others), table_size=table)
-    world = SimpleNamespace(layout=layout, adjusted={})
-    model = make_asset(box.asset, box.size, None)
-    return _lid_clear_yaw(world, box, model)  # type: ignore[arg-type]
+    return lid_side_yaw(layout, box)
 
 
 def _angle(a: float, b: float) -> float:
@@ -51,3 +47,54 @@ def test_boxes_without_a_lid_keep_their_yaw() -> None:
     box = PlacedObject(id="box", asset="box", position=(0.0, 0.0, 0.0), size=BOX, yaw=0.7)
     cube = PlacedObject(id="cube", asset="cube", position=(0.0, 0.3, 0.0))
     assert _choose(box, cube) == pytest.approx(0.7)
+
+
+def _open_lid_gap(
+    layout: Layout, shifts: dict[str, tuple[float, float]], box_id: str, other_id: str
+) -> float:
+    """Distance (m) between the open lid's rectangle and another object's footprint after separation."""
+    import numpy as np
+    from gsr.skills.assets import make_asset
+
+    def at(o: PlacedObject) -> np.ndarray:
+        return np.array(o.position[:2]) + np.array(shifts.get(o.id, (0.0, 0.0)))
+
+    box = next(o for o in layout.objects if o.id == box_id)
+    other = next(o for o in layout.objects if o.id == other_id)
+    yaw = lid_side_yaw(layout, box)
+    rot = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
+    model = make_asset(box.asset, box.size)
+    art = model.articulations["lid"]
+    lid_centre = at(box) + rot @ np.array([0.0, art.open - art.closed])
+    half = np.array(model.extent[:2]) / 2
+    o_half = np.array(make_asset(other.asset, other.size).extent[:2]) / 2
+    local = np.abs(rot.T @ (at(other) - lid_centre))
+    # the other object's footprint as a circle round its half-diagonal (conservative)
+    return float(np.linalg.norm(np.maximum(local - half, 0.0))) - float(np.hypot(*o_half))
+
+
+def test_separation_keeps_the_open_lids_side_free() -> None:
+    from gsr.skills.build import HAND_CLEARANCE, separate_footprints
+
+    box = PlacedObject(id="box", asset="box_with_lid", position=(0.0, 0.0, 0.0), size=BOX, yaw=0.0)
+    # a cube where either end's open lid would lie over it: one side must be cleared
+    cubes = [
+        PlacedObject(id=f"c{i}", asset="cube", position=(0.02 * i, y, 0.0), size=(0.03, 0.03, 0.03))
+        for i, y in enumerate((0.26, -0.27))
+    ]
+    layout = Layout(objects=(box, *cubes), table_size=(0.6, 1.2))
+    shifts = separate_footprints(layout)
+    # without the lid's room in the separation neither cube moves (both clear the closed box)
+    assert shifts, "nothing moved"
+    for c in cubes:
+        assert _open_lid_gap(layout, shifts, "box", c.id) >= HAND_CLEARANCE - 0.025
+
+
+def test_the_lid_does_not_open_into_a_fixture() -> None:
+    box = PlacedObject(id="box", asset="box_with_lid", position=(0.0, 0.0, 0.0), size=BOX, yaw=0.0)
+    # a cabinet 24 cm past the closed box's +y end (its centre 16 cm past the open lid): the lid sliding
+    # that way would stop 2 cm short against it
+    cab = PlacedObject(id="cab", asset="short_cabinet", position=(0.0, 0.56, 0.0), fixed=True)
+    assert _angle(_choose(box, cab, table=(0.6, 1.6)), math.pi) < 1e-6
+    cab_other = cab.model_copy(update={"position": (0.0, -0.56, 0.0)})
+    assert _angle(_choose(box, cab_other, table=(0.6, 1.6)), 0.0) < 1e-6
