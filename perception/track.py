@@ -286,7 +286,8 @@ FRAGMENT_OVERLAP = 0.75
 #: ... nearly all of its points lie in the container's box (grown 1 cm) ...
 FRAGMENT_INSIDE = 0.9
 #: ... its centre is inside the container's rim, and it has a wall's extent: it reaches this far below the
-#: container's floor (down to the table, as the outer walls do) or up to within 1 cm of the rim.
+#: container's floor (down to the table, as the outer walls do) or up into the rim band (or to within 1 cm
+#: of the rim).
 FRAGMENT_BELOW_FLOOR = 0.004
 #: ... or, whatever its extent, nearly all of its voxels lie on the container's (other cameras') surface.
 FRAGMENT_ON_SURFACE = 0.95
@@ -340,7 +341,9 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
                 continue
             x_bottom = float(np.percentile(x.points[:, 2], 2.0))
             c_bottom = float(np.percentile(c.points[:, 2], 2.0))
-            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= rim.aabb_max[2] - 0.01
+            # up into the rim band (a measured rim's lower edge) or to within 1 cm of the top
+            reach = rim.aabb_max[2] - 0.01 if rim is c else min(rim.aabb_min[2], rim.aabb_max[2] - 0.01)
+            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= reach
             overlap = cloud_overlap(x, c)
             if (wall_like and overlap >= FRAGMENT_OVERLAP) or overlap >= FRAGMENT_ON_SURFACE:
                 pieces[id(x)] = c

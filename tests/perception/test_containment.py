@@ -275,3 +275,18 @@ def test_a_mid_height_piece_lying_on_the_containers_surface_joins_it():
     assert len(next(i for i in out if i.label.category == "box").points) == len(box.points) + len(
         piece.points
     )
+
+
+def test_a_body_piece_reaching_into_the_rim_band_joins_its_box_and_a_mug_below_it_does_not():
+    # camera 3 saw the box's lower body (its -y wall up into the rim band, but not to within 1 cm of the
+    # top) with some points of the floor behind it: mostly on the box's cloud, not all of it
+    box = open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    rim = rim_box(box)
+    assert rim is not None and rim.aabb_min[2] <= 0.07 < rim.aabb_max[2] - 0.01
+    wall = box.points[np.abs(box.points[:, 1] + 0.1) < 1e-6]
+    patch = wall[(wall[:, 0] > 0.35) & (wall[:, 0] < 0.5) & (wall[:, 2] <= 0.071) & (wall[:, 2] >= 0.01)]
+    inner = patch[::20] + np.array([0.0, 0.03, 0.0])  # off the walls, inside the box
+    piece = _inst("box_f3m4", "box", np.concatenate([patch + np.array([0.0, 0.004, 0.0]), inner]))
+    mug = solid("mug_f2m5", "mug", (0.4, -0.03, 0.008), (0.45, 0.02, 0.058))
+    out = absorb_fragments([box, piece, mug], PARAMS)
+    assert sorted(i.label.category for i in out) == ["box", "mug"]
