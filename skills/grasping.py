@@ -768,6 +768,57 @@ def _ranked_spot(
     return np.array([pick[0], pick[1], z]), False
 
 
+#: Offsets (m) from a box's middle along its long side and across it where a spot a later pick reaches
+#: is looked for, nearest the middle first (in an 8.5 cm deep box a grasp fits within about 3 cm of it).
+LATER_ALONG = (0.0, 0.015, -0.015, 0.03, -0.03)
+LATER_ACROSS = (0.0, 0.02, -0.02)
+
+
+def _graspable_later(
+    world: World, obj: SimObject, target: str, packed: tuple[np.ndarray, float]
+) -> tuple[np.ndarray, float]:
+    """The packing's ``(spot, wrist turn)`` in a box (a whole object's interior, not a drawer's or a
+    compartment's), or, when a later pick would find no grasp of ``obj`` there
+    (:func:`gsr.skills.hand_clearance.graspable_at`: a cube let go against a deep box's wall or in its
+    corner), the free spot nearest the box's middle where one would; the packing's when there is none."""
+    from gsr.skills.hand_clearance import graspable_at
+
+    spot, delta = packed
+    found = world.interior_of(target) if target in world.objects else None
+    if found is None:
+        return packed
+    yaw = world.yaw_of(obj.body) + delta
+    if graspable_at(world, obj, spot, yaw):
+        return packed
+    host, _, interior = found
+    link = host.links[interior.link]
+    centre = world.to_world(host.body, link, interior.center)
+    half = np.array(interior.size[:2]) / 2
+    box_yaw = world.yaw_of(host.body, link) + (math.pi / 2 if half[1] > half[0] else 0.0)
+    axis = np.array([math.cos(box_yaw), math.sin(box_yaw)])
+    across = np.array([-axis[1], axis[0]])
+    lo, hi = world.body_aabb(obj.body)
+    reach = float(max(hi[:2] - lo[:2])) / 2 + 0.004  # the object's footprint (turned: its widest) and 4 mm
+    # what already lies in the box: a spot must keep its footprint off theirs
+    inside = [
+        world.body_aabb(o.body)
+        for o in world.objects.values()
+        if o.id != obj.id and (support_of(world, o.id) or ("", ""))[1] == target
+    ]
+    for a in LATER_ALONG:
+        for b in LATER_ACROSS:
+            xy = centre[:2] + a * axis + b * across
+            if any(
+                np.all(np.abs(xy - (olo[:2] + ohi[:2]) / 2) < reach + (ohi[:2] - olo[:2]) / 2)
+                for olo, ohi in inside
+            ):
+                continue  # something already stands there
+            here = np.array([xy[0], xy[1], spot[2]])
+            if graspable_at(world, obj, here, yaw):
+                return here, delta
+    return packed
+
+
 def _recentre(
     world: World, m: Motion, obj: SimObject, spot: np.ndarray, goal: np.ndarray, quat: tuple, z: float
 ) -> np.ndarray:
@@ -833,6 +884,8 @@ def place(
         if relation == "in" and opening is None
         else None
     )
+    if packed is not None and relation == "in":
+        packed = _graspable_later(world, obj, target, packed)
     if opening is not None:
         spot, delta = opening[0], 0.0
     elif packed is not None:

@@ -264,3 +264,32 @@ def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_c
         )  # against an end wall, a corner, a side
         after = p.getBasePositionAndOrientation(cube.body, physicsClientId=world.client)
         assert np.allclose(before[0], after[0]) and np.allclose(before[1], after[1])  # put back exactly
+
+
+def test_a_cube_bound_for_a_deep_boxs_corner_is_let_go_where_a_later_pick_reaches_it() -> None:
+    import pybullet as p
+    from gsr.skills.grasping import _graspable_later
+    from gsr.skills.hand_clearance import graspable_at
+
+    with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
+        box, cube = world.objects["blue_box"], world.objects["yellow_cube1"]
+        bpos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=world.client)
+        yaw = p.getEulerFromQuaternion(bq)[2]
+        sx, sy = box.model.extent[:2]
+        along = (
+            np.array([math.cos(yaw), math.sin(yaw)])
+            if sx >= sy
+            else np.array([-math.sin(yaw), math.cos(yaw)])
+        )
+        across = np.array([-along[1], along[0]])
+        floor = world.body_aabb(cube.body)[0][2]
+        corner = np.asarray(bpos[:2]) + along * (max(sx, sy) / 2 - 0.027) + across * (min(sx, sy) / 2 - 0.027)
+        spot, turn = _graspable_later(world, cube, "blue_box", (np.array([corner[0], corner[1], floor]), 0.0))
+        assert turn == 0.0 and float(np.linalg.norm(spot[:2] - corner)) > 0.05  # moved off the corner
+        assert graspable_at(world, cube, spot)
+        # a spot a later pick reaches is kept as the packing chose it
+        again, _ = _graspable_later(world, cube, "blue_box", (spot, 0.0))
+        assert np.allclose(again, spot)
+        # not for the table or a drawer: only a box's own interior
+        table = np.array([0.0, 0.0, world.body_aabb(world.table_body)[1][2]])
+        assert np.allclose(_graspable_later(world, cube, "table", (table, 0.0))[0], table)
