@@ -143,7 +143,9 @@ class _Evaluator:
         if isinstance(f, Imply):
             return not self.holds(f.condition, b) or self.holds(f.then, b)
         if isinstance(f, Exists):
-            return next(self.solutions(f.body, dict(b), f.params), None) is not None
+            shadowed = {p.name for p in f.params}  # an inner (exists (?q) ...) rebinds ?q
+            inner = {k: v for k, v in b.items() if k not in shadowed}
+            return next(self.solutions(f.body, inner, f.params), None) is not None
         if isinstance(f, Forall):
             names = [p.name for p in f.params]
             for combo in itertools.product(*(self.typed(p.types) for p in f.params)):
@@ -158,14 +160,23 @@ class _Evaluator:
         Positive atoms of a conjunction are joined against the true atoms first, so a rule such
         as ``(and (edge ?x ?z) (path ?z ?y))`` never enumerates every object for ``?z``.
         """
-        while isinstance(f, Exists):  # a top-level existential: more variables to join
-            free = (*free, *f.params)
-            f = f.body
+        # Existentials among the conjuncts, nested at any depth (``(exists (?q) (exists (?m)
+        # (and ...)))``), become more variables to join; one whose variable names are already in
+        # use (shadowing) stays a test.
         parts = _conjuncts(f)
-        for p in parts:
-            if isinstance(p, Exists):
-                free = (*free, *p.params)
-        parts = [q for p in parts for q in (_conjuncts(p.body) if isinstance(p, Exists) else [p])]
+        names = set(b) | {p.name for p in free}
+        while True:
+            flat: list[Formula] = []
+            for p in parts:
+                if isinstance(p, Exists) and not names & {q.name for q in p.params}:
+                    free = (*free, *p.params)
+                    names.update(q.name for q in p.params)
+                    flat.extend(_conjuncts(p.body))
+                else:
+                    flat.append(p)
+            if len(flat) == len(parts) and all(x is y for x, y in zip(flat, parts, strict=True)):
+                break
+            parts = flat
         allowed = {p.name: p.types for p in free}
         joins = tuple(p for p in parts if isinstance(p, Atom))
         rest = [p for p in parts if not isinstance(p, Atom)]
