@@ -291,10 +291,12 @@ def with_map_regions(
     the map — a drawer or a cabinet top that LIBERO also names as a region is perceived, not given — and
     the table is whichever ground (``table``/``floor``) perception found.
 
-    ``previous`` (the belief before this observation): an object it had on a region stays on that region
-    while its perceived box still meets the region's rectangle. The centre rule alone flips an object
-    standing on a region's edge (LIBERO places some exactly there) with every millimetre the measured
-    centre moves as the arm hides another part of it; an object moved off the region leaves it wholly."""
+    ``previous`` (the belief before this observation): an object that stood still (its centre within
+    ``REGION_STAY`` of where the belief had it) keeps the region it was on while its perceived box still
+    meets that region, and stays on the plain table while its box still reaches out of the region its
+    centre now seems in. The centre rule alone flips an object standing on a region's edge (LIBERO places
+    some exactly there) with every millimetre the measured centre moves as the arm hides another part of
+    it; an object the robot moved is placed by the centre rule."""
     regions = [
         nid
         for nid in sorted(world.regions)
@@ -320,6 +322,7 @@ def with_map_regions(
     before = {
         e.source: e.target for e in (previous.edges if previous is not None else ()) if e.relation == "on"
     }
+    where = previous.node_map() if previous is not None else {}
     edges = []
     for e in graph.edges:
         node = nodes.get(e.source)
@@ -327,8 +330,17 @@ def with_map_regions(
             p = node.pose.position
             region = next((r for r in regions if _inside(world.regions[r].bounds, p.x, p.y)), None)
             was = before.get(e.source)
-            if region is None and was in regions and _box_meets(node, world.regions[was].bounds):
-                region = was  # still on the region it was on: its centre measured just past the edge
+            if _stayed(node, where.get(e.source)):
+                # where it stood, on a region's edge: the region it was on while its box still meets that
+                # region; the plain ground while its box still reaches out of the region it now seems in
+                if region is None and was in regions and _box_meets(node, world.regions[was].bounds):
+                    region = was
+                elif (
+                    region is not None
+                    and was in grounds
+                    and not _box_within(node, world.regions[region].bounds)
+                ):
+                    region = None
             if region is not None:
                 e = Edge(source=e.source, relation="on", target=region)
         edges.append(e)
@@ -338,6 +350,27 @@ def with_map_regions(
             "edges": tuple(sorted(set(edges), key=Edge.key)),
         }
     )
+
+
+#: An object whose perceived centre moved less than this (m) since the last belief stood still.
+REGION_STAY = 0.02
+
+
+def _stayed(node: Node, before: Node | None) -> bool:
+    """Whether the node's centre is within ``REGION_STAY`` of where the previous belief had it."""
+    if before is None or before.pose is None or node.pose is None:
+        return False
+    a, b = node.pose.position, before.pose.position
+    return float(np.hypot(a.x - b.x, a.y - b.y)) <= REGION_STAY
+
+
+def _box_within(node: Node, bounds: tuple[float, float, float, float]) -> bool:
+    """Whether a node's box (its centre when it has none) lies wholly inside a region's rectangle."""
+    if node.bbox is None:
+        p = node.pose.position  # type: ignore[union-attr]
+        return _inside(bounds, p.x, p.y)
+    lo, hi = node.bbox.min, node.bbox.max
+    return _inside(bounds, lo.x, lo.y) and _inside(bounds, hi.x, hi.y)
 
 
 def _box_meets(node: Node, bounds: tuple[float, float, float, float]) -> bool:

@@ -64,7 +64,7 @@ def test_objects_on_the_table_inside_a_region_are_on_the_region() -> None:
     assert with_map_regions(seen, _MapWorld(truth)) == seen  # no regions: unchanged
 
 
-def test_an_object_on_a_regions_edge_stays_on_it_until_its_box_leaves_the_region() -> None:
+def test_an_object_standing_on_a_regions_edge_keeps_its_region_or_the_table() -> None:
     from gsr.scene_graph import BoundingBox
 
     region = Node(id="table/front_region", category="region", parent="table")
@@ -87,6 +87,13 @@ def test_an_object_on_a_regions_edge_stays_on_it_until_its_box_leaves_the_region
     assert ("cheese", "on", "table") in {e.key() for e in with_map_regions(seen(0.1695), world).edges}
     gone = with_map_regions(seen(0.12), world, previous=first)
     assert ("cheese", "on", "table") in {e.key() for e in gone.edges}
+    # the other way round: seen first just off the region, then 1 mm inside it, it stays on the table
+    off = with_map_regions(seen(0.1695), world)
+    inside = with_map_regions(seen(0.1705), world, previous=off)
+    assert ("cheese", "on", "table") in {e.key() for e in inside.edges}
+    # pushed well into the region (moved), it is on the region even though its box was outside before
+    pushed = with_map_regions(seen(0.2), world, previous=off)
+    assert ("cheese", "on", "table/front_region") in {e.key() for e in pushed.edges}
 
 
 def test_held_objects_come_from_the_gripper_and_lose_their_support() -> None:
