@@ -108,7 +108,7 @@ def lift(m: Motion, z: float) -> None:
     m.move_line((top, quat), check=False)
 
 
-def _site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:
+def site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:
     link = obj.links[site.link]
     pos = world.to_world(obj.body, link, site.xyz)
     return pos, world.yaw_of(obj.body, link) + site.yaw
@@ -175,10 +175,10 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
     wall or across the cube's faces.
     """
     sites = [s for g in obj.model.grasps for s in _rim_sites(g, obj)]
-    sites.sort(key=lambda s: float(_site_pose(world, obj, s)[0][0]))
+    sites.sort(key=lambda s: float(site_pose(world, obj, s)[0][0]))
     out = []
     for site in sites:
-        pos, yaw = _site_pose(world, obj, site)
+        pos, yaw = site_pose(world, obj, site)
         out.append((pos, top_down(yaw), site.width))
     sx, sy = obj.model.extent[:2]
     square = abs(sx - sy) < 1e-6 and math.hypot(sx, sy) < 0.06
@@ -190,7 +190,7 @@ def grasp_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tup
         and max(sx, sy) <= MAX_CLOSING
     )
     if sites and (square or small):
-        pos, face = _site_pose(world, obj, sites[0])
+        pos, face = site_pose(world, obj, sites[0])
 
         body_yaw = world.yaw_of(obj.body)
 
@@ -232,7 +232,7 @@ def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tupl
     sx, sy = obj.model.extent[:2]
     if not whole or (obj.model.name != "mug" and min(sx, sy) > MAX_CLOSING):
         return model[:12]
-    site, _ = _site_pose(world, obj, whole[0])
+    site, _ = site_pose(world, obj, whole[0])
     cleared = [(g.pos, g.quat, g.opening) for g in clear_grasps(world, obj, site, whole[0].width)]
     if (support_of(world, obj.id) or ("", ""))[0] == "in":
         return (cleared + model)[:MAX_CANDIDATES]
@@ -774,7 +774,7 @@ LATER_ALONG = (0.0, 0.015, -0.015, 0.03, -0.03)
 LATER_ACROSS = (0.0, 0.02, -0.02)
 
 
-def _graspable_later(
+def graspable_later(
     world: World, obj: SimObject, target: str, packed: tuple[np.ndarray, float]
 ) -> tuple[np.ndarray, float]:
     """The packing's ``(spot, wrist turn)`` in a box (a whole object's interior, not a drawer's or a
@@ -885,7 +885,7 @@ def place(
         else None
     )
     if packed is not None and relation == "in":
-        packed = _graspable_later(world, obj, target, packed)
+        packed = graspable_later(world, obj, target, packed)
     if opening is not None:
         spot, delta = opening[0], 0.0
     elif packed is not None:

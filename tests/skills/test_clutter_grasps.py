@@ -14,7 +14,7 @@ import pytest
 from gsr.benchmarks.suites import get_suite
 from gsr.skills import hand_clearance as hc
 from gsr.skills.build import build_world
-from gsr.skills.grasping import MAX_CLOSES, _site_pose, grasp_candidates, pick, pick_candidates
+from gsr.skills.grasping import MAX_CLOSES, site_pose, grasp_candidates, pick, pick_candidates
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError
 from gsr.skills.robot import top_down
@@ -58,7 +58,7 @@ def test_a_mug_in_a_deep_box_is_gripped_high_enough_for_the_hand_to_clear_the_wa
         # the asset's own grasps (the body's middle) put the hand into the box: the reported baseline
         assert all(_proxy_hits(world, mug, pos, quat, min(0.08, w + 0.035)) for pos, quat, w in model)
         cands = pick_candidates(world, mug)
-        site, _ = _site_pose(world, mug, mug.model.grasps[0])
+        site, _ = site_pose(world, mug, mug.model.grasps[0])
         first = cands[0]
         assert first[0][2] > site[2] + 0.01  # gripped near its top
         assert not _proxy_hits(world, mug, *first)
@@ -268,7 +268,7 @@ def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_c
 
 def test_a_cube_bound_for_a_deep_boxs_corner_is_let_go_where_a_later_pick_reaches_it() -> None:
     import pybullet as p
-    from gsr.skills.grasping import _graspable_later
+    from gsr.skills.grasping import graspable_later
     from gsr.skills.hand_clearance import graspable_at
 
     with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
@@ -284,12 +284,12 @@ def test_a_cube_bound_for_a_deep_boxs_corner_is_let_go_where_a_later_pick_reache
         across = np.array([-along[1], along[0]])
         floor = world.body_aabb(cube.body)[0][2]
         corner = np.asarray(bpos[:2]) + along * (max(sx, sy) / 2 - 0.027) + across * (min(sx, sy) / 2 - 0.027)
-        spot, turn = _graspable_later(world, cube, "blue_box", (np.array([corner[0], corner[1], floor]), 0.0))
+        spot, turn = graspable_later(world, cube, "blue_box", (np.array([corner[0], corner[1], floor]), 0.0))
         assert turn == 0.0 and float(np.linalg.norm(spot[:2] - corner)) > 0.05  # moved off the corner
         assert graspable_at(world, cube, spot)
         # a spot a later pick reaches is kept as the packing chose it
-        again, _ = _graspable_later(world, cube, "blue_box", (spot, 0.0))
+        again, _ = graspable_later(world, cube, "blue_box", (spot, 0.0))
         assert np.allclose(again, spot)
         # not for the table or a drawer: only a box's own interior
         table = np.array([0.0, 0.0, world.body_aabb(world.table_body)[1][2]])
-        assert np.allclose(_graspable_later(world, cube, "table", (table, 0.0))[0], table)
+        assert np.allclose(graspable_later(world, cube, "table", (table, 0.0))[0], table)
