@@ -14,7 +14,7 @@ import pytest
 from gsr.benchmarks.suites import get_suite
 from gsr.skills import hand_clearance as hc
 from gsr.skills.build import build_world
-from gsr.skills.grasping import MAX_CLOSES, site_pose, grasp_candidates, pick, pick_candidates
+from gsr.skills.grasping import MAX_CLOSES, grasp_candidates, pick, pick_candidates, site_pose
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError
 from gsr.skills.robot import top_down
