@@ -138,7 +138,7 @@ class HandProxy:
         self._bodies, self._fingers = [], {}
 
 
-def _near_bodies(world: World, obj: SimObject, reach: float = 0.2) -> list[int]:
+def near_bodies(world: World, obj: SimObject, reach: float = 0.2) -> list[int]:
     """Bodies (the robot and the object excepted) whose boxes come within ``reach`` of the object's box."""
     import pybullet as p
 
@@ -239,7 +239,7 @@ def plan_drag(world: World, obj: SimObject) -> list[Drag]:
     host_bodies = {o.body for o in world.objects.values() if o.model.interiors and _inside(world, obj, o)}
     others = _object_bodies(world) - {obj.body} - host_bodies
     half_xy = (hi[:2] - lo[:2]) / 2 + 0.003
-    bodies = _near_bodies(world, obj, reach=0.3)
+    bodies = near_bodies(world, obj, reach=0.3)
     out: list[Drag] = []
     for shift, known in shifts:
         # the object's way: its footprint swept, 3 mm apart from everything else in the container,
@@ -308,7 +308,7 @@ def clear_grasps(
     z_hi = top - MIN_OVERLAP + FINGERTIP
     heights = sorted({round(site_z, 4), round((site_z + z_hi) / 2, 4), round(z_hi, 4)})
     heights = [z for z in heights if z >= site_z - 1e-6] or [site_z]
-    bodies = _near_bodies(world, obj)
+    bodies = near_bodies(world, obj)
     table = world.table_body
     proxy = HandProxy(world)
     found: list[ClearGrasp] = []
@@ -382,7 +382,7 @@ def hand_clear(world: World, obj: SimObject, pos: np.ndarray, quat: tuple, openi
     hand and fingers (and the hand straight above, the way in) off everything but ``obj``."""
     proxy = HandProxy(world)
     try:
-        return not proxy.hit(np.asarray(pos), quat, opening, _near_bodies(world, obj), world.table_body)
+        return not proxy.hit(np.asarray(pos), quat, opening, near_bodies(world, obj), world.table_body)
     finally:
         proxy.remove()
 

@@ -30,7 +30,7 @@ def _task(task_id: str):
 def _proxy_hits(world, obj, pos, quat, opening) -> bool:
     proxy = hc.HandProxy(world)
     try:
-        return proxy.hit(np.asarray(pos), quat, opening, hc._near_bodies(world, obj), world.table_body)
+        return proxy.hit(np.asarray(pos), quat, opening, hc.near_bodies(world, obj), world.table_body)
     finally:
         proxy.remove()
 
