@@ -208,7 +208,7 @@ HAND_CLEARANCE = 0.06
 LARGE_FOOTPRINT = 0.08
 
 
-def _rect_overlap(
+def rect_overlap(
     d: np.ndarray, a: tuple[np.ndarray, float], b: tuple[np.ndarray, float], margin: float
 ) -> tuple[np.ndarray, float] | None:
     """The shortest push (unit direction from a to b, length) separating two oriented rectangles by
@@ -234,7 +234,7 @@ def _rect_overlap(
     return best
 
 
-def _drawer_sweep(model: AssetModel) -> float:
+def drawer_sweep(model: AssetModel) -> float:
     """How far in front of an asset (local -x) its drawers reach when open, with their pull bars and
     room for the hand on them (m); 0 without drawers."""
     travel = [abs(a.open - a.closed) for a in model.articulations.values() if a.kind == "drawer"]
@@ -258,7 +258,7 @@ def separate_footprints(
     # them): what stands there would be under an open drawer, out of the hand's reach, or swept away
     off = {o.id: np.zeros(2) for o in items}
     for o in items:
-        sweep = _drawer_sweep(make_asset(o.asset, o.size))
+        sweep = drawer_sweep(make_asset(o.asset, o.size))
         if sweep > 0:
             half_xy, yaw = rect[o.id]
             rect[o.id] = (half_xy + np.array([sweep / 2, 0.0]), yaw)
@@ -326,11 +326,11 @@ def separate_footprints(
         d = pb - pa
         pushes = [
             # beside the open lid the hand needs its width, as beside a tall fixture
-            _rect_overlap(pb + lid_b[0] - pa - off[a], rect[a], lid_b[1], HAND_CLEARANCE)
+            rect_overlap(pb + lid_b[0] - pa - off[a], rect[a], lid_b[1], HAND_CLEARANCE)
             for lid_b in [lids.get(b)]
             if lid_b is not None
         ] + [
-            _rect_overlap(pb + off[b] - pa - lid_a[0], lid_a[1], rect[b], HAND_CLEARANCE)
+            rect_overlap(pb + off[b] - pa - lid_a[0], lid_a[1], rect[b], HAND_CLEARANCE)
             for lid_a in [lids.get(a)]
             if lid_a is not None
         ]
@@ -345,7 +345,7 @@ def separate_footprints(
             gap = HAND_CLEARANCE if {a, b} & tall else margin
             # a box or cabinet: its rectangle, not its circumscribed circle (which would push
             # neighbours off a 60 cm deep desk)
-            return _rect_overlap(d, rect[a], rect[b], gap)
+            return rect_overlap(d, rect[a], rect[b], gap)
         dist = float(np.linalg.norm(d))
         need = rad[a] + rad[b] + margin
         if dist >= need:
@@ -447,7 +447,7 @@ def lid_side_yaw(layout: Layout, placed: PlacedObject) -> float:
             total += max(0.0, 0.12 - gap)  # within a hand's reach of the lid's edge (or under it)
         for f, fyaw, fhalf in fixtures:
             # a lid running into a fixture stops short and still covers part of the box
-            if _rect_overlap(f - lid_centre, (half, yaw), (fhalf, fyaw), 0.0) is not None:
+            if rect_overlap(f - lid_centre, (half, yaw), (fhalf, fyaw), 0.0) is not None:
                 total += 1.0
         # far past the table's near edge the lid hangs where the robot's base slides and gets pushed shut
         corners = [lid_centre + rot @ (half * (i, j)) for i in (-1, 1) for j in (-1, 1)]

@@ -180,8 +180,6 @@ KNOWN_PRIVATE_IN_TESTS = frozenset(
     {
         ("tests/gsr/test_plan_jit.py", "gsr.plan.relax_c", "_compiler"),
         ("tests/gsr/test_plan_search_queues.py", "gsr.plan.search", "_take"),
-        ("tests/skills/test_layout_separation.py", "gsr.skills.build", "_drawer_sweep"),
-        ("tests/skills/test_layout_separation.py", "gsr.skills.build", "_rect_overlap"),
     }
 )
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 from gsr.skills.assets import make_asset
-from gsr.skills.build import HAND_CLEARANCE, _drawer_sweep, _rect_overlap, separate_footprints
+from gsr.skills.build import HAND_CLEARANCE, drawer_sweep, rect_overlap, separate_footprints
 
 from gsr.task_spec import Layout, PlacedObject
 
@@ -22,14 +22,14 @@ def _moved(layout: Layout) -> dict[str, np.ndarray]:
 def test_rect_overlap_is_none_when_apart_and_the_shortest_push_otherwise() -> None:
     a = (np.array([0.1, 0.05]), 0.0)
     b = (np.array([0.1, 0.05]), 0.0)
-    assert _rect_overlap(np.array([0.3, 0.0]), a, b, 0.01) is None
-    u, amount = _rect_overlap(np.array([0.15, 0.02]), a, b, 0.01)
+    assert rect_overlap(np.array([0.3, 0.0]), a, b, 0.01) is None
+    u, amount = rect_overlap(np.array([0.15, 0.02]), a, b, 0.01)
     # along y the rectangles overlap by 0.05 + 0.05 + 0.01 - 0.02 = 0.09 < along x (0.06 + ...)
     assert abs(u @ np.array([1.0, 0.0])) > 0.99 or abs(u @ np.array([0.0, 1.0])) > 0.99
     assert amount > 0
     # the push separates them
     d = np.array([0.15, 0.02]) + u * amount
-    assert _rect_overlap(d, a, b, 0.01) is None
+    assert rect_overlap(d, a, b, 0.01) is None
 
 
 def test_a_box_next_to_a_cabinet_stays_on_the_desk() -> None:
@@ -49,7 +49,7 @@ def test_nothing_stays_in_front_of_a_cabinets_drawers() -> None:
     mug = PlacedObject(id="mug", asset="mug", position=(-0.12, 0.05, 0.0), size=(0.044, 0.044, 0.05))
     pos = _moved(Layout(objects=(cab, mug), table_size=TABLE))
     model = make_asset("short_cabinet", None)
-    sweep = _drawer_sweep(model)
+    sweep = drawer_sweep(model)
     assert sweep > 0.2  # the drawers open over 20 cm
     front = cab.position[0] - model.extent[0] / 2
     # the mug is either beyond the sweep in x or beside the cabinet in y, with a hand's width of room
