@@ -179,7 +179,6 @@ def test_no_private_name_crosses_a_module() -> None:
 KNOWN_PRIVATE_IN_TESTS = frozenset(
     {
         ("tests/gsr/test_plan_jit.py", "gsr.plan.relax_c", "_compiler"),
-        ("tests/gsr/test_plan_search_queues.py", "gsr.plan.search", "_take"),
     }
 )
 

@@ -20,7 +20,7 @@ CLOCK_EVERY = 64
 BOOST = 1000  # Fast Downward's default preferred-operator boost (lama-first)
 
 
-def _take(queue: list) -> tuple[int, int]:
+def take_next(queue: list) -> tuple[int, int]:
     """Pop the next (parent state id, operator) of a lazy search's queue.
 
     Each entry holds all successors of one expansion that go into this queue, ``(h, expansion
@@ -102,7 +102,7 @@ def lazy_gbfs(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
             else:
                 return res
             priority[which] += 1
-            pid, op = _take(open_lists[which])
+            pid, op = take_next(open_lists[which])
             state = apply(space.states[pid], op)
             if state in space.ids:
                 continue
@@ -261,7 +261,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
             if which < 0:
                 return res
             priority[which] += 1
-            pid, op = _take(queues[which])
+            pid, op = take_next(queues[which])
             state = apply(space.states[pid], op)
             if state in space.ids:
                 continue

@@ -16,7 +16,7 @@ import pytest
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan.ground import ground_task
 from gsr.plan.landmarks import Landmarks
-from gsr.plan.search import _take
+from gsr.plan.search import take_next
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "pddl"
 
@@ -41,11 +41,11 @@ def test_batched_queue_pops_in_per_operator_fifo_order() -> None:
         else:
             _, _, sid, op = heappop(single)
             expected.append((sid, op))
-            got.append(_take(batched))
+            got.append(take_next(batched))
     while single:
         _, _, sid, op = heappop(single)
         expected.append((sid, op))
-        got.append(_take(batched))
+        got.append(take_next(batched))
     assert not batched
     assert got == expected and len(got) > 300
 
