@@ -174,37 +174,11 @@ def test_no_private_name_crosses_a_module() -> None:
     assert not problems, "private names imported across modules:\n" + "\n".join(problems)
 
 
-#: Private names tests still take from a module (issue 15), as (test file, module, name). Each should
-#: become public or be tested through the public API; delete an entry when its import goes. None may be added.
-KNOWN_PRIVATE_IN_TESTS = frozenset(
-    {
-        ("tests/gsr/test_plan_jit.py", "gsr.plan.relax_c", "_compiler"),
-    }
-)
-
-
-def _crossing_key(line: str) -> tuple[str, str, str]:
-    """(file, module, name) of a private_crossings line."""
-    where, _, rest = line.partition(": ")
-    if rest.startswith("from "):
-        module, _, name = rest[len("from ") :].partition(" import ")
-    else:
-        module, _, name = rest.partition("...")
-    return where.rsplit(":", 1)[0], module, name
-
-
-def test_tests_take_no_new_private_name() -> None:
-    """Tests use public names too (white-box checks of a helper make the helper public): no test takes a
-    private name from a project module beyond the known ones, and each known one is still there."""
-    found = {
-        _crossing_key(line)
-        for path in sorted((REPO / "tests").rglob("*.py"))
-        for line in private_crossings(path)
-    }
-    new = sorted(found - KNOWN_PRIVATE_IN_TESTS)
-    assert not new, "tests import private names (make them public):\n" + "\n".join(map(str, new))
-    gone = sorted(KNOWN_PRIVATE_IN_TESTS - found)
-    assert not gone, "no longer imported: delete from KNOWN_PRIVATE_IN_TESTS:\n" + "\n".join(map(str, gone))
+def test_tests_take_no_private_name() -> None:
+    """Tests use public names too: a helper worth a white-box test is made public, or the test goes
+    through the public API (issue 15 did one or the other for every private import tests had)."""
+    problems = [line for path in sorted((REPO / "tests").rglob("*.py")) for line in private_crossings(path)]
+    assert not problems, "tests import private names (make them public):\n" + "\n".join(problems)
 
 
 @pytest.mark.parametrize(

@@ -52,7 +52,7 @@ def allowed() -> bool:
     return os.environ.get("GSR_PLAN_CC", "") != "0" and os.environ.get("GSR_PLAN_JIT", "") != "0"
 
 
-def _compiler() -> list[str] | None:
+def c_compiler() -> list[str] | None:
     """``$CC``, else the system's ``cc``/``gcc``, else Zig's C compiler from the ``ziglang`` wheel.
 
     The last makes the C kernels a plain ``pip install`` away on a machine without a toolchain
@@ -105,7 +105,7 @@ def library() -> ctypes.CDLL | None:
         if not allowed():
             why_not = "forbidden by GSR_PLAN_CC=0 or GSR_PLAN_JIT=0"
             return None
-        cc = _compiler()
+        cc = c_compiler()
         if cc is None:
             why_not = "no C compiler (set CC, install cc, or pip install 'gsr[compiler]' for Zig's)"
             return None

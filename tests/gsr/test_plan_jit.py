@@ -219,7 +219,7 @@ def test_c_kernels_build_once_into_the_first_writable_cache(
 ) -> None:
     from gsr.plan import relax_c
 
-    if relax_c._compiler() is None:
+    if relax_c.c_compiler() is None:
         pytest.skip("no C compiler")
     monkeypatch.delenv("GSR_PLAN_CC", raising=False)
     monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
@@ -247,7 +247,7 @@ def test_without_a_system_compiler_zig_from_pypi_builds_the_kernels(
     monkeypatch.delenv("GSR_PLAN_CC", raising=False)
     monkeypatch.delenv("GSR_PLAN_JIT", raising=False)
     monkeypatch.setattr(relax_c.shutil, "which", lambda *_a, **_k: None)
-    assert relax_c._compiler()[-3:] == ["-m", "ziglang", "cc"]
+    assert relax_c.c_compiler()[-3:] == ["-m", "ziglang", "cc"]
     monkeypatch.setattr(relax_c, "_cache_dirs", lambda: [tmp_path / "cache"])
     monkeypatch.setattr(relax_c, "_lib", None)
     assert relax_c.library() is not None, relax_c.why_not
