@@ -12,22 +12,17 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from unittest import mock
 
 
-def main() -> None:
-    from gsr.benchmarks.suites import get_suite
-
+@contextmanager
+def counting_planner_and_prompts() -> Iterator[dict[str, int]]:
+    """Counts ``plan_graph`` calls and steps-mode prompts built while it is open (the dict it yields;
+    the real functions still run). Used here and by the tests of the one-plan solve."""
     import gsr.plan.api as plan_api
     import gsr.reason.loop as loop
-    from gsr.reason.reasoner import solve
-
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--tasks", type=int, default=5)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--suite", default="gsr-bench-gen", help="task suite (seed 0)")
-    ap.add_argument("--steps", type=int, default=None, help="only tasks solved in exactly this many steps")
-    args = ap.parse_args()
 
     calls = {"plan": 0, "prompt": 0}
     real_plan, real_prompt = plan_api.plan_graph, loop.build_prompt
@@ -40,13 +35,28 @@ def main() -> None:
         calls["prompt"] += 1
         return real_prompt(*a, **k)
 
+    with (
+        mock.patch.object(plan_api, "plan_graph", counting_plan),
+        mock.patch.object(loop, "build_prompt", counting_prompt),
+    ):
+        yield calls
+
+
+def main() -> None:
+    from gsr.benchmarks.suites import get_suite
+
+    from gsr.reason.reasoner import solve
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tasks", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--suite", default="gsr-bench-gen", help="task suite (seed 0)")
+    ap.add_argument("--steps", type=int, default=None, help="only tasks solved in exactly this many steps")
+    args = ap.parse_args()
+
     picked = []
     for task in get_suite(args.suite).tasks(None, 0):
-        calls.update(plan=0, prompt=0)
-        with (
-            mock.patch.object(plan_api, "plan_graph", counting_plan),
-            mock.patch.object(loop, "build_prompt", counting_prompt),
-        ):
+        with counting_planner_and_prompts() as calls:
             result = solve(task.initial, task.instruction)
         wanted = len(result.steps) == args.steps if args.steps else len(result.steps) >= 6
         if result.status == "solved" and wanted:

@@ -105,33 +105,21 @@ def test_solve_instruction_option_and_formats(tmp_path):
     assert bad.exit_code == 1
 
 
-def test_a_six_step_gsr_solve_calls_the_planner_once_and_builds_no_prompt(tmp_path, monkeypatch):
+def test_a_six_step_gsr_solve_calls_the_planner_once_and_builds_no_prompt(tmp_path):
     """The acceptance point of issue 15, through the real command: the grounder backend plans once for a
     6-step solve (no step rejected) and no prompt is built for it."""
+    from gsr.benchmarks.bench_solve import counting_planner_and_prompts
     from gsr.benchmarks.suites import get_suite
-
-    import gsr.plan.api as plan_api
-    import gsr.reason.loop as loop
 
     task = next(
         t for t in get_suite("rlbench").tasks(None, 0) if t.id == "rlbench_put_groceries_in_cupboard_v1"
     )
     scene = tmp_path / "six.json"
     scene.write_text(task.initial.model_dump_json())
-    calls = {"plan": 0, "prompt": 0}
-    real_plan, real_prompt = plan_api.plan_graph, loop.build_prompt
-
-    def counting_plan(*a, **k):
-        calls["plan"] += 1
-        return real_plan(*a, **k)
-
-    def counting_prompt(*a, **k):
-        calls["prompt"] += 1
-        return real_prompt(*a, **k)
-
-    monkeypatch.setattr(plan_api, "plan_graph", counting_plan)
-    monkeypatch.setattr(loop, "build_prompt", counting_prompt)
-    res = runner.invoke(app, ["solve", "--scene", str(scene), "--instruction", task.instruction, "--json"])
+    with counting_planner_and_prompts() as calls:
+        res = runner.invoke(
+            app, ["solve", "--scene", str(scene), "--instruction", task.instruction, "--json"]
+        )
     assert res.exit_code == 0, res.output
     out = json.loads(res.output)
     assert out["status"] == "solved" and len(out["steps"]) == 6, out["status"]
