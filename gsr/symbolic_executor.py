@@ -2,7 +2,7 @@
 
 No simulator: a step is checked with :func:`gsr.check.check_step` against the current state and, when
 valid, the state advances to the checker's next state. The episode runner uses it by default;
-executors with other rules build on it (GSR-Bench's validator rules, ``gsr.benchmarks.gsr_bench_executor``),
+executors with other rules build on it (GSR-Bench's validator rules, in the benchmarks layer),
 and simulator executors implement the same protocol with observed states.
 """
 
