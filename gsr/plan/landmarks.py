@@ -330,7 +330,10 @@ class Landmarks:
             todo = rest
         return accepted
 
-    def _ready_needed(self, accepted: int) -> tuple[int, int]:
+    def _ready_needed(self, accepted: int) -> tuple[int, int, int, list[int]]:
+        """Per accepted set: the landmarks ready next, and the accepted ones still required, as the
+        atoms of the single-fact ones (positive, complemented) and the list of the disjunctive ones
+        (a single-fact landmark owns its atom, so "false again" is one mask test per state)."""
         found = self._ready.get(accepted)
         if found is None:
             parents = self.parents
@@ -341,7 +344,15 @@ class Landmarks:
                     ready |= 1 << k
             if not REQUIRED_AGAIN:
                 needed = 0
-            found = self._ready[accepted] = (ready, (needed | self.goal_mask) & accepted)
+            pos = neg = 0
+            disjunctive = []
+            for k in bits((needed | self.goal_mask) & accepted):
+                if len(self.lm_facts[k]) > 1:
+                    disjunctive.append(k)
+                else:
+                    pos |= self.pos_mask[k]
+                    neg |= self.neg_mask[k]
+            found = self._ready[accepted] = (ready, pos, neg, disjunctive)
         return found
 
     def value(self, accepted: int, state: int, applicable: list[int] | None = None) -> tuple[int, list[int]]:
@@ -350,10 +361,12 @@ class Landmarks:
         if not self.lm_facts:
             return 0, []
         h = (self.all_mask & ~accepted).bit_count()
-        ready, needed = self._ready_needed(accepted)
-        if needed:
+        ready, pos, neg, disjunctive = self._ready_needed(accepted)
+        # Required again: accepted, still needed, and false in the state.
+        h += (pos & ~state).bit_count() + (neg & state).bit_count()
+        if disjunctive:
             pos_mask, neg_mask = self.pos_mask, self.neg_mask
-            for k in bits(needed):
+            for k in disjunctive:
                 if not (state & pos_mask[k] or neg_mask[k] & ~state):
                     h += 1
         # Preferred: applicable operators adding a landmark not accepted whose predecessors are.
