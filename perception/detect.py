@@ -54,6 +54,10 @@ SHIPPED_MODEL = Path(__file__).resolve().parent / "model"
 MODEL_FILES = ("model.npz", "model.json")
 #: Under this colour-head probability the pixel-colour rule names the colour instead.
 COLOR_CONFIDENCE = 0.5
+#: A piece whose box is under this share of its category's training median volume, lying within the sides
+#: and under the top (grown by FRAGMENT_REACH m) of a larger segment of the same category, is part of it.
+FRAGMENT_SHARE = 0.05
+FRAGMENT_REACH = 0.02
 
 
 @dataclass(frozen=True)
@@ -254,6 +258,7 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             parts.append(Part(seg.labels == i, category, score, color, i))
         parts = split_drawer_fronts(seg, cut_dark_handles(seg, split_open_drawers(seg, parts)))
         parts = drop_bare_handles(seg, parts)
+        parts = absorb_fragments(seg, parts, model.reference_volume)
     first = len(out)
     for part in parts:
         f = feats[part.feature_index]
@@ -281,6 +286,58 @@ def detections_from(seg: Segments, model: Model | None) -> list[Detection]:
             )
         )
     return out
+
+
+def _box(seg: Segments, mask: np.ndarray) -> tuple[np.ndarray, ...] | None:
+    """(2nd percentile, 98th percentile, min, max) of a mask's points."""
+    pts = seg.points[mask]
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    if len(pts) < 3:
+        return None
+    lo, hi = np.percentile(pts, [2.0, 98.0], axis=0)
+    return lo, hi, pts.min(axis=0), pts.max(axis=0)
+
+
+def absorb_fragments(seg: Segments, parts: list[Part], reference: dict[str, float]) -> list[Part]:
+    """Join tiny pieces to the larger segment of the same category whose box holds them.
+
+    A strip of a cabinet's wall seen through a gap (behind a pulled-out drawer) is a segment of its own
+    that the recogniser rightly calls ``cabinet``; as a detection it is a second cabinet a few centimetres
+    wide that fusion keeps apart. A piece (not a part) whose box volume is under ``FRAGMENT_SHARE`` of
+    its category's training median and whose box lies within the sides and under the top of a larger
+    same-category segment of the frame, grown by ``FRAGMENT_REACH``, joins that segment."""
+    boxes = [_box(seg, p.mask) if p.parent is None else None for p in parts]
+    sizes = [int(p.mask.sum()) for p in parts]
+    drop: set[int] = set()
+    for k, part in enumerate(parts):
+        ref = reference.get(part.category)
+        box = boxes[k]
+        if ref is None or box is None:
+            continue
+        if float(np.prod(np.maximum(box[1] - box[0], 0.005))) >= FRAGMENT_SHARE * ref:
+            continue
+        best = None
+        for j, other in enumerate(parts):
+            ob = boxes[j]
+            if j == k or j in drop or ob is None or other.category != part.category or sizes[j] <= sizes[k]:
+                continue
+            # within its sides and under its top (below its seen part: the rest of it stands on the support)
+            inside = np.all(box[0][:2] >= ob[2][:2] - FRAGMENT_REACH) and np.all(
+                box[1] <= ob[3] + FRAGMENT_REACH
+            )
+            if inside and (best is None or sizes[j] > sizes[best]):
+                best = j
+        if best is not None:
+            parts[best].mask = parts[best].mask | part.mask
+            drop.add(k)
+    if not drop:
+        return parts
+    keep = [i for i in range(len(parts)) if i not in drop]
+    index = {old: new for new, old in enumerate(keep)}
+    for i in keep:
+        if parts[i].parent is not None:
+            parts[i].parent = index.get(parts[i].parent)
+    return [parts[i] for i in keep]
 
 
 def load_detector(path: str | Path | None = None) -> Detector:

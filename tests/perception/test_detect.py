@@ -159,3 +159,55 @@ def test_sealing_closes_short_gaps_in_a_boundary():
     assert sealed[0, 0] != sealed[0, 19]
     assert len(np.unique(sealed[:, :9])) == 1 and len(np.unique(sealed[:, 11:])) == 1
     assert (sealed >= 0).all()
+
+
+def _wall_grid() -> tuple[object, np.ndarray, np.ndarray, np.ndarray]:
+    """A cabinet's face (x = 0, y 0..0.35, z 0.05..0.35) seen as one segment, a 4 x 6 cm strip of it
+    below its seen part (z 0.01..0.05, behind a pulled-out drawer) as another, and a 4 cm cube 20 cm away."""
+    from gsr.perception.segment import Segments
+
+    h, w = 40, 50
+    pts = np.full((h, w, 3), np.nan)
+    rows, cols = np.mgrid[0:h, 0:w]
+    pts[..., 0] = 0.0
+    pts[..., 1] = cols * 0.01
+    pts[..., 2] = 0.35 - rows * 0.01
+    face = (cols < 36) & (rows <= 30)
+    strip = (cols >= 10) & (cols < 14) & (rows > 30) & (rows <= 34)
+    cube = (cols >= 44) & (cols < 48) & (rows >= 30) & (rows < 34)
+    pts[cube] = np.column_stack((np.full(cube.sum(), 0.2), pts[cube][:, 1], pts[cube][:, 2]))
+    pts[~(face | strip | cube)] = np.nan
+    seg = Segments(
+        stride=1,
+        shape=(h, w),
+        labels=np.full((h, w), -1, np.int32),
+        support=np.zeros((h, w), bool),
+        plane=np.array([0.0, 0.0, 1.0, 0.0]),
+        points=pts,
+        rgb=np.zeros((h, w, 3), np.uint8),
+        normals=np.zeros((h, w, 3)),
+        height=pts[..., 2],
+        camera_position=np.array([-1.0, 0.2, 0.5]),
+    )
+    return seg, face, strip, cube
+
+
+def test_a_tiny_piece_inside_a_larger_segment_of_its_category_joins_it():
+    from gsr.perception.detect import absorb_fragments
+    from gsr.perception.recognize_parts import Part
+
+    seg, face, strip, cube = _wall_grid()
+    reference = {"cabinet": 0.036, "cube": 2e-5}
+    parts = [
+        Part(face, "cabinet", 0.9, None, 0),
+        Part(strip, "cabinet", 0.9, None, 1),
+        Part(cube, "cube", 0.9, None, 2),
+    ]
+    out = absorb_fragments(seg, parts, reference)
+    assert [p.category for p in out] == ["cabinet", "cube"]
+    assert np.array_equal(out[0].mask, face | strip)
+    # a piece of another category, or one that is no fragment by volume, stays
+    parts = [Part(face, "cabinet", 0.9, None, 0), Part(strip, "box", 0.9, None, 1)]
+    assert len(absorb_fragments(seg, parts, {**reference, "box": 0.003})) == 2
+    parts = [Part(face, "cabinet", 0.9, None, 0), Part(strip, "cabinet", 0.9, None, 1)]
+    assert len(absorb_fragments(seg, parts, {"cabinet": 1e-5})) == 2
