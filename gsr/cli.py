@@ -40,7 +40,7 @@ def validate_cmd(
     files: Annotated[
         list[Path],
         typer.Argument(
-            help="[DOMAIN] PROBLEM PLAN; for a BDDL problem the domain defaults to the tabletop domain."
+            help="[DOMAIN] PROBLEM PLAN; without DOMAIN a PDDL problem uses the domain file beside it (domain.pddl, NAME-domain.pddl, ...), a BDDL problem the tabletop domain."
         ),
     ],
     as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
