@@ -25,11 +25,16 @@ PAD = 0.01
 MIN_IOU = 0.1
 
 
-def _box(n: Node) -> tuple[np.ndarray, np.ndarray] | None:
+def padded_box(n: Node) -> tuple[np.ndarray, np.ndarray] | None:
+    """A node's axis-aligned box (min, max) grown by ``PAD`` on every side, as the pairing compares them;
+    None without a box."""
     if n.bbox is None:
         return None
     lo, hi = n.bbox.min, n.bbox.max
     return np.array([lo.x, lo.y, lo.z]) - PAD, np.array([hi.x, hi.y, hi.z]) + PAD
+
+
+_box = padded_box  # the earlier private name; benchmarks/perception_node_errors.py should import padded_box
 
 
 def box_iou(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]) -> float:
@@ -49,8 +54,8 @@ def match_nodes(predicted: SceneGraph, truth: SceneGraph) -> dict[str, str]:
     """Perceived node id -> truth node id, one-to-one, by 3D overlap (see the module docstring)."""
     from scipy.optimize import linear_sum_assignment
 
-    preds = [(n, b) for n in predicted.nodes if (b := _box(n)) is not None]
-    trues = [(n, b) for n in scorable(truth) if (b := _box(n)) is not None]
+    preds = [(n, b) for n in predicted.nodes if (b := padded_box(n)) is not None]
+    trues = [(n, b) for n in scorable(truth) if (b := padded_box(n)) is not None]
     if not preds or not trues:
         return {}
     gain = np.zeros((len(preds), len(trues)))
