@@ -53,9 +53,9 @@ def _scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any,
 
 def _inside_share(a: Any, b: Any) -> float:
     """Share of box ``a``'s volume inside box ``b`` (nodes' bboxes, grown by the matcher's pad)."""
-    from gsr.perception.match import _box
+    from gsr.perception.match import padded_box
 
-    ab, bb = _box(a), _box(b)
+    ab, bb = padded_box(a), padded_box(b)
     if ab is None or bb is None:
         return 0.0
     lo, hi = np.maximum(ab[0], bb[0]), np.minimum(ab[1], bb[1])
