@@ -33,13 +33,16 @@ _NAMED = re.compile(r"\(in the way: ([^)]*)\)")
 
 def blockers(message: str, world: World, graph: SceneGraph) -> list[str]:
     """The movable neighbours a refused pick's diagnosis names as in the way, most often named first,
-    that the observed graph shows resting on or in something (so a pick of them is a checked step)."""
+    that the observed graph shows resting on or in something with nothing on them (so a pick of them
+    is a valid step)."""
     found = _NAMED.search(message)
     if not found:
         return []
     rests = {e.source for e in graph.edges if e.relation in ("on", "in")}
+    # something standing on it (a box on a box) must be taken off first: not a neighbour to set aside
+    loaded = {e.target for e in graph.edges if e.relation == "on"}
     names = [n.strip() for n in found.group(1).split(",")]
-    return [n for n in names if n in world.objects and n in rests]
+    return [n for n in names if n in world.objects and n in rests and n not in loaded]
 
 
 def support_step(graph: SceneGraph, node: str) -> Step | None:

@@ -142,9 +142,11 @@ class SimExecutor:
             if lift is None:
                 break
             self.clearances += 1
-            moved.append(node)
             taken = ex.step(lift, len(self.outcomes) + 1)
             self.outcomes.append(taken)
+            if taken.skill is None:  # the checker rejected the pick: nothing moved
+                break
+            moved.append(node)
             if not taken.ok:
                 notes.append(f"setting {node} aside failed: {taken.diagnosis}")
                 break

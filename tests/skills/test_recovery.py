@@ -128,3 +128,14 @@ def test_a_container_or_a_fixture_in_the_way_is_never_named_for_setting_aside() 
             blockers("cannot reach a grasp on yellow_cube2: grasp pose collides with blue_mug1", world, graph)
             == []
         )
+
+
+def test_a_neighbour_with_something_on_it_is_not_set_aside() -> None:
+    from gsr.skills.build import build_world
+    from gsr.skills.recovery import blockers
+    from gsr.skills.sim_graph import scene_graph_from_sim
+
+    with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:  # blue_box stands on yellow_box
+        graph = scene_graph_from_sim(world)
+        said = "cannot reach a grasp on red_cube1: ... (in the way: yellow_box, blue_box)"
+        assert blockers(said, world, graph) == ["blue_box"]
