@@ -11,7 +11,7 @@ import numpy as np
 from gsr.skills.asset_model import AssetModel
 from gsr.skills.assets import asset_urdf_path, make_asset
 from gsr.skills.robot import Robot
-from gsr.skills.shadow import keep_reachable
+from gsr.skills.shadow import SHADOW_DEPTH, SHADOW_SIDE, TALL, keep_reachable
 from gsr.skills.world import JOINT_FRICTION, SETTLE_STEPS, SimObject, World
 
 from gsr.categories import is_a
@@ -154,12 +154,15 @@ def _populate(client: int, layout: Layout, graph: SceneGraph, seed: int, debug_w
                 world.regions[n.id] = r
     rng = np.random.default_rng(seed)
     occupied: dict[str, int] = {}
-    world.adjusted = separate_footprints(layout)
+    world.adjusted, lid_yaws = separate_with_lids(layout)
     for placed in _rest_order(layout):
         shift = world.adjusted.get(placed.id)
         if shift is not None:
             x, y, z = placed.position
             placed = placed.model_copy(update={"position": (x + shift[0], y + shift[1], z)})
+        if placed.id in lid_yaws:
+            # the side separate_with_lids kept free
+            placed = placed.model_copy(update={"yaw": lid_yaws[placed.id]})
         _load(world, placed, rng, occupied)
     for n in graph.nodes:
         if n.parent in world.objects:
@@ -247,8 +250,78 @@ def separate_footprints(
     """Shifts that keep table-standing objects from overlapping (a layout may not know our asset sizes).
 
     Circles of each object's footprint are pushed apart (movable ones only; fixtures stay) until no two
-    overlap; deterministic. Returns id -> (dx, dy) for the objects that moved.
+    overlap; deterministic. Returns id -> (dx, dy) for the objects that moved. An open lid's room is
+    kept free too, on the side :func:`lid_sides` chooses.
     """
+    return separate_with_lids(layout, margin, rounds)[0]
+
+
+def separate_with_lids(
+    layout: Layout, margin: float = 0.008, rounds: int = 60
+) -> tuple[dict[str, tuple[float, float]], dict[str, float]]:
+    """The separation's shifts and each lidded box's yaw (the side its lid opens to), decided together.
+
+    A sliding lid opens over the side :func:`lid_side_yaw` prefers and the separation keeps that room,
+    with a hand's width round it, free. Where keeping it pushes the box into a tall fixture's shadow
+    (behind it from the robot's side, :func:`in_shadow`), the other side is tried, then either side with
+    the room kept from movable objects only (a fixture in it then stops the lid short);
+    the first choice that leaves the box out of the shadow wins, the preferred one when none does.
+    """
+    boxes = [
+        o
+        for o in layout.objects
+        if o.on is None and not o.fixed and _sliding_lid(make_asset(o.asset, o.size)) is not None
+    ]
+    preferred = {o.id: lid_side_yaw(layout, o) for o in boxes}
+    first = _separate(layout, margin, rounds, preferred, True)
+    fixtures = [o for o in layout.objects if o.on is None and (o.fixed or make_asset(o.asset, o.size).fixed)]
+
+    def shadowed(shifts: dict[str, tuple[float, float]]) -> set[str]:
+        return {o.id for o in boxes if o.id in shifts and in_shadow(layout, o, shifts[o.id], fixtures)}
+
+    if not shadowed(first):
+        return first, preferred
+    flipped = {
+        k: (float(np.arctan2(np.sin(v + np.pi), np.cos(v + np.pi))) if k in shadowed(first) else v)
+        for k, v in preferred.items()
+    }
+    for sides, against_fixtures in ((flipped, True), (preferred, False), (flipped, False)):
+        shifts = _separate(layout, margin, rounds, sides, against_fixtures)
+        if not shadowed(shifts):
+            return shifts, sides
+    return first, preferred
+
+
+def in_shadow(
+    layout: Layout, placed: PlacedObject, shift: tuple[float, float], fixtures: list[PlacedObject]
+) -> bool:
+    """Whether ``placed`` (moved by ``shift``) stands behind a tall fixture seen from the robot's side
+    (world -x), as :mod:`gsr.skills.shadow` counts it: within its depth behind the fixture's back face
+    and its side room beside it; the layout's rectangles, no simulation."""
+    c = np.array(placed.position[:2], dtype=float) + np.array(shift)
+    for f in fixtures:
+        m = make_asset(f.asset, f.size)
+        if m.extent[2] < TALL:
+            continue
+        cs, sn = abs(np.cos(f.yaw)), abs(np.sin(f.yaw))
+        hx = (m.extent[0] * cs + m.extent[1] * sn) / 2
+        hy = (m.extent[0] * sn + m.extent[1] * cs) / 2
+        fx, fy = f.position[0], f.position[1]
+        if (
+            fx + hx - 0.02 < c[0] < fx + hx + SHADOW_DEPTH
+            and fy - hy - SHADOW_SIDE < c[1] < fy + hy + SHADOW_SIDE
+        ):
+            return True
+    return False
+
+
+def _separate(
+    layout: Layout,
+    margin: float,
+    rounds: int,
+    sides: dict[str, float],
+    lid_against_fixtures: bool,
+) -> dict[str, tuple[float, float]]:
     items = [o for o in layout.objects if o.on is None]
     pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
     # circumscribed circles: a rotated box reaches its half-diagonal
@@ -268,9 +341,8 @@ def separate_footprints(
     lids: dict[str, tuple[np.ndarray, tuple[np.ndarray, float]]] = {}
     for o in items:
         travel = _sliding_lid(make_asset(o.asset, o.size))
-        if travel is not None and not o.fixed:
-            yaw = lid_side_yaw(layout, o)
-            c, s = np.cos(yaw), np.sin(yaw)
+        if travel is not None and o.id in sides:
+            c, s = np.cos(sides[o.id]), np.sin(sides[o.id])
             lids[o.id] = (np.array([[c, -s], [s, c]]) @ travel, rect[o.id])
     fixed = {o.id for o in items if o.fixed or make_asset(o.asset, o.size).fixed}
     tall = {o.id for o in items if o.id in fixed and make_asset(o.asset, o.size).extent[2] > 0.15}
@@ -328,11 +400,11 @@ def separate_footprints(
             # beside the open lid the hand needs its width, as beside a tall fixture
             rect_overlap(pb + lid_b[0] - pa - off[a], rect[a], lid_b[1], HAND_CLEARANCE)
             for lid_b in [lids.get(b)]
-            if lid_b is not None
+            if lid_b is not None and (lid_against_fixtures or a not in fixed)
         ] + [
             rect_overlap(pb + off[b] - pa - lid_a[0], lid_a[1], rect[b], HAND_CLEARANCE)
             for lid_a in [lids.get(a)]
-            if lid_a is not None
+            if lid_a is not None and (lid_against_fixtures or b not in fixed)
         ]
         base = _footprint_clash(a, b, d)
         found = [q for q in (*pushes, base) if q is not None]
@@ -469,10 +541,6 @@ def _load(world: World, placed: PlacedObject, rng: np.random.Generator, occupied
     x, y, z = placed.position
     th = world.layout.table_height
     yaw = placed.yaw
-    if not placed.on and not fixed:
-        # decided on the layout's own position, as separate_footprints kept that side free
-        yaw = lid_side_yaw(world.layout, next(o for o in world.layout.objects if o.id == placed.id))
-        placed = placed.model_copy(update={"yaw": yaw})
     if placed.on:
         x, y, z = _rest_on(world, placed, model, occupied)
     else:

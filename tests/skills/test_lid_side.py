@@ -98,3 +98,23 @@ def test_the_lid_does_not_open_into_a_fixture() -> None:
     assert _angle(_choose(box, cab, table=(0.6, 1.6)), math.pi) < 1e-6
     cab_other = cab.model_copy(update={"position": (0.0, -0.56, 0.0)})
     assert _angle(_choose(box, cab_other, table=(0.6, 1.6)), 0.0) < 1e-6
+
+
+def test_the_lids_room_does_not_push_the_box_behind_a_tall_fixture() -> None:
+    """A lidded box the layout put into a cabinet's footprint, things on the table on its other side:
+    keeping the open lid's room must not shove the box behind the cabinet (out of the arm's reach).
+    Before the shadow check the box ended 19 cm along +y behind the cabinet's back corner."""
+    from gsr.skills.build import in_shadow, separate_with_lids
+
+    box = PlacedObject(id="box", asset="box_with_lid", position=(0.103, 0.258, 0.0), size=BOX, yaw=0.314)
+    cab = PlacedObject(id="cab", asset="short_cabinet", position=(-0.055, 0.257, 0.0), fixed=True)
+    small = [
+        PlacedObject(id="m", asset="mug", position=(-0.109, -0.272, 0.0), size=(0.044, 0.044, 0.05)),
+        PlacedObject(id="k", asset="milk", position=(-0.174, -0.421, 0.0), size=(0.05, 0.05, 0.065)),
+        PlacedObject(id="p", asset="popcorn", position=(0.088, -0.406, 0.0), size=(0.04, 0.07, 0.065)),
+    ]
+    layout = Layout(objects=(box, cab, *small), table_size=(0.6, 1.2))
+    shifts, sides = separate_with_lids(layout)
+    assert "box" in shifts, "the box overlaps the cabinet: it must move"
+    assert not in_shadow(layout, box, shifts["box"], [cab])
+    assert set(sides) == {"box"}
