@@ -207,6 +207,8 @@ def _clear_start(world: World, margin: float = 0.02) -> None:
 DRAWER_SLOT_X, DRAWER_ROW_PITCH = 0.065, 0.05
 #: Room kept between a tall fixture and a movable object (m): a hand's width.
 HAND_CLEARANCE = 0.06
+#: How much farther (m) a lidded box may be pushed to keep it out of a tall fixture's shadow.
+LID_EXTRA_PUSH = 0.25
 #: Footprints whose circumscribed radius is larger than this (m) are separated as rectangles.
 LARGE_FOOTPRINT = 0.08
 
@@ -263,9 +265,12 @@ def separate_with_lids(
 
     A sliding lid opens over the side :func:`lid_side_yaw` prefers and the separation keeps that room,
     with a hand's width round it, free. Where keeping it pushes the box into a tall fixture's shadow
-    (behind it from the robot's side, :func:`in_shadow`), the other side is tried, then either side with
-    the room kept from movable objects only (a fixture in it then stops the lid short);
-    the first choice that leaves the box out of the shadow wins, the preferred one when none does.
+    (behind it from the robot's side, :func:`in_shadow`), the pushes the table's edges stop are sent to
+    the box's other side along that edge, then the other lid side is tried (both ways): the first choice
+    that leaves the box out of the shadow, pushed at most :data:`LID_EXTRA_PUSH` farther than the
+    preferred one, wins; the preferred one when none does. (A box the layout puts into a fixture's
+    footprint is pushed out; a push the table's back edge stops is deflected sideways, before by the
+    sign of a millimetre's offset between the two centres.)
     """
     boxes = [
         o
@@ -273,7 +278,7 @@ def separate_with_lids(
         if o.on is None and not o.fixed and _sliding_lid(make_asset(o.asset, o.size)) is not None
     ]
     preferred = {o.id: lid_side_yaw(layout, o) for o in boxes}
-    first = _separate(layout, margin, rounds, preferred, True)
+    first = _separate(layout, margin, rounds, preferred, {})
     fixtures = [o for o in layout.objects if o.on is None and (o.fixed or make_asset(o.asset, o.size).fixed)]
 
     def shadowed(shifts: dict[str, tuple[float, float]]) -> set[str]:
@@ -285,10 +290,18 @@ def separate_with_lids(
         k: (float(np.arctan2(np.sin(v + np.pi), np.cos(v + np.pi))) if k in shadowed(first) else v)
         for k, v in preferred.items()
     }
-    for sides, against_fixtures in ((flipped, True), (preferred, False), (flipped, False)):
-        shifts = _separate(layout, margin, rounds, sides, against_fixtures)
-        if not shadowed(shifts):
-            return shifts, sides
+
+    def pushed(shifts: dict[str, tuple[float, float]]) -> float:
+        return max(float(np.hypot(*shifts.get(o.id, (0.0, 0.0)))) for o in boxes)
+
+    hidden = shadowed(first)
+    for sides in (preferred, flipped):
+        for sign in (0.0, 1.0, -1.0):
+            if sides is preferred and not sign:
+                continue  # that is the first separation
+            shifts = _separate(layout, margin, rounds, sides, {k: sign for k in hidden if sign})
+            if not shadowed(shifts) and pushed(shifts) <= pushed(first) + LID_EXTRA_PUSH:
+                return shifts, sides
     return first, preferred
 
 
@@ -320,8 +333,11 @@ def _separate(
     margin: float,
     rounds: int,
     sides: dict[str, float],
-    lid_against_fixtures: bool,
+    deflect: dict[str, float],
 ) -> dict[str, tuple[float, float]]:
+    """The separation itself: ``sides`` the lidded boxes' yaws, ``deflect`` the side (+1 / -1 along the
+    other axis) a push an edge of the table stops goes to for the objects named (else away from the
+    object pushing)."""
     items = [o for o in layout.objects if o.on is None]
     pos = {o.id: np.array(o.position[:2], dtype=float) for o in items}
     # circumscribed circles: a rotated box reaches its half-diagonal
@@ -387,7 +403,7 @@ def _separate(
         for axis in (0, 1):
             other = 1 - axis
             if left[axis] > 1e-9:
-                sign = 1.0 if away[other] > 0 else -1.0
+                sign = deflect.get(oid) or (1.0 if away[other] > 0 else -1.0)
                 clipped[other] = np.clip(
                     clipped[other] + sign * left[axis], -bound[oid][other], bound[oid][other]
                 )
@@ -400,11 +416,11 @@ def _separate(
             # beside the open lid the hand needs its width, as beside a tall fixture
             rect_overlap(pb + lid_b[0] - pa - off[a], rect[a], lid_b[1], HAND_CLEARANCE)
             for lid_b in [lids.get(b)]
-            if lid_b is not None and (lid_against_fixtures or a not in fixed)
+            if lid_b is not None
         ] + [
             rect_overlap(pb + off[b] - pa - lid_a[0], lid_a[1], rect[b], HAND_CLEARANCE)
             for lid_a in [lids.get(a)]
-            if lid_a is not None and (lid_against_fixtures or b not in fixed)
+            if lid_a is not None
         ]
         base = _footprint_clash(a, b, d)
         found = [q for q in (*pushes, base) if q is not None]
