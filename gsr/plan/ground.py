@@ -159,21 +159,23 @@ def schema_bindings(
     out: list[dict] = []
     seen: set[tuple[str, ...]] = set()
     dedupe = bool(disjunction) or delta is not None
+    names, nparams = [p.name for p in params], len(params)
     # Per atom: its arguments with whether each is a variable (looked at for every tuple).
     specs = {id(a): tuple((x, is_variable(x)) for x in a.args) for a in (*atoms, *disjunction)}
 
     def finish(binding: dict[str, str]) -> None:
         if not len(out) % _CHECK_EVERY:
             _check(deadline)
-        free = [p for p in params if p.name not in binding]
-        if not free:  # the usual case: the join bound every parameter (a fresh dict per match)
+        # Bindings hold parameters only (matches binds no other variable), so a full one has them all.
+        if len(binding) == nparams:  # the usual case: the join bound every parameter (a fresh dict per match)
             if dedupe:  # a binding may satisfy several alternatives / use several new atoms
-                key = tuple(binding[p.name] for p in params)
+                key = tuple(map(binding.__getitem__, names))
                 if key in seen:
                     return
                 seen.add(key)
             out.append(binding)
             return
+        free = [p for p in params if p.name not in binding]
         for combo in itertools.product(*(objects(p.types) for p in free)):
             full = dict(binding)
             full.update(zip((p.name for p in free), combo, strict=True))
@@ -353,7 +355,7 @@ def _variant(
                 core.append(c)
     pre = Simplifier.combine(True, kept)
     need = Simplifier.combine(True, core)
-    args = tuple(binding[p.name] for p in schema.params)
+    args = tuple([binding[p.name] for p in schema.params])
     return Variant(schema.name, args, pre, binding, schema, need)
 
 
@@ -505,7 +507,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
             for count, binding in enumerate(candidates):
                 if not count % _CHECK_EVERY:
                     _check(deadline)
-                key = (si, *(binding[n] for n in names))
+                key = (si, *map(binding.__getitem__, names))
                 if key in listed:
                     continue
                 listed.add(key)
