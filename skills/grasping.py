@@ -105,7 +105,8 @@ def lift(m: Motion, z: float) -> None:
                     continue
             else:
                 return
-    m.move_line((top, quat), check=False)
+    # an arm left against a joint limit (a tilted hand at the wrist's stop) re-branches in joint space
+    m.move_rebranch((top, quat), check=False)
 
 
 def site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:

@@ -165,6 +165,41 @@ class Motion:
                 raise
             self.move_joint(start, check=check)
 
+    def move_rebranch(self, goal: Pose, check: bool = True) -> None:
+        """A straight move to ``goal``; if it needs an IK branch flip (the arm sits against a joint limit
+        that the straight path would have to cross: a wrist left at its stop by a tilted grasp), a
+        collision-checked joint-space move to an IK solution at ``goal`` away from the limits instead,
+        the one nearest the current configuration whose joint path touches nothing.
+
+        ``check`` applies to the straight move only (a lift that starts in contact with what it grasped);
+        a joint-space move sweeps the hand, so every one of its waypoints is always checked.
+        """
+        try:
+            self.move_line(goal, check=check)
+            return
+        except SkillError as exc:
+            if exc.failure is not Failure.IK_FLIP:
+                raise
+            flip = exc
+        now = self.robot.q()
+        ends = []
+        for seed in (ARM_HOME, ARM_FRONT):
+            q = self.robot.ik(np.asarray(goal[0]), goal[1], now[:2], seed=np.array((*now[:2], *seed)))
+            dp, da = self.robot.fk_error(q, np.asarray(goal[0]), goal[1])
+            if dp < POS_TOL and da < ANG_TOL:
+                ends.append(q)
+        ends.sort(key=lambda q: float(np.max(np.abs(q[2:] - now[2:]))))
+        blocked: SkillError | None = None
+        for q in ends:
+            try:
+                self.move_joint(q, check=True)
+                return
+            except SkillError as exc:
+                if exc.failure is not Failure.BLOCKED:
+                    raise
+                blocked = blocked or exc
+        raise blocked or flip
+
     # ------------------------------------------------------------ execution
 
     def step(self, n: int = 1) -> None:

@@ -69,6 +69,30 @@ def test_ik_branch_flip_is_repaired_by_a_local_solution(bowl_world, monkeypatch)
     assert dp < 0.008
 
 
+def test_a_lift_from_a_wrist_at_its_stop_re_branches_instead_of_failing(bowl_world) -> None:
+    """A tilted hand left with joint 6 at its upper stop (as a drawer pull leaves it at the desk's side):
+    lifting straight up would cross the stop, so the straight path needs a branch flip; the lift moves
+    in joint space to a solution away from the limit instead (issue 20: four GSR-Bench tasks)."""
+    from gsr.skills.grasping import lift
+
+    m, r = Motion(bowl_world), bowl_world.robot
+    q = r.q().copy()
+    q[2:9] = (-1.016, -0.207, 0.339, -2.214, -2.344, 3.821, 2.745)
+    assert q[7] > r.upper[7] - 0.01  # the premise: joint 6 at its stop
+    r.reset(q)
+    r.hold(q)
+    pos, quat = m.pose()
+    top = pos + np.array([0.0, 0.0, 0.05])
+    with pytest.raises(SkillError) as err:  # the premise: the straight lift flips
+        m.line((pos, quat), (top, quat), r.q(), check=False)
+    assert err.value.failure is Failure.IK_FLIP
+    lift(m, float(top[2]))
+    dp, da = r.fk_error(r.q(), top, quat)
+    assert dp < 0.01 and da < 0.1, (dp, da)  # up, orientation kept
+    assert r.q()[7] < r.upper[7] - 0.1  # off the stop
+    assert m.used > 0
+
+
 def test_fingers_are_coupled(bowl_world) -> None:
     import pybullet as p
 
