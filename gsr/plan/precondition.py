@@ -12,7 +12,7 @@ from gsr.pddl.model import FALSE, TRUE, And, Atom, Formula, Not, Or
 from gsr.plan.normalize import DNF_LIMIT, Conjunction, to_dnf
 from gsr.plan.simplify import Simplifier
 
-FormulaCache = dict[int, tuple[Formula, object]]
+FormulaCache = dict[object, tuple[Formula, object]]
 AtomKey = tuple[str, tuple[str, ...]]  # (predicate, args): hashed and compared in C
 
 
@@ -107,8 +107,13 @@ IdConjunction = frozenset[int]
 Scanned = tuple[list[int], list[list[IdConjunction]]] | bool | None
 
 
-def _scan(formula: Formula, ids: dict[AtomKey, int]) -> Scanned:
-    """Literals and disjunctions of one conjunct of a precondition (unreached atoms pruned)."""
+def _scan(formula: Formula, ids: dict[AtomKey, int], cache: FormulaCache) -> Scanned:
+    """Literals and disjunctions of one conjunct of a precondition (unreached atoms pruned).
+
+    A compound alternative is converted once per object (``cache``, keyed ``(id, "alt")``): the
+    instantiated quantifiers inside ``(imply (in ?o ?from) (not (exists ...)))`` are shared by
+    every binding with that ``?from`` while the disjunction around them is new each time.
+    """
     literals: list[int] = []
     choices: list[list[IdConjunction]] = []
     stack = [formula]
@@ -125,13 +130,25 @@ def _scan(formula: Formula, ids: dict[AtomKey, int]) -> Scanned:
                         if i is not None:
                             alts.append(frozenset((i,)))  # type: ignore[union-attr]
                         continue
-                    alt = _alternative(q, ids)
-                    if alt is None:
+                    if type(q) is Not and type(q.formula) is Atom:  # type: ignore[attr-defined]
+                        a = q.formula  # type: ignore[attr-defined]
+                        i = ids.get((a.predicate, a.args))
+                        if i is None:
+                            alts = None  # an unreached atom's negation: the disjunction holds
+                            break
+                        alts.append(frozenset((~i,)))  # type: ignore[union-attr]
                         continue
-                    if not alt:
+                    hit = cache.get((id(q), "alt"))
+                    if hit is None:
+                        alt = _alternative(q, ids)
+                        hit = cache[(id(q), "alt")] = (q, alt if alt is None else frozenset(alt))
+                    conj = hit[1]
+                    if conj is None:
+                        continue
+                    if not conj:
                         alts = None  # a true alternative: the disjunction holds
                         break
-                    alts.append(frozenset(alt))  # type: ignore[union-attr]
+                    alts.append(conj)  # type: ignore[union-attr,arg-type]
                 if alts is None:
                     continue
                 if not alts:
@@ -177,7 +194,7 @@ def fast_dnf(formula: Formula, ids: dict[AtomKey, int], cache: FormulaCache) -> 
         if isinstance(p, (And, Or)):
             hit = cache.get(id(p))
             if hit is None:
-                hit = cache[id(p)] = (p, _scan(p, ids))
+                hit = cache[id(p)] = (p, _scan(p, ids, cache))
             found = hit[1]
         else:
             found = None
