@@ -350,9 +350,13 @@ def _variant(
             return None
         if g is not TRUE:
             kept.append(g)
-            c = relaxed_core(g, cores)
-            if c is not TRUE:
-                core.append(c)
+            shape = type(g)
+            if shape is Atom:  # relaxed_core's two leaf cases, without a call
+                core.append(g)
+            elif shape is not Not:  # a negative literal is dropped (true) in the relaxation
+                c = relaxed_core(g, cores)
+                if c is not TRUE:
+                    core.append(c)
     pre = Simplifier.combine(True, kept)
     need = Simplifier.combine(True, core)
     args = tuple([binding[p.name] for p in schema.params])
