@@ -184,6 +184,8 @@ class Simplifier:
             if len(kept) == 1:
                 return kept[0]
             return kind(tuple(kept))  # type: ignore[operator]
+        if kind is Forall or kind is Exists:
+            return self._quantifier(formula, binding)  # type: ignore[arg-type]
         if isinstance(formula, Atom):
             args = tuple(map(binding.get, formula.args, formula.args))
             if formula.predicate in self.fluent:
