@@ -42,6 +42,7 @@ from gsr.perception.recognize_parts import (
     drop_bare_handles,
     split_drawer_fronts,
     split_open_drawers,
+    without_parts,
 )
 from gsr.perception.segment import LINK_FEATURE_NAMES, SegmentParams, Segments, segment, upsample
 
@@ -330,14 +331,7 @@ def absorb_fragments(seg: Segments, parts: list[Part], reference: dict[str, floa
         if best is not None:
             parts[best].mask = parts[best].mask | part.mask
             drop.add(k)
-    if not drop:
-        return parts
-    keep = [i for i in range(len(parts)) if i not in drop]
-    index = {old: new for new, old in enumerate(keep)}
-    for i in keep:
-        if parts[i].parent is not None:
-            parts[i].parent = index.get(parts[i].parent)
-    return [parts[i] for i in keep]
+    return without_parts(parts, drop)
 
 
 def load_detector(path: str | Path | None = None) -> Detector:

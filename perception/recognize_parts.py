@@ -167,6 +167,12 @@ def drop_bare_handles(seg: Segments, parts: list[Part]) -> list[Part]:
         host = parts[part.parent]
         host.mask = host.mask | part.mask
         drop.add(k)
+    return without_parts(parts, drop)
+
+
+def without_parts(parts: list[Part], drop: set[int]) -> list[Part]:
+    """``parts`` less the indices in ``drop`` (their masks already given to a host), the remaining
+    parts' ``parent`` indices renumbered (a parent that was dropped becomes None)."""
     if not drop:
         return parts
     keep = [i for i in range(len(parts)) if i not in drop]

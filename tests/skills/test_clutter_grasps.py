@@ -234,6 +234,19 @@ def test_a_box_taken_off_a_box_is_set_down_on_a_crowded_desk() -> None:
         assert not [o for o in others if (support_of(world, o) or ("", ""))[1] == "blue_box"]
 
 
+def _box_axes(world, box) -> tuple:
+    """A box's base position, unit vectors along its long side and across it, and its two extents."""
+    import pybullet as p
+
+    bpos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=world.client)
+    yaw = p.getEulerFromQuaternion(bq)[2]
+    sx, sy = box.model.extent[:2]
+    along = (
+        np.array([math.cos(yaw), math.sin(yaw)]) if sx >= sy else np.array([-math.sin(yaw), math.cos(yaw)])
+    )
+    return bpos, along, np.array([-along[1], along[0]]), sx, sy
+
+
 def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_cannot() -> None:
     import pybullet as p
     from gsr.skills.hand_clearance import graspable_at
@@ -241,15 +254,7 @@ def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_c
     with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
         box, cube = world.objects["blue_box"], world.objects["yellow_cube1"]
         assert support_of(world, cube.id) == ("in", "blue_box")
-        bpos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=world.client)
-        yaw = p.getEulerFromQuaternion(bq)[2]
-        sx, sy = box.model.extent[:2]
-        along = (
-            np.array([math.cos(yaw), math.sin(yaw)])
-            if sx >= sy
-            else np.array([-math.sin(yaw), math.cos(yaw)])
-        )
-        across = np.array([-along[1], along[0]])
+        bpos, along, across, sx, sy = _box_axes(world, box)
         half_len, half_w = max(sx, sy) / 2 - 0.01 - 0.017, min(sx, sy) / 2 - 0.01 - 0.017  # inside the walls
         floor = world.body_aabb(cube.body)[0][2]
         before = p.getBasePositionAndOrientation(cube.body, physicsClientId=world.client)
@@ -267,21 +272,12 @@ def test_graspable_at_tells_a_deep_box_spot_a_later_pick_can_reach_from_one_it_c
 
 
 def test_a_cube_bound_for_a_deep_boxs_corner_is_let_go_where_a_later_pick_reaches_it() -> None:
-    import pybullet as p
     from gsr.skills.grasping import graspable_later
     from gsr.skills.hand_clearance import graspable_at
 
     with build_world(_task("gsrgen_sod_complex_00"), seed=0) as world:
         box, cube = world.objects["blue_box"], world.objects["yellow_cube1"]
-        bpos, bq = p.getBasePositionAndOrientation(box.body, physicsClientId=world.client)
-        yaw = p.getEulerFromQuaternion(bq)[2]
-        sx, sy = box.model.extent[:2]
-        along = (
-            np.array([math.cos(yaw), math.sin(yaw)])
-            if sx >= sy
-            else np.array([-math.sin(yaw), math.cos(yaw)])
-        )
-        across = np.array([-along[1], along[0]])
+        bpos, along, across, sx, sy = _box_axes(world, box)
         floor = world.body_aabb(cube.body)[0][2]
         corner = np.asarray(bpos[:2]) + along * (max(sx, sy) / 2 - 0.027) + across * (min(sx, sy) / 2 - 0.027)
         spot, turn = graspable_later(world, cube, "blue_box", (np.array([corner[0], corner[1], floor]), 0.0))
