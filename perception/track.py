@@ -308,19 +308,23 @@ def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Inst
     pieces = _wall_pieces(fused, containers, lambda c: rim_box(c))
     if not pieces:
         return fused
-    out: list[Instance] = []
+    grown = _grown_by_pieces(fused, containers, pieces, params)
+    return [grown.get(id(x), x) for x in fused if id(x) not in pieces]
+
+
+def _grown_by_pieces(
+    instances: list[Instance], containers: list[Instance], pieces: dict[int, Instance], params: GeometryParams
+) -> dict[int, Instance]:
+    """Each container of ``containers`` joined with the pieces :func:`_wall_pieces` gave it (by the
+    container's ``id``); a container whose join fails, or that got no piece, is not in the result."""
     grown: dict[int, Instance] = {}
     for c in containers:
-        parts = [x for x in fused if pieces.get(id(x)) is c]
-        if parts:
-            joined = _join(c, *parts, params=params, keep_label=True)
+        mine = [x for x in instances if pieces.get(id(x)) is c]
+        if mine:
+            joined = _join(c, *mine, params=params, keep_label=True)
             if joined is not None:
                 grown[id(c)] = joined
-    for x in fused:
-        if id(x) in pieces:
-            continue
-        out.append(grown.get(id(x), x))
-    return out
+    return grown
 
 
 def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> dict[int, Instance]:
@@ -370,13 +374,7 @@ def absorb_part_fragments(
     pieces = _wall_pieces(instances, drawers, lambda c: c if (r := rim_box(c)) is None else r)
     if not pieces:
         return parts
-    grown: dict[int, Instance] = {}
-    for c in drawers:
-        mine = [x for x in instances if pieces.get(id(x)) is c]
-        if mine:
-            joined = _join(c, *mine, params=params, keep_label=True)
-            if joined is not None:
-                grown[id(c)] = joined
+    grown = _grown_by_pieces(instances, drawers, pieces, params)
     instances[:] = [grown.get(id(x), x) for x in instances if id(x) not in pieces]
     return [grown.get(id(p), p) for p in parts]
 
