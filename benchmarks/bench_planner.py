@@ -8,8 +8,8 @@ tasks (``tabletop-long``). ``--pick 0.25,0.5`` runs only the problems at those f
 IPC set's list (by size), for short side-by-side runs.
 
 Usage: python benchmarks/bench_planner.py [--sets blocks,gripper,...] [--systems gsr,pyperplan,fd]
-       [--timeout 60] [--planner auto] [--long-tasks 30] [--seed 0] [--pick F,...] [--isolate]
-       [--save FILE] [--markdown] [-v]
+       [--timeout 60] [--clock wall|cpu] [--planner auto] [--long-tasks 30] [--seed 0] [--pick F,...]
+       [--isolate] [--save FILE] [--markdown] [-v]
        python benchmarks/bench_planner.py --merge A.json B.json ... [--markdown]
 
 GSR runs in-process; on IPC sets its time covers parsing, grounding and search, on tabletop sets it
@@ -22,6 +22,12 @@ run directly, not of the benchmark's child around it. Both report their peak res
 read after planning, before validation; FD's the largest child process's ru_maxrss). Modules are
 byte-compiled once first, as pip does on install, and the planner's C kernels (gsr.plan.relax_c) are
 built once before the first task (as on any first use after an install).
+``--clock cpu`` (implies ``--isolate``) makes ``--timeout`` a limit on CPU seconds of each system's own
+processes, so that the comparison does not depend on the machine's load: GSR's child through
+RLIMIT_CPU (counted from its start, interpreter and imports included; lifted once the plan is found,
+so validation is never cut), FD through its driver's ``--overall-time-limit`` (CPU time of driver,
+translator and search). A timeout counts the limit in the CPU column and its measured wall time in
+the wall column; the hard wall limit of a child is then 10 x the timeout + 60 s.
 pyperplan and Fast Downward run as subprocesses (interpreter start-up and FD's translator included),
 with PYTHONHASHSEED=0. Every GSR plan, and with ``--isolate`` every FD plan, is checked with
 gsr.validate.validate_plan after the clock stops (``validate_s``); an invalid plan counts as unsolved. pyperplan is STRIPS-only, so it is ``n/a`` on the ADL sets.
@@ -111,21 +117,33 @@ def _maxrss_mb(who: int) -> float:
     return resource.getrusage(who).ru_maxrss / 1024.0
 
 
-def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
+CLOCKS = ("wall", "cpu")
+
+
+def hard_wall_limit(timeout: float, clock: str) -> float:
+    """The wall-clock limit after which a child is killed (grounding is not interruptible)."""
+    return 10 * timeout + 60 if clock == "cpu" else 1.5 * timeout + 30
+
+
+def run_isolated(
+    system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str, clock: str = "wall"
+) -> dict:
     """One system on one problem in a fresh subprocess that reports its row and peak memory.
 
     GSR's time runs from spawning its interpreter to the plan (start-up, imports, parsing, grounding,
     search; CPU from the child's own rusage); FD's is FD's own processes (driver, translator, search),
-    as when it is run directly. Plan validation (both systems) comes after and is reported apart."""
+    as when it is run directly. Plan validation (both systems) comes after and is reported apart.
+    ``clock`` says what ``timeout`` limits: wall seconds, or CPU seconds of the system's own processes."""
     cmd = [sys.executable, __file__, "--one", system, str(domain_file), str(problem_file)]
-    cmd += ["--timeout", str(timeout), "--planner", planner]
+    cmd += ["--timeout", str(timeout), "--planner", planner, "--clock", clock]
     env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
-    hard = 1.5 * timeout + 30
+    hard = hard_wall_limit(timeout, clock)
     spawned = time.time()
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=hard, env=env)
     except subprocess.TimeoutExpired:
-        return {"status": "timeout", "time": timeout, "cpu": timeout, "length": None, "killed": True}
+        wall = hard if clock == "cpu" else timeout
+        return {"status": "timeout", "time": wall, "cpu": timeout, "length": None, "killed": True}
     lines = done.stdout.strip().splitlines()
     if done.returncode != 0 or not lines:
         tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
@@ -134,18 +152,51 @@ def run_isolated(system: str, domain_file: Path, problem_file: Path, timeout: fl
     row = json.loads(lines[-1])
     elapsed = row["done_at"] - spawned if "done_at" in row else row["time"]
     cpu = row.get("cpu_total", row["cpu"])
+    if clock == "cpu":  # the limit is on CPU seconds; wall time is reported as measured
+        if row["status"] == "timeout" or cpu > timeout:
+            row = {**row, "status": "timeout", "length": None}
+            cpu = timeout
+        return {**row, "time": elapsed, "cpu": cpu}
     if row["status"] == "timeout" or elapsed > timeout:  # grounding past the limit is a timeout too
         row = {**row, "status": "timeout", "length": None}
         elapsed = cpu = timeout
     return {**row, "time": min(elapsed, timeout), "cpu": cpu}
 
 
-def _one(system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
+class CpuLimit(BaseException):
+    """This process's CPU-time limit (``--clock cpu``) ran out (raised from the SIGXCPU handler)."""
+
+
+def _on_sigxcpu(signum, frame):  # a signal handler
+    raise CpuLimit
+
+
+def limit_cpu(seconds: float) -> None:
+    """Stop this process's work after ``seconds`` of CPU time (counted from its start): SIGXCPU
+    raises CpuLimit. The hard limit stays unlimited so that lift_cpu_limit can lift the soft one
+    (the parent's wall limit kills a child that never returns to Python)."""
+    import signal
+
+    signal.signal(signal.SIGXCPU, _on_sigxcpu)
+    soft = max(1, int(seconds + 0.999))
+    resource.setrlimit(resource.RLIMIT_CPU, (soft, resource.RLIM_INFINITY))
+
+
+def lift_cpu_limit() -> None:
+    """No CPU limit any more (after the plan: its validation is not timed)."""
+    resource.setrlimit(resource.RLIMIT_CPU, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+
+
+def _one(
+    system: str, domain_file: Path, problem_file: Path, timeout: float, planner: str, clock: str = "wall"
+) -> dict:
     """The child side of run_isolated: the row plus peak memory (and, for GSR, when planning ended)."""
     if system == "gsr":
-        row = run_gsr_files(domain_file, problem_file, timeout, planner)
+        if clock == "cpu":
+            limit_cpu(timeout)
+        row = run_gsr_files(domain_file, problem_file, timeout, planner, clock)
         return {**row, "peak_mb": row.get("plan_peak_mb", _maxrss_mb(resource.RUSAGE_SELF))}
-    row = run_fd(domain_file, problem_file, timeout, validate=True)
+    row = run_fd(domain_file, problem_file, timeout, validate=True, clock=clock)
     return {**row, "peak_mb": _maxrss_mb(resource.RUSAGE_CHILDREN)}
 
 
@@ -168,29 +219,51 @@ def _children_cpu() -> float:
 
 
 def _gsr_row(
-    domain: Domain, problem: Problem, timeout: float, planner: str, t0: float, cpu0: float | None = None
+    domain: Domain,
+    problem: Problem,
+    timeout: float,
+    planner: str,
+    t0: float,
+    cpu0: float | None = None,
+    clock: str = "wall",
 ) -> dict:
     cpu0 = time.process_time() if cpu0 is None else cpu0
-    result = plan(domain, problem, planner=planner, timeout=timeout)
+    if clock == "cpu":  # the CPU limit (limit_cpu) stops the search; its own wall deadline is far out
+        try:
+            result = plan(domain, problem, planner=planner, timeout=hard_wall_limit(timeout, clock))
+        except CpuLimit:
+            result = None
+        lift_cpu_limit()
+    else:
+        result = plan(domain, problem, planner=planner, timeout=timeout)
     elapsed, cpu = time.perf_counter() - t0, time.process_time() - cpu0
-    row = {"status": result.status, "time": elapsed, "cpu": cpu, "plan_time": result.time, "length": None}
+    if result is None:
+        row = {"status": "timeout", "time": elapsed, "cpu": cpu, "length": None}
+        row["message"] = f"over {timeout:g} s CPU"
+    else:
+        row = {"status": result.status, "time": elapsed, "cpu": cpu, "plan_time": result.time, "length": None}
     # When planning ended, this process's CPU since its start (interpreter and imports included) and
     # its peak memory, all read before validation (checking a 1,000-step plan has its own cost).
     usage = resource.getrusage(resource.RUSAGE_SELF)
     row.update(done_at=time.time(), cpu_total=usage.ru_utime + usage.ru_stime)
     row["plan_peak_mb"] = _maxrss_mb(resource.RUSAGE_SELF)
+    if result is None:
+        return row
     if result.plan is not None:
         row = _validated(row, domain, problem, result.plan)
     return {**row, "expanded": result.expanded}
 
 
-def run_gsr_files(domain_file: Path, problem_file: Path, timeout: float, planner: str) -> dict:
-    """Parse, ground and search in-process; ``time`` is the wall time of all three."""
+def run_gsr_files(
+    domain_file: Path, problem_file: Path, timeout: float, planner: str, clock: str = "wall"
+) -> dict:
+    """Parse, ground and search in-process; ``time`` is the wall time of all three. With ``clock``
+    "cpu" the caller has set this process's CPU limit (limit_cpu)."""
     start, cpu0 = time.perf_counter(), time.process_time()
     try:
         domain = load_domain(domain_file)
         problem = load_problem(problem_file, domain)
-        return _gsr_row(domain, problem, timeout, planner, start, cpu0)
+        return _gsr_row(domain, problem, timeout, planner, start, cpu0, clock)
     except GSRError as err:
         t = time.perf_counter() - start
         return {
@@ -224,20 +297,38 @@ def run_pyperplan(domain_file: Path, problem_file: Path, timeout: float) -> dict
         return {"status": "solved", "time": elapsed, "cpu": cpu, "length": len(steps)}
 
 
-def run_fd(domain_file: Path, problem_file: Path, timeout: float, validate: bool = False) -> dict:
+def run_fd(
+    domain_file: Path, problem_file: Path, timeout: float, validate: bool = False, clock: str = "wall"
+) -> dict:
     """Fast Downward --alias lama-first (driver, translator and search) as a subprocess; with
-    ``validate``, its plan is checked like GSR's (after the clock stops)."""
+    ``validate``, its plan is checked like GSR's (after the clock stops). With ``clock`` "cpu" the
+    limit is FD's --overall-time-limit (CPU seconds of its processes) and the wall limit far out."""
     from gsr.plan.fast_downward import run_fast_downward
 
+    cpu_clock = clock == "cpu"
     start, cpu0 = time.perf_counter(), _children_cpu()
     try:
-        status, found, message = run_fast_downward(domain_file, problem_file, timeout, memory_limit=FD_MEMORY)
+        status, found, message = run_fast_downward(
+            domain_file,
+            problem_file,
+            hard_wall_limit(timeout, clock) if cpu_clock else timeout,
+            memory_limit=FD_MEMORY,
+            cpu_limit=timeout if cpu_clock else None,
+        )
     except GSRError as err:
         return {"status": "n/a", "time": 0.0, "cpu": 0.0, "length": None, "message": str(err)}
     elapsed, cpu = time.perf_counter() - start, _children_cpu() - cpu0
-    if status == "timeout":  # killed processes are not all reaped into RUSAGE_CHILDREN
+    if cpu_clock:  # FD stops itself at its CPU limit (exit 21/23): reaped, so its wall time is known
+        if status == "timeout" or cpu > timeout:
+            status, found, cpu = "timeout", None, timeout
+    elif status == "timeout":  # killed processes are not all reaped into RUSAGE_CHILDREN
         elapsed = cpu = timeout
-    row = {"status": status, "time": min(elapsed, timeout), "cpu": cpu, "length": None}
+    row = {
+        "status": status,
+        "time": elapsed if cpu_clock else min(elapsed, timeout),
+        "cpu": cpu,
+        "length": None,
+    }
     if found is not None and validate:
         try:
             domain = load_domain(domain_file)
@@ -354,8 +445,10 @@ def bench_set(
     seed: int,
     pick: list[float] | None = None,
     isolate: bool = False,
+    clock: str = "wall",
 ) -> dict:
-    """Run every system on every task of one set; per-task rows and per-system summaries."""
+    """Run every system on every task of one set; per-task rows and per-system summaries. ``clock``
+    "cpu" (IPC sets, isolated runs only) limits CPU seconds instead of wall seconds."""
     from gsr.pddl.writer import write_domain, write_problem
 
     rows = []
@@ -376,7 +469,7 @@ def bench_set(
                 prob_file.write_text(write_problem(prob))
             for system in systems:
                 if isolate and isinstance(dom, Path) and system in ("gsr", "fd"):
-                    row[system] = run_isolated(system, dom_file, prob_file, timeout, planner)
+                    row[system] = run_isolated(system, dom_file, prob_file, timeout, planner, clock)
                 elif system == "gsr":
                     if isinstance(dom, Path):
                         row[system] = run_gsr_files(dom_file, prob_file, timeout, planner)
@@ -398,7 +491,7 @@ def bench_set(
             )
             print(f"{domain_set}/{name}: {cells}", file=sys.stderr, flush=True)
         rows.append(row)
-    return {"set": domain_set, "timeout": timeout, "planner": planner, "rows": rows}
+    return {"set": domain_set, "timeout": timeout, "clock": clock, "planner": planner, "rows": rows}
 
 
 def summarize(result: dict, system: str) -> dict:
@@ -535,6 +628,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--systems", default="gsr,pyperplan,fd", help="comma-separated: gsr, pyperplan, fd")
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per task and system")
     parser.add_argument(
+        "--clock",
+        choices=CLOCKS,
+        default="wall",
+        help="what --timeout limits on the IPC sets: wall seconds, or CPU seconds of each system's own "
+        "processes (cpu implies --isolate; wall time is reported either way)",
+    )
+    parser.add_argument(
         "--planner",
         default="auto",
         help="GSR planner (see gsr.plan.PLANNERS); auto: lama on the IPC sets (as FD's lama-first), "
@@ -554,7 +654,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.one:
         system, dom, prob = args.one
-        print(json.dumps(_one(system, Path(dom), Path(prob), args.timeout, args.planner)))
+        print(json.dumps(_one(system, Path(dom), Path(prob), args.timeout, args.planner, args.clock)))
         return 0
     if args.merge:
         try:
@@ -571,6 +671,8 @@ def main(argv: list[str] | None = None) -> int:
             f"unknown set(s)/system(s) {unknown}; sets: {', '.join(SETS)}; systems: gsr, pyperplan, fd"
         )
     pick = [float(f) for f in args.pick.split(",") if f] if args.pick else None
+    if args.clock == "cpu":  # a CPU limit needs each system in its own processes
+        args.isolate = True
     if args.isolate:  # byte-compile once, as pip does on install (else every child recompiles edited modules)
         import compileall
 
@@ -595,6 +697,7 @@ def main(argv: list[str] | None = None) -> int:
             args.seed,
             pick,
             args.isolate,
+            args.clock,
         )
         for s in sets
     ]

@@ -39,3 +39,26 @@ def test_isolated_fd_row_is_validated_too() -> None:
     row = run_isolated("fd", BLOCKS / "domain.pddl", BLOCKS / "probBLOCKS-10-0.pddl", 60.0, "lama")
     assert row["status"] == "solved" and row["length"] > 0 and row["validate_s"] > 0
     assert row["cpu"] > 0 and 0 < row["time"] <= 60.0
+
+
+def test_cpu_clock_limits_cpu_seconds_and_reports_wall_too() -> None:
+    # --clock cpu: the limit is on the child's CPU seconds; a solved row reports both clocks
+    row = run_isolated("gsr", BLOCKS / "domain.pddl", BLOCKS / "probBLOCKS-10-0.pddl", 60.0, "lama", "cpu")
+    assert row["status"] == "solved" and row["length"] > 0 and row["validate_s"] > 0
+    assert 0 < row["cpu"] == row["cpu_total"] < 60.0 and row["time"] > 0
+
+
+def test_cpu_clock_timeout_counts_the_limit_in_cpu_and_measured_wall() -> None:
+    # a 1 s CPU limit stops GSR (its imports and grounding alone are near that) through SIGXCPU, not the wall
+    row = run_isolated(
+        "gsr", BLOCKS / "domain.pddl", BLOCKS / "probBLOCKS-17-0.pddl", 1.0, "astar-blind", "cpu"
+    )
+    assert row["status"] == "timeout" and row["length"] is None
+    assert row["cpu"] == 1.0 and not row.get("killed") and row["time"] > 0.5
+
+
+def test_cpu_clock_fd_row() -> None:
+    if find_fast_downward() is None:
+        pytest.skip("Fast Downward is not installed (pip install up-fast-downward)")
+    row = run_isolated("fd", BLOCKS / "domain.pddl", BLOCKS / "probBLOCKS-10-0.pddl", 60.0, "lama", "cpu")
+    assert row["status"] == "solved" and row["length"] > 0 and 0 < row["cpu"] < 60.0
