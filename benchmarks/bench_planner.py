@@ -598,6 +598,18 @@ def print_table(results: list[dict], markdown: bool) -> None:
         print("  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(cells)))
 
 
+def failures(results: list[dict]) -> list[str]:
+    """Per set, the problems some system did not solve: ``set: problem (system status, ...)``."""
+    lines = []
+    for res in results:
+        for row in res["rows"]:
+            cells = {k: v for k, v in row.items() if k != "problem" and v.get("status") != "n/a"}
+            if any(c["status"] != "solved" for c in cells.values()):
+                what = ", ".join(f"{k} {c['status']}" for k, c in cells.items())
+                lines.append(f"{res['set']}: {row['problem']} ({what})")
+    return lines
+
+
 def merge(results: list[dict]) -> list[dict]:
     """Combine saved runs (e.g. peers run set by set): rows of the same set are joined by task name."""
     by_set: dict[str, dict] = {}
@@ -645,6 +657,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--save", type=Path, help="write the full per-task results as JSON")
     parser.add_argument("--merge", type=Path, nargs="+", help="print the table of saved runs instead")
     parser.add_argument("--markdown", action="store_true", help="print a Markdown table")
+    parser.add_argument(
+        "--failures", action="store_true", help="with --merge: list the problems some system did not solve"
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per task on stderr")
     parser.add_argument("--pick", default="", help="fractions of each IPC set's list, e.g. 0.25,0.5")
     parser.add_argument(
@@ -661,7 +676,10 @@ def main(argv: list[str] | None = None) -> int:
             loaded = [json.loads(p.read_text()) for p in args.merge]
         except (OSError, json.JSONDecodeError) as err:
             parser.error(f"cannot read saved results: {err}")
-        print_table(merge([s for d in loaded for s in d["sets"]]), args.markdown)
+        merged = merge([s for d in loaded for s in d["sets"]])
+        print_table(merged, args.markdown)
+        if args.failures:
+            print("\n".join(["", "Not solved by every system:", *failures(merged)]))
         return 0
     systems = [s for s in args.systems.split(",") if s]
     sets = [s for s in args.sets.split(",") if s]

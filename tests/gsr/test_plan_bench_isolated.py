@@ -62,3 +62,17 @@ def test_cpu_clock_fd_row() -> None:
         pytest.skip("Fast Downward is not installed (pip install up-fast-downward)")
     row = run_isolated("fd", BLOCKS / "domain.pddl", BLOCKS / "probBLOCKS-10-0.pddl", 60.0, "lama", "cpu")
     assert row["status"] == "solved" and row["length"] > 0 and 0 < row["cpu"] < 60.0
+
+
+def test_failures_lists_problems_some_system_did_not_solve() -> None:
+    from gsr.benchmarks.bench_planner import failures
+
+    res = {
+        "set": "s",
+        "rows": [
+            {"problem": "p1", "gsr": {"status": "solved"}, "fd": {"status": "solved"}},
+            {"problem": "p2", "gsr": {"status": "timeout"}, "fd": {"status": "solved"}},
+            {"problem": "p3", "gsr": {"status": "solved"}, "pyperplan": {"status": "n/a"}},
+        ],
+    }
+    assert failures([res]) == ["s: p2 (gsr timeout, fd solved)"]
