@@ -46,9 +46,9 @@ def run_demo(
     oracle_masks: bool = False,
 ) -> int:
     """Run the physical demo; writes ``out`` and returns the exit code (0 only when the goal is verified)."""
-    from gsr.benchmarks.perceived_scene import PerceivedScene, contradicted_effects
     from gsr.benchmarks.suites.libero_suite import task_from_bddl
     from gsr.skills import build_world, default_views, render, run_step, scene_graph_from_sim
+    from gsr.skills.perceived_scene import PerceivedScene, contradicted_effects
     from gsr.skills.result import Failure, SkillResult
 
     from gsr.demo import default_task_path

@@ -166,7 +166,7 @@ def episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dic
     domain = load_builtin_domain("tabletop")
     executor = None
     if config.physical:  # the simulator executor implements the Executor seam (skills, 'sim' extra)
-        from gsr.benchmarks.perceived_executor import RunnerSimExecutor
+        from gsr.skills.perceived_executor import RunnerSimExecutor
 
         frames = config.frames if config.frames_dir else 0
         executor = RunnerSimExecutor(

@@ -25,7 +25,7 @@ def test_the_runner_and_its_executors_use_the_core_seams() -> None:
 
 def test_simulator_executors_are_executors() -> None:
     pytest.importorskip("pybullet", reason="the simulator executors need pybullet")
-    from gsr.benchmarks.perceived_executor import RunnerSimExecutor
+    from gsr.skills.perceived_executor import RunnerSimExecutor
     from gsr.skills.sim_executor import SimExecutor
 
     # constructing one builds no world (that happens in reset), so the check is cheap

@@ -3,9 +3,9 @@
 ``RunnerSimExecutor`` implements ``gsr.episode.Executor``. With ``perceive=False`` it is the
 simulator executor of ``skills`` (the agent observes the simulator's ground-truth graph). With
 ``perceive=True`` the agent's initial graph and the graph re-derived after every step come from
-:class:`gsr.benchmarks.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,
+:class:`gsr.skills.perceived_scene.PerceivedScene` (cameras + perception, the known map, the gripper,
 object permanence), and the closed loop compares the expected next graph with the perceived one only on
-what the sensors confirm (:func:`gsr.benchmarks.perceived_scene.observable_view`). Either way
+what the sensors confirm (:func:`gsr.skills.perceived_scene.observable_view`). Either way
 :meth:`RunnerSimExecutor.truth_state` is the simulator's ground truth, which is what the runner scores:
 physical success means the goal holds in the world, not in the agent's belief.
 """
@@ -15,8 +15,8 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from gsr.benchmarks.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
 from gsr.skills.executor import PhysicalExecutor
+from gsr.skills.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
 from gsr.skills.sim_executor import SimExecutor
 
 from gsr.pddl.model import Domain

@@ -1,7 +1,7 @@
 """A perception-backed scene-graph source for a simulated world: what the robot's sensors say, not the truth.
 
 Shared by the demo (``benchmarks/demo.py``) and the physical runner (``gsr bench run --physical --perceive``,
-:mod:`gsr.benchmarks.perceived_executor`). Each :meth:`PerceivedScene.observe` call
+:mod:`gsr.skills.perceived_executor`). Each :meth:`PerceivedScene.observe` call
 
 1. renders RGB-D and instance masks from the world's cameras (``gsr.skills.render_frame``, plus a mask for each
    door that is no graph node: :func:`frame_with_doors`; the masks stand in for a detector: ids and

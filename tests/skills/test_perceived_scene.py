@@ -10,7 +10,7 @@ pytest.importorskip(
     "pybullet"
 )  # observable_view uses gsr.skills.executor.symbolic_view (skills imports pybullet)
 
-from gsr.benchmarks.perceived_scene import (
+from gsr.skills.perceived_scene import (
     contradicted_effects,
     observable_view,
     observed_ids,
@@ -151,11 +151,13 @@ def test_observable_view_compares_only_what_sensors_confirm() -> None:
     ).is_empty
 
 
-def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
+def test_contradicted_effects_ignore_unobservable_predicates() -> None:
     from gsr.check import check_step
     from gsr.facts import state_from_graph
+    from gsr.resources import load_builtin_domain
     from gsr.step import Step
 
+    domain = load_builtin_domain("tabletop")
     graph = _graph([_node("table", "table"), _node("stove", "stove")], [("stove", "on", "table")])
     diagnosis = check_step(domain, state_from_graph(graph, domain), Step(action="turn_on", args=("stove",)))
     assert diagnosis.ok, diagnosis.message
@@ -166,9 +168,9 @@ def test_contradicted_effects_ignore_unobservable_predicates(domain) -> None:
 def test_perceived_scene_in_a_real_world(libero_dir) -> None:
     """Held from the gripper, regions from the map, a bowl in a closed drawer remembered."""
     pytest.importorskip("open3d")
-    from gsr.benchmarks.perceived_scene import PerceivedScene
     from gsr.benchmarks.suites.libero_suite import task_from_bddl
     from gsr.skills import build_world, run_step
+    from gsr.skills.perceived_scene import PerceivedScene
 
     from gsr.step import Step
 
@@ -204,9 +206,9 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
     """The microwave's door is no graph node: its own mask lets perception see it open or closed."""
     pytest.importorskip("open3d")
     import pybullet as p
-    from gsr.benchmarks.perceived_scene import PerceivedScene
     from gsr.benchmarks.suites.libero_suite import task_from_bddl
     from gsr.skills import build_world
+    from gsr.skills.perceived_scene import PerceivedScene
 
     task = task_from_bddl(
         libero_dir
@@ -229,7 +231,7 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
 
 
 def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
-    from gsr.benchmarks.perceived_scene import with_remembered_support
+    from gsr.skills.perceived_scene import with_remembered_support
 
     # the cube was held; now nobody sees it (remembered from the last belief, grasp state and all)
     belief = _graph(
@@ -257,9 +259,9 @@ def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
 def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -> None:
     """Without the simulator's masks: perception's own ids, stable across observations, bound to bodies."""
     pytest.importorskip("open3d")
-    from gsr.benchmarks.perceived_scene import PerceivedScene
     from gsr.benchmarks.suites.libero_suite import task_from_bddl
     from gsr.skills import build_world, run_step
+    from gsr.skills.perceived_scene import PerceivedScene
 
     from gsr.step import Step
 
@@ -291,7 +293,7 @@ def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -
 
 
 def test_a_part_of_a_seen_object_stays_when_the_cameras_do_not_pick_it_out() -> None:
-    from gsr.benchmarks.perceived_scene import with_unseen_parts
+    from gsr.skills.perceived_scene import with_unseen_parts
 
     cab = _node("cabinet_1", "cabinet")
     drawer = _node("cabinet_1/drawer_1", "drawer", parent="cabinet_1", states=("open",))
@@ -307,7 +309,7 @@ def test_a_part_of_a_seen_object_stays_when_the_cameras_do_not_pick_it_out() -> 
 
 
 def test_the_object_in_the_gripper_keeps_the_id_of_the_object_the_step_grasped() -> None:
-    from gsr.benchmarks.perceived_scene import PerceivedScene
+    from gsr.skills.perceived_scene import PerceivedScene
 
     scene = PerceivedScene.__new__(PerceivedScene)  # no world needed for the rule itself
     scene.binding = {"bottle_1": "bbq_sauce", "mug_3": "bbq_sauce", "basket_1": "basket"}
