@@ -248,7 +248,6 @@ KNOWN_CYCLES = (
         "gsr.perception.relations",
         "gsr.perception.track",
     },
-    {"gsr.plan.heuristics", "gsr.plan.relax_c", "gsr.plan.relax_jit"},
     {"gsr.skills.articulated", "gsr.skills.grasping"},
 )
 

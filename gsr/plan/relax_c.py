@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     import ctypes
 
-    from gsr.plan.heuristics import Relaxation
+    from gsr.plan.relax_arrays import UnaryRelaxation
     from gsr.plan.task import Task
 
 SOURCE = Path(__file__).with_name("relax_kernels.c")
@@ -199,7 +199,7 @@ class CRelaxation:
     ``ff_plan(state)`` does both in one call (None when the goal is unreachable).
     """
 
-    def __init__(self, relax: Relaxation, lib: ctypes.CDLL) -> None:
+    def __init__(self, relax: UnaryRelaxation, lib: ctypes.CDLL) -> None:
         self.lib = lib
         n_facts, n_unary, n_ops = relax.n_facts, len(relax.pre), len(relax.task.ops)
         self.n_atoms = len(relax.task.atoms)

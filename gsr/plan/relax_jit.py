@@ -23,7 +23,7 @@ import os
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from gsr.plan.heuristics import Relaxation
+    from gsr.plan.relax_arrays import UnaryRelaxation
 
 # Unary-operator edges (sum of precondition counts) from which the compiled path is used; below it
 # the Python h_add is fast enough and numba's import (~0.3 s) would dominate. Environment variable
@@ -65,7 +65,7 @@ def c_library():
     return relax_c.library() if allowed() else None
 
 
-def compiled(relax: Relaxation, numba: bool = True):
+def compiled(relax: UnaryRelaxation, numba: bool = True):
     """A compiled twin of ``relax`` (C kernels first, numba when ``numba`` allows), or None."""
     lib = c_library()
     if lib is not None:
@@ -114,7 +114,7 @@ def _csr(rows: list[tuple[int, ...]] | list[list[int]]):
 class CompiledRelaxation:
     """Flat arrays of one Relaxation and reusable work buffers for the compiled kernels."""
 
-    def __init__(self, relax: Relaxation) -> None:
+    def __init__(self, relax: UnaryRelaxation) -> None:
         import numpy as np
 
         self.hadd_kernel, self.plan_kernel, _ = kernels()
