@@ -11,8 +11,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from gsr.skills.arm_moves import APPROACH, lift, transit_height
 from gsr.skills.asset_model import Articulation
-from gsr.skills.grasping import APPROACH, lift, transit_height
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError
 from gsr.skills.robot import angled, approach_axis, top_down

@@ -14,6 +14,7 @@ import re
 from collections.abc import Callable
 
 import numpy as np
+from gsr.skills.arm_moves import APPROACH, lift, transit_height
 from gsr.skills.asset_model import GraspSite
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError
@@ -21,9 +22,7 @@ from gsr.skills.robot import GRIPPER, angled, top_down
 from gsr.skills.sim_graph import interior_boxes, support_of
 from gsr.skills.world import SimObject, World
 
-TRANSIT_CLEARANCE = 0.08  # m above the tallest thing under the path
 MAX_DROP = 0.06  # m: the most a placed object may be let go above its release point
-APPROACH = 0.1  # m above a grasp or release point
 
 #: Rectangles on the table: (centre xy, half sizes xy).
 Rects = tuple[tuple[np.ndarray, np.ndarray], ...] | list[tuple[np.ndarray, np.ndarray]]
@@ -57,56 +56,34 @@ def _rim_sites(site: GraspSite, obj: SimObject) -> list[GraspSite]:
         ]
     base = math.atan2(y, x)
     n = 8 if obj.model.name in ("bowl", "plate", "mug", "cup", "ramekin", "pan") else 4
+    radii = [r] * n
+    if n == 4:
+        # a rectangular box's four walls: each copy sits on its own wall, inset from it as the model's
+        # site is from its wall (GSR-Bench's 17 x 25 cm box: a copy at the first wall's radius would
+        # stand 4.5 cm inside the short walls and close on nothing, or on what the box holds)
+        sx, sy = obj.model.extent[:2]
+
+        def half_extent(angle: float) -> float:
+            return (abs(math.cos(angle)) * sx + abs(math.sin(angle)) * sy) / 2
+
+        inset = half_extent(base) - r
+        if inset < 0:
+            return [site]  # a fin or tab outside the walls (a lidded box's grip fin): only where it is
+        radii = [max(half_extent(base + math.pi * k / 2) - inset, 0.0) for k in range(n)]
     return [
         GraspSite(
             site.link,
-            (r * math.cos(base + 2 * math.pi * k / n), r * math.sin(base + 2 * math.pi * k / n), z),
+            (
+                radii[k] * math.cos(base + 2 * math.pi * k / n),
+                radii[k] * math.sin(base + 2 * math.pi * k / n),
+                z,
+            ),
             site.yaw + 2 * math.pi * k / n,
             site.approach,
             site.width,
         )
         for k in range(n)
     ]
-
-
-def transit_height(world: World, extra: float = 0.0, exclude: tuple[str, ...] = ()) -> float:
-    """A safe travel height: above every object on the table plus clearance (and a held object's length).
-
-    Fixtures taller than 45 cm (shelves, tall cabinets) are left out: the arm works beside them.
-    """
-    tops = [
-        world.body_aabb(o.body)[1][2]
-        for o in world.objects.values()
-        if o.id not in exclude and (not o.model.fixed or o.model.extent[2] < 0.45)
-    ]
-    return max([world.layout.table_height + 0.1, *tops]) + TRANSIT_CLEARANCE + extra
-
-
-def lift(m: Motion, z: float) -> None:
-    """Raise the hand straight up to height ``z`` (no-op when it is already there), orientation kept."""
-    pos, quat = m.pose()
-    if pos[2] >= z - 0.005:
-        return
-    top = np.array([pos[0], pos[1], z])
-    try:
-        m.solve(top, quat)
-    except SkillError:  # too high for the arm from here: bring the base under the hand first
-        try:
-            m.park_for(top, poses=[(top, quat)])
-        except SkillError:
-            # out of reach from every base spot (a tall stack somewhere sets the transit height): the
-            # highest height the arm reaches here; the moves that follow are collision-checked anyway
-            for lower in np.arange(z - 0.04, pos[2], -0.04):
-                top = np.array([pos[0], pos[1], lower])
-                try:
-                    m.solve(top, quat)
-                    break
-                except SkillError:
-                    continue
-            else:
-                return
-    # an arm left against a joint limit (a tilted hand at the wrist's stop) re-branches in joint space
-    m.move_rebranch((top, quat), check=False)
 
 
 def site_pose(world: World, obj: SimObject, site: GraspSite) -> tuple[np.ndarray, float]:

@@ -41,7 +41,8 @@ def _behind(world: World, obj: SimObject, fixture: SimObject) -> bool:
 def pickable(world: World, obj: SimObject) -> bool:
     """Whether some pick candidate of ``obj`` has a base spot from which the arm reaches it touching
     nothing (the check a pick makes before it moves); the robot is left as it was."""
-    from gsr.skills.grasping import APPROACH, pick_candidates, transit_height
+    from gsr.skills.arm_moves import APPROACH, transit_height
+    from gsr.skills.grasping import pick_candidates
     from gsr.skills.motion import Motion
 
     m = Motion(world)

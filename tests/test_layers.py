@@ -248,7 +248,6 @@ KNOWN_CYCLES = (
         "gsr.perception.relations",
         "gsr.perception.track",
     },
-    {"gsr.skills.articulated", "gsr.skills.grasping"},
 )
 
 

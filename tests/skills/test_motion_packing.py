@@ -73,7 +73,7 @@ def test_a_lift_from_a_wrist_at_its_stop_re_branches_instead_of_failing(bowl_wor
     """A tilted hand left with joint 6 at its upper stop (as a drawer pull leaves it at the desk's side):
     lifting straight up would cross the stop, so the straight path needs a branch flip; the lift moves
     in joint space to a solution away from the limit instead (issue 20: four GSR-Bench tasks)."""
-    from gsr.skills.grasping import lift
+    from gsr.skills.arm_moves import lift
 
     m, r = Motion(bowl_world), bowl_world.robot
     q = r.q().copy()
