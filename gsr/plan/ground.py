@@ -273,9 +273,42 @@ def _disjunction(schema: Schema, alternatives: list[tuple[Formula, ...]]) -> tup
 
 
 # A precondition conjunct, its free variables if fewer than the action's (memo key), and its kind:
-# the common shapes are grounded directly instead of through the Simplifier.
-Part = tuple[Formula, tuple[str, ...] | None, int]
-_GENERIC, _SKIP, _FLUENT, _NOT_FLUENT, _DISTINCT = range(5)
+# the common shapes are grounded directly instead of through the Simplifier. A split disjunction
+# (kind _SPLIT) is given as an OrSplit in place of its memo key.
+Part = tuple[Formula, "tuple[str, ...] | OrSplit | None", int]
+_GENERIC, _SKIP, _FLUENT, _NOT_FLUENT, _DISTINCT, _SPLIT = range(6)
+# A disjunction over all the action's variables whose disjuncts mostly mention fewer of them (pick's
+# ``(imply (in ?o ?from) (not (exists (?y) (on ?y ?from))))``): (its disjuncts over all variables,
+# and per smaller set of variables the disjunction of those over it, with that set, sorted). Each
+# such group is simplified once per value of its variables, and a true one makes the whole
+# conjunct true before anything per binding is built.
+OrSplit = tuple[tuple[Formula, ...], tuple[tuple[Formula, tuple[str, ...]], ...]]
+
+
+def _disjuncts(formula: Formula) -> list[Formula]:
+    """The disjuncts of a (nested) disjunction."""
+    if isinstance(formula, Or):
+        return [q for p in formula.parts for q in _disjuncts(p)]
+    return [formula]
+
+
+def _or_split(part: Formula, params: set[str]) -> OrSplit | None:
+    """The OrSplit of a disjunction over all of ``params``; None when no disjunct mentions fewer."""
+    if not isinstance(part, Or):
+        return None
+    full: list[Formula] = []
+    groups: dict[tuple[str, ...], list[Formula]] = {}
+    for q in _disjuncts(part):
+        free = free_variables(q)
+        if free >= params:
+            full.append(q)
+        else:
+            groups.setdefault(tuple(sorted(free)), []).append(q)
+    if not groups:
+        return None
+    return tuple(full), tuple(
+        (qs[0] if len(qs) == 1 else Or(tuple(qs)), names) for names, qs in sorted(groups.items())
+    )
 
 
 def _part_kind(part: Formula, join: bool, fluent: set[str]) -> int:
@@ -294,13 +327,47 @@ def _part_kind(part: Formula, join: bool, fluent: set[str]) -> int:
 
 def _parts(schema: Schema, fluent: set[str]) -> list[Part]:
     """The precondition conjuncts with their memo keys and kinds (see Part)."""
-    n = len(schema.all_params)
+    names = {p.name for p in schema.all_params}
     out: list[Part] = []
     for k, part in enumerate((*schema.join, *_conjuncts(schema.residual))):
         free = free_variables(part)
-        memo = tuple(sorted(free)) if len(free) < n and not isinstance(part, Atom) else None
-        out.append((part, memo, _part_kind(part, k < len(schema.join), fluent)))
+        memo = tuple(sorted(free)) if len(free) < len(names) and not isinstance(part, Atom) else None
+        kind = _part_kind(part, k < len(schema.join), fluent)
+        split = _or_split(part, names) if memo is None and kind == _GENERIC else None
+        out.append((part, split, _SPLIT) if split is not None else (part, memo, kind))
     return out
+
+
+def _split_disjunction(
+    key: tuple, split: OrSplit, binding: dict[str, str], simplify: Simplifier, memo: dict[tuple, Formula]
+) -> Formula:
+    """A split disjunction under ``binding`` (see OrSplit): its groups memoised, nested Ors flattened."""
+    alts: list[Formula] = []
+    full, groups = split
+    for gi, (group, names) in enumerate(groups):
+        gkey = (*key, gi, *map(binding.__getitem__, names))
+        g = memo.get(gkey)
+        if g is None:
+            g = memo[gkey] = simplify(group, binding)
+        if g is TRUE:
+            return TRUE
+        if g is not FALSE:
+            if type(g) is Or:
+                alts.extend(g.parts)  # type: ignore[union-attr]
+            else:
+                alts.append(g)
+    for q in full:
+        g = simplify(q, binding)
+        if g is TRUE:
+            return TRUE
+        if g is not FALSE:
+            if type(g) is Or:
+                alts.extend(g.parts)  # type: ignore[union-attr]
+            else:
+                alts.append(g)
+    if not alts:
+        return FALSE
+    return alts[0] if len(alts) == 1 else Or(tuple(alts))
 
 
 def _variant(
@@ -339,7 +406,9 @@ def _variant(
             continue
         if kind == _SKIP:
             continue
-        if free is None:
+        if kind == _SPLIT:
+            g = _split_disjunction((si, k), free, binding, simplify, memo)  # type: ignore[arg-type]
+        elif free is None:
             g = simplify(part, binding)
         else:
             key = (si, k, *(binding.get(v, v) for v in free))
@@ -560,4 +629,4 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                 waiting.append((cond, key))
         pending = waiting
     _check(deadline)
-    return intern_task(domain, problem, fired, reached, fluent)
+    return intern_task(domain, problem, fired, reached, fluent, simplify)

@@ -116,8 +116,15 @@ def _cond_table(
 
 
 def intern_task(
-    domain: Domain, problem: Problem, fired: list[Variant], reached: set[Atom], fluent: set[str]
+    domain: Domain,
+    problem: Problem,
+    fired: list[Variant],
+    reached: set[Atom],
+    fluent: set[str],
+    simplify: Simplifier | None = None,
 ) -> Task:
+    """The Task of the fired actions over the reached fluent atoms (``simplify``: the grounding's,
+    reused for the goal)."""
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
     key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
@@ -206,7 +213,7 @@ def intern_task(
     for a in problem.init:
         if a in ids:
             init |= 1 << ids[a]
-    goals = ground_goal(domain, problem, problem.goal, ids, fluent)
+    goals = ground_goal(domain, problem, problem.goal, ids, fluent, simplify)
     if not domain.axioms:
         return Task(atoms, ordered, init, goals)
     level = {pred: k for k, preds in enumerate(strata(domain)) for pred in preds}
@@ -223,10 +230,20 @@ def intern_task(
 
 
 def ground_goal(
-    domain: Domain, problem: Problem, goal: Formula, ids: dict[Atom, int], fluent: set[str]
+    domain: Domain,
+    problem: Problem,
+    goal: Formula,
+    ids: dict[Atom, int],
+    fluent: set[str],
+    simplify: Simplifier | None = None,
 ) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
-    """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped."""
-    simplify = Simplifier(ObjectsByType(domain, problem.all_objects(domain)), fluent, problem.init)
+    """The goal as a DNF over atom ids; disjuncts needing unreachable atoms are dropped.
+
+    ``simplify``: a Simplifier over this problem's objects, ``fluent`` and initial state (the
+    grounding's, with its memoised quantifiers); a new one when None.
+    """
+    if simplify is None:
+        simplify = Simplifier(ObjectsByType(domain, problem.all_objects(domain)), fluent, problem.init)
     out = []
     for conj in to_dnf(simplify(nnf(goal), {})):
         if any(pos and a not in ids for a, pos in conj):
