@@ -13,12 +13,12 @@ from gsr.perception.geometry import (
     GeometryParams,
     Instance,
     back_project,
-    build_instances,
     color_name,
     fit_boxes,
     number_anonymous,
     support_plane,
 )
+from gsr.perception.instances import build_instances
 from gsr.perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
 from gsr.perception.track import assign_parts
 
