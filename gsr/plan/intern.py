@@ -5,7 +5,7 @@ from __future__ import annotations
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
-from gsr.plan.effects import EffectPart, Variant
+from gsr.plan.effects import EMPTY, EffectPart, Variant
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
 from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
 from gsr.plan.simplify import ObjectsByType, Simplifier
@@ -128,7 +128,9 @@ def intern_task(
     atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
     ids = {a: i for i, a in enumerate(atoms)}
     key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
-    ops: set[GroundOp] = set()
+    # The operators by their fields (name, args, pre, neg, add, delete, cond, cost): tuples hash and
+    # compare in C, so duplicates are dropped and the order is taken without a GroundOp each.
+    ops: set[tuple] = set()
     # Condition parts over atom ids, by object (parts are shared by many effects and actions;
     # every part is referenced from the fired actions, so ids stay unique).
     converted: dict[int, tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]] = {}
@@ -143,9 +145,18 @@ def intern_task(
         if not disjuncts:
             continue
         # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
-        # one, never matter.
+        # one, never matter. An unconditional block (its own one-part list, see ground_group) goes
+        # straight into plain adds and deletes.
         blocks = []
+        plain_add: list[int] = []
+        plain_del: list[int] = []
         for base, parts in v.effects or ():
+            if base is EMPTY and len(parts) == 1 and parts[0][0] is EMPTY:
+                for a, is_del in parts[0][1]:
+                    i = key_ids.get(a)
+                    if i is not None:
+                        (plain_del if is_del else plain_add).append(i)
+                continue
             b = converted.get(id(base))
             if b is None:
                 b = converted[id(base)] = _condition_ids(base, key_ids)
@@ -156,12 +167,13 @@ def intern_task(
                 hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, key_ids))
             if hit[1]:
                 blocks.append((b, hit))
+        cost = _cost(v.schema.costs, v.binding, problem)
         for disjunct in disjuncts:
             pre = tuple(sorted(x for x in disjunct if x >= 0))
             neg = tuple(sorted(~x for x in disjunct if x < 0))
             pre_set, neg_set = set(pre), set(neg)
-            add: set[int] = set()
-            dele: set[int] = set()
+            add: set[int] = set(plain_add)
+            dele: set[int] = set(plain_del)
             # An effect takes effect under base | inner minus the precondition's literals; it never
             # fires when that contradicts the precondition (which is itself consistent). The parts
             # of a shared list are filtered once per intersection of the precondition with their
@@ -196,19 +208,11 @@ def intern_task(
                 if found is None:
                     found = cond_tables[ckey] = _cond_table(conditional)
                 conds = found
-            ops.add(
-                GroundOp(
-                    v.name,
-                    v.args,
-                    _cost(v.schema.costs, v.binding, problem),
-                    pre,
-                    neg,
-                    tuple(sorted(add)),
-                    tuple(sorted(dele - add)),
-                    conds,
-                )
-            )
-    ordered = sorted(ops, key=lambda o: (o.name, o.args, o.pre, o.neg, o.add, o.delete, o.cond))
+            ops.add((v.name, v.args, pre, neg, tuple(sorted(add)), tuple(sorted(dele - add)), conds, cost))
+    ordered = [
+        GroundOp(name, args, cost, pre, neg, add, delete, cond)
+        for name, args, pre, neg, add, delete, cond, cost in sorted(ops)
+    ]
     init = 0
     for a in problem.init:
         if a in ids:
