@@ -22,14 +22,24 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from gsr.check import check_step
 from gsr.errors import GSRError, ParseError
+from gsr.facts import graph_with_state, state_from_graph
+from gsr.language import ground
 from gsr.pddl.model import Domain
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
+from gsr.reason.applicable import applicable_steps
 from gsr.reason.backend import Backend, BackendError, GoalUnreachable, PlanProposer, Query
+from gsr.reason.examples import claimed_effects
+from gsr.reason.goal_text import GoalRejected, parse_goal_answer
 from gsr.reason.options import MODES, SolveOptions, Status
 from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt
 from gsr.reason.result import Attempt, CheckedStep, Exchange, ReasonResult
+from gsr.reason.step_format import format_step, parse_first_step
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import goal_holds
 from gsr.step import Goal, Step
+from gsr.validate import explain_goal
 
 __all__ = ["FORMAT_REMINDER", "MODES", "LoopState", "SolveLoop"]
 
@@ -75,10 +85,6 @@ class SolveLoop:
         """Constrained decoding's admissible lines: the applicable steps whose next state this episode
         has visited least often (never visited, when there are such), so a model cannot loop between
         states while another way is open; ``(done)`` too when no goal can verify completion."""
-        from gsr.check import check_step
-        from gsr.facts import state_from_graph
-        from gsr.reason.applicable import applicable_steps
-        from gsr.reason.step_format import format_step
 
         state = state_from_graph(self.graph, self.domain)
         steps = applicable_steps(self.domain, self.graph)
@@ -126,9 +132,6 @@ class SolveLoop:
 
     def model_goal(self) -> Goal | None:
         """Ask the model for the goal, repairing bad answers; None when none is acceptable."""
-        from gsr.facts import state_from_graph
-        from gsr.plan.api import plan_graph
-        from gsr.reason.goal_text import GoalRejected, parse_goal_answer
 
         o = self.options
         state = state_from_graph(self.graph, self.domain)
@@ -143,7 +146,7 @@ class SolveLoop:
                 rejected.append((reply, str(exc)))
                 continue
             if o.mode == "goal":  # the planner must be able to reach it
-                found = plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
+                found = plan_api.plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
                 if not found.solved:
                     why = f"the planner cannot reach this goal ({found.status}): {found.message}"
                     self.result.goal_attempts.append(Attempt(reply, error=why))
@@ -160,8 +163,6 @@ class SolveLoop:
             return goal
         if self.options.mode != "goal" or self.result.backend == "grounder":
             try:
-                from gsr.language import ground
-
                 found = ground(self.instruction, self.graph, domain=self.domain)
                 self.result.goal_source = "grounder"
                 return found
@@ -178,23 +179,16 @@ class SolveLoop:
     # ---------------------------------------------------------------- steps
 
     def goal_holds(self, goal: Goal | None) -> bool:
-        from gsr.facts import state_from_graph
-        from gsr.semantics import goal_holds
 
         return goal is not None and goal_holds(self.domain, goal, state_from_graph(self.graph, self.domain))
 
     def accept(self, step: Step, diagnosis, source: str, rejected: Sequence[Attempt]) -> None:
-        from gsr.facts import graph_with_state
 
         self.result.steps.append(CheckedStep(step, diagnosis, source, tuple(rejected)))
         self.state.graph = graph_with_state(self.graph, diagnosis.next_state)
 
     def judge(self, reply: str, goal: Goal | None) -> tuple[Attempt, bool]:
         """Parse and check one step answer: (attempt, the model claims it is done)."""
-        from gsr.check import check_step
-        from gsr.facts import state_from_graph
-        from gsr.reason.step_format import parse_first_step
-        from gsr.validate import explain_goal
 
         try:
             step = parse_first_step(reply, source="reply")
@@ -213,16 +207,13 @@ class SolveLoop:
 
     def planner_takeover(self, goal: Goal | None, why: str) -> None:
         """Sequence the rest with the planner from the current graph; every step is checked."""
-        from gsr.check import check_step
-        from gsr.facts import state_from_graph
-        from gsr.plan.api import plan_graph
 
         o = self.options
         self.result.planner_takeovers += 1
         if goal is None:
             self.finish(Status.STUCK, f"{why}; no goal is known, so the planner cannot take over")
             return
-        found = plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
+        found = plan_api.plan_graph(self.domain, self.graph, goal, o.planner, o.planner_timeout)
         if not found.solved or found.plan is None:
             self.finish(
                 Status.UNSOLVABLE, f"{why}; the planner found no plan ({found.status}): {found.message}"
@@ -241,9 +232,6 @@ class SolveLoop:
         """The loop for a backend that proposes ``Step`` sequences: one call gives the plan, whose steps
         are checked and applied in order; a rejected step (or a plan that ends short of the goal) asks
         again from the current graph, at most ``max_repairs`` times in a row."""
-        from gsr.check import check_step
-        from gsr.facts import state_from_graph
-        from gsr.reason.examples import claimed_effects
 
         s = self.state
         while len(self.result.steps) < self.options.max_steps:
@@ -275,7 +263,6 @@ class SolveLoop:
 
     def run_steps(self, goal: Goal | None) -> None:
         """The propose-check-repair loop."""
-        from gsr.facts import state_from_graph
 
         o = self.options
         if isinstance(self.backend, PlanProposer) and goal is not None and not o.constrained:
