@@ -46,7 +46,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -93,14 +93,23 @@ LONG = 10  # "long" tabletop task: a plan of at least this many steps
 FD_MEMORY = "4G"  # the machine is shared; lama-first on the ADL tabletop tasks can grow past 7 GB
 
 
-def problems(domain_set: str, pick: list[float] | None = None) -> list[Path]:
+def _at(fractions: list[float], count: int) -> set[int]:
+    """Indices of a list of ``count`` items at the given fractions of it."""
+    return {min(int(f * count), count - 1) for f in fractions}
+
+
+def problems(domain_set: str, pick: list[float] | None = None, skip: list[float] | None = None) -> list[Path]:
     """Problem files of one IPC set, in a natural order (by size, then name); with ``pick``, only
-    those at the given fractions of that list (0.25: a quarter of the way down)."""
+    those at the given fractions of that list (0.25: a quarter of the way down); with ``skip``, all
+    but those (e.g. the problems earlier ``--pick`` runs measured)."""
     folder = PDDL / domain_set
     files = [p for p in folder.glob("*.pddl") if "domain" not in p.name]
     files.sort(key=lambda p: (len(p.stem), p.stem))
     if pick and files:
-        files = [files[i] for i in sorted({min(int(f * len(files)), len(files) - 1) for f in pick})]
+        files = [files[i] for i in sorted(_at(pick, len(files)))]
+    if skip and files:
+        dropped = _at(skip, len(files))
+        files = [f for i, f in enumerate(files) if i not in dropped]
     return files
 
 
@@ -446,16 +455,19 @@ def bench_set(
     pick: list[float] | None = None,
     isolate: bool = False,
     clock: str = "wall",
+    skip: list[float] | None = None,
+    on_row: Callable[[dict], None] | None = None,
 ) -> dict:
     """Run every system on every task of one set; per-task rows and per-system summaries. ``clock``
-    "cpu" (IPC sets, isolated runs only) limits CPU seconds instead of wall seconds."""
+    "cpu" (IPC sets, isolated runs only) limits CPU seconds instead of wall seconds; ``on_row``
+    receives the set's result so far after every task (for saving partial runs)."""
     from gsr.pddl.writer import write_domain, write_problem
 
     rows = []
     if planner == "auto":  # FD runs lama-first on every set; GSR's tabletop planner is its default
         planner = "lama" if domain_set in IPC_SETS else "lazy-ff"
     if domain_set in IPC_SETS:
-        tasks: Iterator = ((p.name, _domain_of(p), p) for p in problems(domain_set, pick))
+        tasks: Iterator = ((p.name, _domain_of(p), p) for p in problems(domain_set, pick, skip))
     else:
         tasks = tabletop_tasks(domain_set, count, seed)
     for name, dom, prob in tasks:
@@ -491,6 +503,8 @@ def bench_set(
             )
             print(f"{domain_set}/{name}: {cells}", file=sys.stderr, flush=True)
         rows.append(row)
+        if on_row is not None:
+            on_row({"set": domain_set, "timeout": timeout, "clock": clock, "planner": planner, "rows": rows})
     return {"set": domain_set, "timeout": timeout, "clock": clock, "planner": planner, "rows": rows}
 
 
@@ -663,6 +677,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per task on stderr")
     parser.add_argument("--pick", default="", help="fractions of each IPC set's list, e.g. 0.25,0.5")
     parser.add_argument(
+        "--skip-pick", default="", help="leave out the problems at these fractions (those --pick F,... ran)"
+    )
+    parser.add_argument(
         "--isolate", action="store_true", help="GSR and FD in fresh subprocesses, peak memory reported"
     )
     parser.add_argument("--one", nargs=3, help=argparse.SUPPRESS)
@@ -704,21 +721,30 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"note: planner C kernels unavailable ({relax_c.why_not}); numba or Python", file=sys.stderr
             )
-    results = [
-        bench_set(
-            s,
-            systems,
-            args.timeout,
-            args.planner,
-            args.verbose,
-            args.long_tasks,
-            args.seed,
-            pick,
-            args.isolate,
-            args.clock,
+    skip = [float(f) for f in args.skip_pick.split(",") if f] if args.skip_pick else None
+    results: list[dict] = []
+
+    def partial(current: dict) -> None:  # with --save, the file holds every finished task
+        if args.save:
+            save(args.save, {"argv": sys.argv[1:], "partial": True, "sets": [*results, current]})
+
+    for s in sets:
+        results.append(
+            bench_set(
+                s,
+                systems,
+                args.timeout,
+                args.planner,
+                args.verbose,
+                args.long_tasks,
+                args.seed,
+                pick,
+                args.isolate,
+                args.clock,
+                skip,
+                partial,
+            )
         )
-        for s in sets
-    ]
     if args.save:
         save(args.save, {"argv": sys.argv[1:], "sets": results})
     print_table(results, args.markdown)

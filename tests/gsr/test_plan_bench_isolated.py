@@ -76,3 +76,13 @@ def test_failures_lists_problems_some_system_did_not_solve() -> None:
         ],
     }
     assert failures([res]) == ["s: p2 (gsr timeout, fd solved)"]
+
+
+def test_skip_pick_leaves_out_exactly_the_picked_problems() -> None:
+    from gsr.benchmarks.bench_planner import problems
+
+    fractions = [0.1, 0.25, 0.5, 0.9]
+    every, picked = problems("blocks"), problems("blocks", pick=fractions)
+    rest = problems("blocks", skip=fractions)
+    assert picked and rest and set(rest) | set(picked) == set(every) and not set(rest) & set(picked)
+    assert rest == [p for p in every if p not in picked]  # same order
