@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 from gsr.perception.articulation import ArticulationThresholds, keypoints, part_states
+from gsr.perception.drawer_slots import hidden_drawers
 from gsr.perception.frame import Frame, InstanceLabel, load_frame
 from gsr.perception.geometry import (
     GeometryParams,
@@ -50,6 +51,7 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     assign_parts(
         instances, GROUND_CATEGORIES, params.geometry
     )  # detector parts (drawers, doors) get their objects
+    instances += hidden_drawers(instances, frame_list)  # closed drawers no camera shows (no-oracle only)
     world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
     states = part_states(instances, params.articulation)
     closed = frozenset(k for k, (st, _) in states.items() if "closed" in st)
