@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gsr.pddl.model import Atom, Formula, TypedVar, is_variable
+from gsr.pddl.model import Atom, Formula, Not, TypedVar, is_variable
 from gsr.plan.normalize import Conjunction, Schema, to_dnf
 from gsr.plan.precondition import AtomKey
 from gsr.plan.simplify import Simplifier
@@ -24,16 +24,31 @@ EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
 
 @dataclass(slots=True)
 class Variant:
-    """A ground action: its simplified precondition formula; effects are grounded once it fires."""
+    """A ground action: its simplified precondition; effects are grounded once it fires.
+
+    The precondition is the conjunction of its fluent literals, kept as (predicate, args) keys
+    (no Atom is built for them: the reachability test and the interning look them up by key), and
+    of its other simplified conjuncts (``compound``: disjunctions, instantiated quantifiers; the
+    memoised ones are objects shared by many actions). ``pre`` gives it as one formula.
+    """
 
     name: str
     args: tuple[str, ...]
-    pre: Formula
     binding: dict[str, str]
     schema: Schema
-    need: Formula  # what the delete relaxation tests of ``pre`` (see relaxed_core)
+    pos: tuple[AtomKey, ...]  # positive fluent literals
+    neg: tuple[AtomKey, ...]  # negative fluent literals
+    compound: tuple[Formula, ...]
+    core: tuple[Formula, ...]  # what the delete relaxation tests of ``compound`` (see relaxed_core)
     effects: list[EffectBlock] | None = None
     fired: bool = False
+
+    @property
+    def pre(self) -> Formula:
+        """The simplified precondition as one formula (TRUE when it has no conjunct)."""
+        parts: list[Formula] = [Atom(p, args) for p, args in self.pos]
+        parts += [Not(Atom(p, args)) for p, args in self.neg]
+        return Simplifier.combine(True, [*parts, *self.compound])
 
 
 EMPTY: Conjunction = frozenset()

@@ -384,17 +384,17 @@ def _variant(
     Conjuncts over fewer variables than the action (``(imply (openable ?c) (open ?c))`` in
     place_in) are simplified once per value of their variables.
     """
-    kept: list[Formula] = []
-    core: list[Formula] = []  # the relaxed core of each kept conjunct (see relaxed_core)
+    pos: list[AtomKey] = []
+    neg: list[AtomKey] = []
+    compound: list[Formula] = []
+    core: list[Formula] = []  # the relaxed core of each compound conjunct (see relaxed_core)
     for k, (part, free, kind) in enumerate(parts):
         if kind == _FLUENT:
-            g = Atom(part.predicate, tuple(map(binding.get, part.args, part.args)))  # type: ignore[union-attr]
-            kept.append(g)
-            core.append(g)
+            pos.append((part.predicate, tuple(map(binding.get, part.args, part.args))))  # type: ignore[union-attr]
             continue
         if kind == _NOT_FLUENT:
             a = part.formula  # type: ignore[union-attr]
-            kept.append(Not(Atom(a.predicate, tuple(map(binding.get, a.args, a.args)))))
+            neg.append((a.predicate, tuple(map(binding.get, a.args, a.args))))
             continue
         if kind == _DISTINCT:
             eq = part.formula  # type: ignore[union-attr]
@@ -418,18 +418,19 @@ def _variant(
         if g is FALSE:
             return None
         if g is not TRUE:
-            kept.append(g)
             shape = type(g)
-            if shape is Atom:  # relaxed_core's two leaf cases, without a call
-                core.append(g)
-            elif shape is not Not:  # a negative literal is dropped (true) in the relaxation
-                c = relaxed_core(g, cores)
-                if c is not TRUE:
-                    core.append(c)
-    pre = Simplifier.combine(True, kept)
-    need = Simplifier.combine(True, core)
+            if shape is Atom:
+                pos.append((g.predicate, g.args))  # type: ignore[union-attr]
+            elif shape is Not and type(g.formula) is Atom:  # type: ignore[union-attr]
+                neg.append((g.formula.predicate, g.formula.args))  # type: ignore[union-attr]
+            else:
+                compound.append(g)
+                if shape is not Not:  # a negative literal is dropped (true) in the relaxation
+                    c = relaxed_core(g, cores)
+                    if c is not TRUE:
+                        core.append(c)
     args = tuple([binding[p.name] for p in schema.params])
-    return Variant(schema.name, args, pre, binding, schema, need)
+    return Variant(schema.name, args, binding, schema, tuple(pos), tuple(neg), tuple(compound), tuple(core))
 
 
 @dataclass(frozen=True, slots=True)
@@ -597,7 +598,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                     v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo, cores)
                 if v is None or v.fired:
                     continue
-                if not relaxed(v.need, reached_keys):
+                if not reached_keys.issuperset(v.pos) or not all(relaxed(c, reached_keys) for c in v.core):
                     still.append(binding)
                 else:
                     v.fired = True

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
-from gsr.pddl.model import Action, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
+from gsr.pddl.model import Action, And, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
 from gsr.plan.effects import EMPTY, EffectPart, Variant
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
-from gsr.plan.precondition import AtomKey, FormulaCache, fast_dnf, id_dnf
+from gsr.plan.precondition import AtomKey, FormulaCache, IdConjunction, fast_dnf, id_dnf
 from gsr.plan.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task
 
@@ -115,6 +115,39 @@ def _cond_table(
     )
 
 
+def precondition_dnf(
+    v: Variant, key_ids: dict[AtomKey, int], scanned: FormulaCache
+) -> list[IdConjunction] | None:
+    """``fast_dnf(v.pre)`` without building ``v.pre``: the fluent literals go to atom ids by key,
+    the compound conjuncts through fast_dnf, and each of their disjuncts takes the literals (those
+    contradicting one drop it; a disjunct that comes to contain another is dropped). None when
+    fast_dnf cannot take the compound conjuncts (the general path then takes ``v.pre``)."""
+    lits: list[int] = []
+    for k in v.pos:
+        i = key_ids.get(k)
+        if i is None:
+            return []  # needs an atom never reached
+        lits.append(i)
+    for k in v.neg:
+        i = key_ids.get(k)
+        if i is not None:
+            lits.append(~i)
+    base = frozenset(lits)
+    if any(~x in base for x in base):
+        return []
+    if not v.compound:
+        return [base]
+    found = fast_dnf(And(v.compound), key_ids, scanned)
+    if found is None or not base:
+        return found
+    merged = sorted({d | base for d in found if not any(~x in base for x in d)}, key=len)
+    kept: list[IdConjunction] = []
+    for d in merged:
+        if not any(k <= d for k in kept):
+            kept.append(d)
+    return kept
+
+
 def intern_task(
     domain: Domain,
     problem: Problem,
@@ -139,7 +172,7 @@ def intern_task(
     filtered: dict[tuple, tuple[list[_PartIds], list[_PartIds]]] = {}  # see _filtered_parts
     cond_tables: dict[tuple, tuple] = {}  # see _cond_table
     for v in fired:
-        disjuncts = fast_dnf(v.pre, key_ids, scanned)
+        disjuncts = precondition_dnf(v, key_ids, scanned)
         if disjuncts is None:
             disjuncts = id_dnf(v.pre, reached, key_ids)
         if not disjuncts:

@@ -8,9 +8,12 @@ import random
 from gsr.benchmarks.bench_planner import long_tabletop_task
 
 from gsr.facts import problem_from_graph
+from gsr.pddl.model import TRUE, And, Atom, Not, Or
 from gsr.plan import plan
+from gsr.plan.effects import Variant
 from gsr.plan.ground import ObjectsByType, ground_task, grounding_tables, schema_bindings
 from gsr.plan.heuristics import Relaxation
+from gsr.plan.intern import precondition_dnf
 from gsr.plan.precondition import fast_dnf, id_dnf, relaxed, relaxed_core
 from gsr.plan.simplify import Simplifier
 from gsr.resources import load_builtin_domain
@@ -118,3 +121,77 @@ def test_hadd_stopping_at_the_goal_operator_keeps_h_ff_and_preferred_operators()
         f_cost, _ = full.hadd(state)
         assert e_cost[early.goal_fact] == f_cost[full.goal_fact]
         assert early.ff(state) == full.ff(state)
+
+
+def _with_literals_from_compounds(pres: list, rng: random.Random) -> list:
+    """The preconditions, and each one with a compound conjunct again with a literal of an atom
+    inside that conjunct, of either sign (a disjunct it contradicts or subsumes)."""
+    out = list(pres)
+    for pre in pres:
+        parts = pre.parts if isinstance(pre, And) else (pre,)
+        inner = [a for p in parts if isinstance(p, (And, Or)) for a in _atoms(p)]
+        if inner:
+            atom = rng.choice(inner)
+            out.append(And((*parts, atom if rng.random() < 0.5 else Not(atom))))
+    return out
+
+
+def _atoms(formula) -> list:
+    if isinstance(formula, Atom):
+        return [formula]
+    if isinstance(formula, Not):
+        return _atoms(formula.formula)
+    return [a for p in getattr(formula, "parts", ()) for a in _atoms(p)]
+
+
+def test_precondition_dnf_from_literal_keys_equals_the_general_dnf() -> None:
+    # A Variant keeps its fluent literals as keys and only the other conjuncts as formulas; its
+    # DNF over ids must be that of the whole precondition, also with atoms left unreached.
+    problem, pres = _ground_preconditions(4)
+    task = ground_task(_tabletop(), problem)
+    rng = random.Random(1)
+    compared = merged = 0
+    for keep in (1.0, 0.8):
+        atoms = [a for a in task.atoms if rng.random() < keep]
+        keys = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
+        reached = set(atoms)
+        cache: dict = {}
+        for pre in _with_literals_from_compounds(pres, rng):
+            parts = pre.parts if isinstance(pre, And) else () if pre is TRUE else (pre,)
+            pos = tuple((p.predicate, p.args) for p in parts if isinstance(p, Atom))
+            neg = tuple(
+                (p.formula.predicate, p.formula.args)
+                for p in parts
+                if isinstance(p, Not) and isinstance(p.formula, Atom)
+            )
+            compound = tuple(p for p in parts if not isinstance(p, (Atom, Not)))
+            v = Variant("a", (), {}, None, pos, neg, compound, ())  # type: ignore[arg-type]
+            fast = precondition_dnf(v, keys, cache)
+            if fast is None:
+                continue
+            assert sorted(map(sorted, fast)) == sorted(map(sorted, id_dnf(pre, reached, keys)))
+            compared += 1
+            merged += bool(compound and (pos or neg))
+    assert compared > 100 and merged > 20
+
+
+def test_split_disjunctions_ground_the_same_task(monkeypatch) -> None:
+    # Disjunctions over all of an action's variables are split into groups over fewer variables
+    # (pick's (imply (in ?o ?from) ...)); grounding without the split gives the very same task.
+    import gsr.plan.ground as ground
+
+    domain = _tabletop()
+    monkeypatch.setattr(ground, "_COMPILED", [])
+    split = ground.grounding_tables(domain)
+    assert sum(kind == ground._SPLIT for parts in split.parts for _, _, kind in parts) >= 3
+    tasks = [ground_task(domain, _problem(seed)) for seed in (6, 7, 8)]
+    monkeypatch.setattr(ground, "_COMPILED", [])
+    monkeypatch.setattr(ground, "_or_split", lambda part, params: None)
+    for seed, task in zip((6, 7, 8), tasks, strict=True):
+        plain = ground_task(domain, _problem(seed))
+        assert (plain.atoms, plain.ops, plain.init, plain.goals) == (
+            task.atoms,
+            task.ops,
+            task.init,
+            task.goals,
+        )
