@@ -123,16 +123,17 @@ def test_hadd_stopping_at_the_goal_operator_keeps_h_ff_and_preferred_operators()
         assert early.ff(state) == full.ff(state)
 
 
-def _with_literals_from_compounds(pres: list, rng: random.Random) -> list:
+def _with_literals_from_compounds(pres: list, reachable: set, rng: random.Random) -> list:
     """The preconditions, and each one with a compound conjunct again with a literal of an atom
-    inside that conjunct, of either sign (a disjunct it contradicts or subsumes)."""
+    inside that conjunct (a reachable one), of each sign (disjuncts it contradicts, or that come to
+    subsume others)."""
     out = list(pres)
     for pre in pres:
         parts = pre.parts if isinstance(pre, And) else (pre,)
-        inner = [a for p in parts if isinstance(p, (And, Or)) for a in _atoms(p)]
+        inner = [a for p in parts if isinstance(p, (And, Or)) for a in _atoms(p) if a in reachable]
         if inner:
             atom = rng.choice(inner)
-            out.append(And((*parts, atom if rng.random() < 0.5 else Not(atom))))
+            out += [And((*parts, atom)), And((*parts, Not(atom)))]
     return out
 
 
@@ -156,7 +157,7 @@ def test_precondition_dnf_from_literal_keys_equals_the_general_dnf() -> None:
         keys = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
         reached = set(atoms)
         cache: dict = {}
-        for pre in _with_literals_from_compounds(pres, rng):
+        for pre in _with_literals_from_compounds(pres, set(task.atoms), rng):
             parts = pre.parts if isinstance(pre, And) else () if pre is TRUE else (pre,)
             pos = tuple((p.predicate, p.args) for p in parts if isinstance(p, Atom))
             neg = tuple(
@@ -195,3 +196,15 @@ def test_split_disjunctions_ground_the_same_task(monkeypatch) -> None:
             task.init,
             task.goals,
         )
+
+
+def test_precondition_dnf_drops_disjuncts_the_literals_contradict_or_make_redundant() -> None:
+    a, b, c = Atom("p", ("a",)), Atom("p", ("b",)), Atom("p", ("c",))
+    keys = {("p", ("a",)): 0, ("p", ("b",)): 1, ("p", ("c",)): 2}
+    either = Or((a, And((b, c))))
+    # (a or (b and c)) and a: {a} alone; the other disjunct, now {a, b, c}, is subsumed by it.
+    v = Variant("x", (), {}, None, (("p", ("a",)),), (), (either,), ())  # type: ignore[arg-type]
+    assert precondition_dnf(v, keys, {}) == [frozenset({0})]
+    # (a or (b and c)) and not a: only {b, c, not a}.
+    v = Variant("x", (), {}, None, (), (("p", ("a",)),), (either,), ())  # type: ignore[arg-type]
+    assert precondition_dnf(v, keys, {}) == [frozenset({1, 2, ~0})]
