@@ -293,6 +293,40 @@ def test_the_cycle_check_sees_a_function_level_cycle(tmp_path: Path, monkeypatch
     assert import_cycles(sorted((root / "gsr").glob("*.py"))) == [{"gsr.a", "gsr.b"}]
 
 
+def function_level_project_imports(paths: list[Path]) -> dict[str, int]:
+    """Per file, the imports of project modules made inside a function (each statement once, nested
+    functions included): start-up laziness or a cycle broken by hand. The issue asks for them only where
+    a heavy optional library is behind them; ``python tests/test_layers.py`` prints the counts."""
+    counts: dict[str, int] = {}
+    for path in paths:
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        inner: set[int] = set()
+        for fn in ast.walk(tree):
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                inner |= {id(n) for n in ast.walk(fn) if isinstance(n, (ast.Import, ast.ImportFrom))}
+        n = 0
+        for node in ast.walk(tree):
+            if id(node) not in inner:
+                continue
+            if isinstance(node, ast.Import):
+                n += any(_rank(a.name) is not None for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                n += _rank(_absolute(path, node)) is not None
+        if n:
+            counts[str(path.relative_to(REPO) if path.is_relative_to(REPO) else path)] = n
+    return counts
+
+
+def test_the_function_level_import_count_sees_only_function_level_project_imports(tmp_path: Path) -> None:
+    f = tmp_path / "m.py"
+    f.write_text(
+        "from gsr.step import Step\nimport numpy\n"
+        "def f():\n    import json\n    from gsr.facts import state_from_graph\n"
+        "    def g():\n        import gsr.check\n"
+    )
+    assert function_level_project_imports([f]) == {str(f): 2}
+
+
 def test_no_generic_top_level_import_names() -> None:
     """The upper layers are ``gsr.perception``, ``gsr.skills`` and ``gsr.benchmarks`` (setup.py maps the
     folders); importing the bare folder names would load a second copy of each module."""
@@ -320,3 +354,13 @@ def test_setup_maps_every_layer_folder_under_gsr() -> None:
     text = (REPO / "setup.py").read_text(encoding="utf-8")
     for layer in LAYERS[1:]:
         assert f'"{IMPORT_NAMES[layer]}": "{layer}"' in text
+
+
+if __name__ == "__main__":
+    found = function_level_project_imports(
+        [p for layer in LAYERS for p in sorted((REPO / layer).rglob("*.py"))]
+    )
+    by_layer = {layer: sum(n for f, n in found.items() if f.split("/")[0] == layer) for layer in LAYERS}
+    print(f"function-level project imports: {sum(found.values())} {by_layer}")
+    for name, n in sorted(found.items(), key=lambda kv: -kv[1])[:15]:
+        print(f"{n:4d} {name}")
