@@ -124,6 +124,9 @@ def ground_effects(
     v.effects = []
     for group in groups:
         split = group[3]
+        if split == ((), ()) and not group[0]:
+            v.effects.append(_unconditional(group[4], v.binding))
+            continue
         base = None
         if split is not None:
             base = simplify.ground_literals(split[0], v.binding)
@@ -151,9 +154,7 @@ def ground_group(
     """
     params, condition, guards, split, lits, _used = group
     if split == ((), ()) and not params:
-        # Unconditional: never worth memoising (the atoms mention the action's variables).
-        ground = tuple(((a.predicate, tuple(map(binding.get, a.args, a.args))), d) for a, d in lits)
-        effects.append((EMPTY, [(EMPTY, ground)]))
+        effects.append(_unconditional(lits, binding))
         return
     if split is not None and base is not None and memo is not None:
         key = (id(group), *(binding.get(v, v) for v in group[5]))
@@ -199,6 +200,13 @@ def ground_group(
         own.extend((conj, ground) for conj in conjs)
     if own:
         effects.append((EMPTY, own))
+
+
+def _unconditional(lits: Literals, binding: dict[str, str]) -> EffectBlock:
+    """The block of an unconditional effect group: its own one-part list (never worth memoising:
+    the atoms mention the action's variables)."""
+    ground = tuple([((a.predicate, tuple(map(binding.get, a.args, a.args))), d) for a, d in lits])
+    return (EMPTY, [(EMPTY, ground)])
 
 
 def new_adds(

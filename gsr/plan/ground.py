@@ -411,7 +411,7 @@ def _variant(
         elif free is None:
             g = simplify(part, binding)
         else:
-            key = (si, k, *(binding.get(v, v) for v in free))
+            key = (si, k, *map(binding.get, free, free))  # type: ignore[arg-type]
             g = memo.get(key)  # type: ignore[assignment]
             if g is None:
                 g = memo[key] = simplify(part, binding)
