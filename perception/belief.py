@@ -45,6 +45,23 @@ def _hidden_by_closed_container(node_id: str, belief: SceneGraph, observed: Scen
     return False
 
 
+#: Cameras that must have seen an object in a container (when its look had that many) for it to be
+#: remembered there once unseen: one camera's segment alone is as often a piece of the container's walls
+#: or of what stands in it (a fragment) as an object, and a fragment remembered is a false ``in``.
+CONFIRM_VIEWS = 2
+
+
+def _confirmed(node: Node, belief: SceneGraph) -> bool:
+    """The node was seen by ``CONFIRM_VIEWS`` cameras in the look it was last seen in (by all of them when
+    that look had fewer); a node that carries no camera count (labelled or hand-built) counts as seen."""
+    views = node.attributes.get("views")
+    if not isinstance(views, int) or isinstance(views, bool):
+        return True
+    frames = belief.metadata.get("frames")
+    cameras = frames if isinstance(frames, int) and frames > 0 else 1
+    return views >= min(CONFIRM_VIEWS, cameras)
+
+
 def occluded(node: Node, frames: Sequence[Frame], margin: float = OCCLUSION_MARGIN) -> bool:
     """True when no camera could have seen ``node`` where it was: at the centre of its box's top, every
     camera that has that point in its image measures something nearer by more than ``margin``.
@@ -89,7 +106,9 @@ def with_flush_parts(observed: SceneGraph, belief: SceneGraph | None) -> tuple[S
     believed closed (an open drawer stands out of its cabinet and is seen). Returns ``observed`` plus those
     parts (``observed: False``, state ``closed``) and the belief in which a drawer that was seen open has
     been pushed back by its measured opening (``open_distance``) towards its object, with everything
-    that was in it: what was seen in the drawer stays remembered there (:func:`update_belief`)."""
+    that was in it: what was seen in the drawer stays remembered there (:func:`update_belief`). A drawer
+    that is segmented now (the tracker kept its id) whose measured opening changed carries what was in it
+    by that change: pushed shut but seen as a flush front, its contents are where the drawer now is."""
     if belief is None:
         return observed, belief
     seen = observed.node_map()
@@ -97,11 +116,15 @@ def with_flush_parts(observed: SceneGraph, belief: SceneGraph | None) -> tuple[S
     shifts: dict[str, np.ndarray] = {}
     kept: list[Node] = []
     for n in belief.nodes:
-        if n.parent is None or n.parent not in seen or n.id in seen:
+        if n.parent is None or n.parent not in seen:
             continue
-        shift = _closing_shift(n, old.get(n.parent))
+        now = seen.get(n.id)
+        # a drawer seen now (same id) whose opening changed moved its contents by the change
+        shift = _travel(n, old.get(n.parent), _opening(now))
         if shift is not None:
             shifts[n.id] = shift
+        if now is not None:
+            continue
         attrs = {**n.attributes, "observed": False}
         if "open_distance" in attrs:
             attrs["open_distance"] = 0.0
@@ -113,11 +136,10 @@ def with_flush_parts(observed: SceneGraph, belief: SceneGraph | None) -> tuple[S
                 }
             )
         )
-    if not kept:
-        return observed, belief
-    observed = observed.model_copy(
-        update={"nodes": tuple(sorted((*observed.nodes, *kept), key=lambda n: n.id))}
-    )
+    if kept:
+        observed = observed.model_copy(
+            update={"nodes": tuple(sorted((*observed.nodes, *kept), key=lambda n: n.id))}
+        )
     if not shifts:
         return observed, belief
     support = belief.supports()
@@ -139,13 +161,30 @@ def with_flush_parts(observed: SceneGraph, belief: SceneGraph | None) -> tuple[S
     return observed, belief.model_copy(update={"nodes": tuple(moved)})
 
 
-def _closing_shift(part: Node, parent: Node | None) -> np.ndarray | None:
-    """How a drawer seen open moves when pushed shut: by its measured opening, along the side of its
-    object's box it stands out of (the dominant axis of the part's offset from the object's centre)."""
-    opening = part.attributes.get("open_distance")
-    if part.category != "drawer" or not isinstance(opening, int | float) or opening <= 0:
+#: A drawer's measured opening must change by this much (m) before its contents are moved with it.
+TRAVEL_MIN = 0.01
+
+
+def _opening(part: Node | None) -> float | None:
+    """A drawer's opening: its measured ``open_distance`` when perceived open, 0 when closed or no longer
+    segmented (None), None when not measured. A closed drawer's measured opening is noise (its front is
+    flush with the object's); only a change of state or of an open drawer's opening moves it."""
+    if part is None or "closed" in part.states:
+        return 0.0
+    d = part.attributes.get("open_distance")
+    return float(d) if isinstance(d, int | float) and not isinstance(d, bool) else None
+
+
+def _travel(part: Node, parent: Node | None, opening_now: float | None) -> np.ndarray | None:
+    """How a drawer seen open moved since: by the change of its opening (:func:`_opening`; ``opening_now``
+    0 for a drawer pushed shut), along the side of its object's box it stands out of
+    (the dominant axis of the part's offset from the object's centre). None when it did not move or
+    cannot be told."""
+    before = _opening(part)
+    if part.category != "drawer" or before is None or before <= 0 or opening_now is None:
         return None
-    if parent is None or parent.bbox is None or part.bbox is None:
+    change = opening_now - before
+    if abs(change) < TRAVEL_MIN or parent is None or parent.bbox is None or part.bbox is None:
         return None
     pc, oc = _bbox_center(part), _bbox_center(parent)
     half = np.maximum((_bbox_size(parent) / 2.0)[:2], 1e-6)
@@ -153,7 +192,7 @@ def _closing_shift(part: Node, parent: Node | None) -> np.ndarray | None:
     k = int(np.argmax(np.abs(ratio)))
     axis = np.zeros(3)
     axis[k] = 1.0 if ratio[k] >= 0 else -1.0
-    return -float(opening) * axis
+    return change * axis
 
 
 def _bbox_center(n: Node) -> np.ndarray:
@@ -196,6 +235,7 @@ def update_belief(
         return observed
     seen = {n.id for n in observed.nodes}
     slivers = glimpsed(frames) - seen
+    contained = {e.source for e in belief.edges if e.relation == "in"}
     kept: list[Node] = []
     for node in belief.nodes:
         if node.id in seen or node.parent is not None:
@@ -205,6 +245,8 @@ def update_belief(
             or _hidden_by_closed_container(node.id, belief, observed)
             or occluded(node, frames)
         ):
+            if node.id in contained and not _confirmed(node, belief):
+                continue  # one camera's segment in a container: as often a piece of it as an object
             kept.append(node.model_copy(update={"attributes": {**node.attributes, "observed": False}}))
     if not kept:
         return observed

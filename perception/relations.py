@@ -156,7 +156,11 @@ def supports(
             and bottom_z(a) >= bottom_z(b) - th.in_floor
             and (b.key in closed or not _on_flat_lid(a, b, th))
         ]
-        containers = [(r, b) for r, b in containers if r >= th.in_ratio and not _within(b, a)]
+        containers = [
+            (r, b)
+            for r, b in containers
+            if r >= th.in_ratio and not _within(b, a) and not _unconfirmed_container(b, a)
+        ]
         if containers:
             # the innermost container wins (highest floor: a mug in a box that stands in a drawer is in the
             # box), then the larger ratio
@@ -189,29 +193,34 @@ def supports(
         pick = max(strict) if strict else (max(near) if near else None)
         if pick is not None:
             out[a.key] = ("on", pick[1])
-            opening = _opening_holding(a, a_bottom, by_key.get(pick[1]), instances, th)
+            opening = _opening_holding(a, a_bottom, by_key.get(pick[1]), by_key, th)
             if opening is not None:
                 out[a.key] = ("in", opening)
     return out
 
 
 def _opening_holding(
-    a: Instance, a_bottom: float, b: Instance | None, instances: list[Instance], th: RelationThresholds
+    a: Instance, a_bottom: float, b: Instance | None, by_key: dict[str, Instance], th: RelationThresholds
 ) -> str | None:
     """The drawer A is in when A was found resting *on* it or on its object, below their tops.
 
     Nothing rests on a cabinet at a height inside its body but in one of its openings. A drawer pulled
     out is often perceived only in part (its front, the strip no object hides), so A's points need not
-    lie over it: A rests on the drawer below its walls' top, or on the drawer's object below the
-    object's top, at a height within a drawer's height range and beside that drawer."""
+    lie over it: A rests on the drawer below its walls' top, or on the drawer's object (or, above its top,
+    on another drawer of that object: the lower drawer reaches out under a partly seen upper one) below
+    the object's top, at a height within a drawer's height range and beside that drawer."""
     if b is None or b.label.category in GROUND_CATEGORIES:
         return None
     if b.label.parent is not None:
-        return b.key if is_container(b) and a_bottom < b.aabb_max[2] - th.in_depth else None
+        if is_container(b) and a_bottom < b.aabb_max[2] - th.in_depth:
+            return b.key
+        b = by_key.get(b.label.parent)  # above this drawer: maybe in a sibling drawer of its object
+        if b is None:
+            return None
     if a_bottom >= b.aabb_max[2] - th.in_depth:
         return None  # on the object's top
     best, best_d = None, th.opening_reach
-    for p in instances:
+    for p in by_key.values():
         if p.label.parent != b.key or not is_container(p):
             continue
         if not (p.aabb_min[2] - th.on_gap <= a_bottom <= p.aabb_max[2] - th.in_depth):
@@ -221,6 +230,16 @@ def _opening_holding(
         if d <= best_d:
             best, best_d = p.key, d
     return best
+
+
+def _unconfirmed_container(b: Instance, a: Instance) -> bool:
+    """B, a detection no labelled mask names, was seen by one camera only while A was seen by several.
+
+    A container is larger and sticks out more than what it holds: cameras that see A in it see its rim
+    or walls too. One camera's segment that swallowed A's pixels and its neighbours' (a phantom `box`
+    around a cube on the table) is seen by that camera alone; it holds nothing the others saw. A part
+    inferred from its object (``views == 0``: a closed drawer no camera shows) is not judged here."""
+    return b.label.id is None and b.views == 1 and a.views >= 2
 
 
 def _may_hold(a: Instance, b: Instance, closed: frozenset[str], th: RelationThresholds) -> bool:

@@ -291,6 +291,9 @@ FRAGMENT_INSIDE = 0.9
 FRAGMENT_BELOW_FLOOR = 0.004
 #: ... or, whatever its extent, nearly all of its voxels lie on the container's (other cameras') surface.
 FRAGMENT_ON_SURFACE = 0.95
+#: The piece's centre may lie this far outside the rim's box: a slab of an outer wall is centred on the
+#: wall, half a wall's thickness (and the rim band's noise) outside the wall tops' box.
+FRAGMENT_RIM_MARGIN = 0.015
 
 
 def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Instance]:
@@ -341,7 +344,7 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
             if float(np.mean(np.all((x.points >= lo) & (x.points <= hi), axis=1))) < FRAGMENT_INSIDE:
                 continue
             rim = rim_of(c)
-            if rim is None or not rim.footprint_contains(x.center[None, :2])[0]:
+            if rim is None or not rim.footprint_contains(x.center[None, :2], margin=FRAGMENT_RIM_MARGIN)[0]:
                 continue
             x_bottom = float(np.percentile(x.points[:, 2], 2.0))
             c_bottom = float(np.percentile(c.points[:, 2], 2.0))
@@ -646,6 +649,28 @@ def _nested(a: Instance, b: Instance) -> bool:
     return _inside(a, b) or _inside(b, a)
 
 
+#: A part at the level of another part of its object (height ranges at IoU >= this) ...
+CONTENT_Z_IOU = 0.6
+#: ... whose box lies this much inside the other's is what stands in that part, not a part of its own.
+CONTENT_INSIDE = 0.9
+
+
+def _content_read_as_part(a: Instance, b: Instance) -> Instance | None:
+    """The one of two same-camera parts that lies at the other's level (``CONTENT_Z_IOU``), its box wholly
+    (``CONTENT_INSIDE``) in the other's and seen by no more cameras: drawers do not nest, so it is the
+    objects in the outer drawer read as a drawer. None when neither is."""
+    if _z_iou(a, b) < CONTENT_Z_IOU:
+        return None
+    for inner, outer in ((a, b), (b, a)):
+        if (
+            inner.views <= outer.views
+            and _box_contains_share(inner, outer) >= CONTENT_INSIDE
+            and float(np.prod(inner.size)) < float(np.prod(outer.size))
+        ):
+            return inner
+    return None
+
+
 def join_part_halves(
     instances: list[Instance], parts: list[Instance], params: GeometryParams
 ) -> list[Instance]:
@@ -686,7 +711,11 @@ def join_part_halves(
                     # one camera's part inside another part of its own (drawers do not nest): the objects
                     # in the drawer read as one more drawer; dropped when no other camera saw it
                     inner = a if _inside(a, b) else b if _inside(b, a) else None
-                    if inner is not None and inner.views == 1:
+                    if inner is None or inner.views != 1:
+                        # ... or at its level wholly inside it and seen by no more cameras (the objects
+                        # standing in a pulled drawer, read as a drawer by the cameras that saw the drawer)
+                        inner = _content_read_as_part(a, b)
+                    if inner is not None:
                         instances[:] = [x for x in instances if x is not inner]
                         out = [x for x in out if x is not inner]
                         merged = True

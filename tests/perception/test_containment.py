@@ -290,3 +290,49 @@ def test_a_body_piece_reaching_into_the_rim_band_joins_its_box_and_a_mug_below_i
     mug = solid("mug_f2m5", "mug", (0.4, -0.03, 0.008), (0.45, 0.02, 0.058))
     out = absorb_fragments([box, piece, mug], PARAMS)
     assert sorted(i.label.category for i in out) == ["box", "mug"]
+
+
+def test_a_container_one_camera_saw_holds_nothing_that_other_cameras_saw():
+    # one camera's segment swallowed a cube and its neighbours' pixels and was read as a box; the three
+    # cameras that saw the cube saw no box around it
+    phantom = solid("box_1", "box", (0.099, -0.107, 0.01), (0.155, 0.105, 0.095), views=1)
+    cube = solid("cube_1", "cube", (0.118, 0.073, 0.0), (0.155, 0.114, 0.03), views=3)
+    assert supports([table(), phantom, cube], PLANE, TH)["cube_1"] == ("on", "table")
+    # seen by as many cameras, or holding what one camera saw, the box holds it
+    seen = solid("box_1", "box", (0.099, -0.107, 0.01), (0.155, 0.105, 0.095), views=3)
+    assert supports([table(), seen, cube], PLANE, TH)["cube_1"] == ("in", "box_1")
+    one = solid("cube_1", "cube", (0.118, 0.073, 0.0), (0.155, 0.114, 0.03), views=1)
+    assert supports([table(), phantom, one], PLANE, TH)["cube_1"] == ("in", "box_1")
+
+
+def test_a_drawer_pushed_shut_but_still_segmented_carries_its_contents_and_fragments_are_not_kept():
+    from gsr.perception.belief import update_belief, with_flush_parts
+
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    box = BoundingBox(min=Vec3(x=0.0, y=0.0, z=0.0), max=Vec3(x=0.3, y=0.4, z=0.3))
+    cabinet = Node(id="cabinet_1", category="cabinet", bbox=box)
+    drawer = _part("cabinet_1/drawer_1", "cabinet_1", (0.2, 0.05, 0.2), (0.5, 0.35, 0.28), opening=0.2)
+    cube = _part("cube_1", "", (0.35, 0.15, 0.22), (0.38, 0.18, 0.25), states=())
+    cube = cube.model_copy(update={"attributes": {"views": 3}})
+    piece = _part("cube_2", "", (0.45, 0.3, 0.21), (0.47, 0.33, 0.27), states=())
+    piece = piece.model_copy(update={"attributes": {"views": 1}})  # one camera's segment
+    edges = tuple(Edge(source=c, relation="in", target="cabinet_1/drawer_1") for c in ("cube_1", "cube_2"))
+    earlier = SceneGraph(nodes=(cabinet, drawer, cube, piece), edges=edges, metadata={"frames": 4})
+    # now the drawer is shut and segmented as a flush front (the tracker kept its id), measured closed
+    front = _part(
+        "cabinet_1/drawer_1", "cabinet_1", (0.29, 0.05, 0.2), (0.31, 0.35, 0.28), states=("closed",)
+    )
+    now = SceneGraph(nodes=(cabinet, front), edges=(), metadata={"frames": 4})
+    observed, belief = with_flush_parts(now, earlier)
+    final = update_belief(belief, observed)
+    assert Edge(source="cube_1", relation="in", target="cabinet_1/drawer_1") in final.edges
+    assert final.node("cube_1").bbox.min.x == 0.15  # carried with the drawer by its opening, 0.2 m
+    assert not final.has_node("cube_2")  # a one-camera segment of four is not remembered in a container
+    # from a look with one camera, one camera is all there is: remembered
+    one_cam = earlier.model_copy(update={"metadata": {"frames": 1}})
+    observed, belief = with_flush_parts(now, one_cam)
+    assert update_belief(belief, observed).has_node("cube_2")
+    # a drawer still closed (its measured opening only noise) moves nothing
+    shut = earlier.model_copy(update={"nodes": (cabinet, front, cube)})
+    assert with_flush_parts(now, shut)[1] == shut

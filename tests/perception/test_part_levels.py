@@ -123,3 +123,37 @@ def test_a_drawer_wall_read_as_an_object_joins_the_drawer_and_what_stands_in_it_
     (mid,) = _drawers(instances)
     assert len(mid.points) == len(box.points) + len(piece.points)
     assert supports(instances, PLANE, RelationThresholds())["cube_1"] == ("in", mid.key)
+
+
+def test_the_objects_in_a_drawer_read_as_a_drawer_by_the_drawers_own_cameras_are_dropped():
+    # cameras 0-2 see the pulled upper drawer; cameras 1 and 2 also read the cubes standing in it as one
+    # more drawer at its level, wholly inside it: drawers do not nest, the cubes are in the real one
+    real = drawer("d_real", (-0.446, 0.04, 0.23), (-0.194, 0.39, 0.308), ("f0m3", "f1m4", "f2m5"))
+    fake = drawer("d_fake", (-0.393, 0.05, 0.237), (-0.206, 0.36, 0.293), ("f1m6", "f2m7"))
+    c1 = cube("cube_1", (-0.343, 0.06, 0.237), (-0.304, 0.1, 0.267))
+    c2 = cube("cube_2", (-0.339, 0.2, 0.237), (-0.308, 0.23, 0.267))
+    instances = [table(), cabinet(), real, fake, c1, c2]
+    assign_parts(instances, params=PARAMS)
+    (only,) = _drawers(instances)
+    assert abs(only.aabb_min[0] + 0.446) < 0.01
+    sup = supports(instances, PLANE, RelationThresholds())
+    assert sup["cube_1"] == sup["cube_2"] == ("in", only.key)
+    # a drawer seen by more cameras than the one around it is no content: both stay
+    fake = drawer("d_fake", (-0.393, 0.05, 0.237), (-0.206, 0.36, 0.293), ("f0m6", "f1m7", "f2m8", "f3m2"))
+    real = drawer("d_real", (-0.446, 0.04, 0.23), (-0.194, 0.39, 0.308), ("f0m3", "f1m4"))
+    instances = [table(), cabinet(), real, fake]
+    assign_parts(instances, params=PARAMS)
+    assert len(_drawers(instances)) == 2
+
+
+def test_an_object_above_the_lower_drawer_rests_in_the_drawer_whose_height_holds_it():
+    # the middle drawer is pulled and seen only in part (its front strip); the cube at its far side lies
+    # over the closed lower drawer's box, not over the strip: it is in the middle drawer, not on the lower
+    low = drawer("d_low", (-0.446, 0.04, 0.054), (0.042, 0.39, 0.109), ("f0m3", "f1m4"))
+    mid = drawer("d_mid", (-0.40, 0.058, 0.142), (-0.194, 0.39, 0.217), ("f0m5", "f1m6"))
+    box = cube("box_1", (-0.333, 0.04, 0.147), (-0.305, 0.063, 0.177), ("f2m9",))
+    instances = [table(), cabinet(), low, mid, box]
+    assign_parts(instances, params=PARAMS)
+    sup = supports(instances, PLANE, RelationThresholds())
+    middle = next(d for d in _drawers(instances) if d.aabb_min[2] > 0.12)
+    assert sup["box_1"] == ("in", middle.key)
