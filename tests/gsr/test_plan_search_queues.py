@@ -8,6 +8,7 @@ its preferred operators and the accepted sets must equal their definitions.
 from __future__ import annotations
 
 import random
+from array import array
 from heapq import heappop, heappush
 from pathlib import Path
 
@@ -16,12 +17,14 @@ import pytest
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan.ground import ground_task
 from gsr.plan.landmarks import Landmarks
-from gsr.plan.search import take_next
+from gsr.plan.search import OP_IDS, take_next
 
 FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "pddl"
 
 
-def test_batched_queue_pops_in_per_operator_fifo_order() -> None:
+@pytest.mark.parametrize("packed", [False, True])
+def test_batched_queue_pops_in_per_operator_fifo_order(packed: bool) -> None:
+    # the lazy searches keep an entry's operators as a packed array (OP_IDS): same order as a list
     rng = random.Random(5)
     batched: list = []
     single: list = []
@@ -34,7 +37,7 @@ def test_batched_queue_pops_in_per_operator_fifo_order() -> None:
             ops = sorted(rng.sample(range(50), rng.randint(1, 6)))
             sid = rng.randint(0, 999)
             expansion += 1
-            heappush(batched, (h, expansion, 0, sid, ops))
+            heappush(batched, (h, expansion, 0, sid, array(OP_IDS, ops) if packed else ops))
             for op in ops:
                 counter += 1
                 heappush(single, (h, counter, sid, op))
