@@ -524,7 +524,7 @@ def assign_parts(
         if best is not None:
             _adopt(part, best, counts)
             adopted.append(part)
-    spanning = spanning_parts(instances)
+    spanning = spanning_parts(instances) | whole_body_drawers(instances)
     if spanning:
         instances[:] = [i for i in instances if id(i) not in spanning]
     adopted = join_part_halves(instances, adopted, params or GeometryParams())
@@ -611,6 +611,25 @@ def spanning_parts(instances: list[Instance]) -> set[int]:
             continue
         levels = [(q, r) for k, q in enumerate(inside) for r in inside[k + 1 :] if _z_iou(q, r) < PART_Z_IOU]
         if any(max(q.views, r.views) >= p.views for q, r in levels):
+            out.add(id(p))
+    return out
+
+
+#: A drawer is a slab of its object: one this share of its object's height or taller is the body misread.
+DRAWER_HEIGHT_SHARE = 0.75
+
+
+def whole_body_drawers(instances: list[Instance]) -> set[int]:
+    """Drawer detections as tall as (``DRAWER_HEIGHT_SHARE`` of) the object they were given: the body of
+    an object read as a drawer (a wine rack's lower frame), whose measured "opening" is only where the
+    body's front happens to be seen. A chest's drawers stack, each a share of its height."""
+    by_key = {i.key: i for i in instances}
+    out: set[int] = set()
+    for p in instances:
+        parent = by_key.get(p.label.parent or "")
+        if p.label.category != "drawer" or parent is None:
+            continue
+        if float(p.size[2]) >= DRAWER_HEIGHT_SHARE * float(parent.size[2]):
             out.add(id(p))
     return out
 
@@ -834,6 +853,27 @@ def _look_cost(new: Node, old: Node) -> float | None:
     return float(np.abs(np.log(ratio)).sum())
 
 
+#: A part keeps its id only across height ranges overlapping at least this much (IoU): a drawer slides
+#: out and back at its own height; the level's rank is no identity (it shifts when the cameras find one
+#: drawer more or fewer).
+PART_TRACK_Z_IOU = 0.3
+
+
+def _part_cost(new: Node, old: Node) -> float | None:
+    """Cost of ``new`` being the part ``old`` (same parent and category assumed): height-range mismatch
+    plus half the centre distance; by level rank and distance when either has no box."""
+    c1, c2 = _center(new), _center(old)
+    d = float(np.linalg.norm(c1 - c2)) if c1 is not None and c2 is not None else 1.0
+    if new.bbox is None or old.bbox is None:
+        return d + (0.0 if new.attributes.get("level") == old.attributes.get("level") else 10.0)
+    overlap = min(new.bbox.max.z, old.bbox.max.z) - max(new.bbox.min.z, old.bbox.min.z)
+    union = max(new.bbox.max.z, old.bbox.max.z) - min(new.bbox.min.z, old.bbox.min.z)
+    z_iou = max(overlap, 0.0) / max(union, 1e-6)
+    if z_iou < PART_TRACK_Z_IOU:
+        return None
+    return (1.0 - z_iou) + 0.5 * d
+
+
 def _assign(pairs: dict[tuple[str, str], float]) -> dict[str, str]:
     """Minimum-cost one-to-one assignment over the allowed (new, old) pairs."""
     if not pairs:
@@ -881,7 +921,8 @@ class Tracker:
                 if (c := cost(n, o)) is not None
             }
             mapping.update(_assign(pairs))
-        # parts: same (renamed) parent and category, then the same level, else the nearest
+        # parts: same (renamed) parent and category, then the same height range (a drawer slides, its
+        # height stays), else the nearest
         parts_new = [n for n in new if n.parent is not None]
         old_parts = [n for n in prev if n.parent is not None]
         pairs = {}
@@ -890,10 +931,8 @@ class Tracker:
             for o in old_parts:
                 if o.parent != parent or o.category != n.category:
                     continue
-                c1, c2 = _center(n), _center(o)
-                d = float(np.linalg.norm(c1 - c2)) if c1 is not None and c2 is not None else 1.0
-                same_level = n.attributes.get("level") == o.attributes.get("level")
-                pairs[(n.id, o.id)] = d + (0.0 if same_level else 10.0)
+                if (cost := _part_cost(n, o)) is not None:
+                    pairs[(n.id, o.id)] = cost
         mapping.update(_assign(pairs))
         # fresh ids for the rest (objects before parts, so a part follows its parent's new id)
         taken = set(mapping.values())

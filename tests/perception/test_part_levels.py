@@ -4,11 +4,15 @@ dropped, and a drawer's wall read as an object joins the drawer (exact synthetic
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from gsr.perception.frame import InstanceLabel
 from gsr.perception.geometry import GeometryParams, Instance, fit_boxes
 from gsr.perception.relations import RelationThresholds, supports
 from gsr.perception.track import MEMBERS, PARENT_MEMBERS, assign_parts
+
+from gsr.scene_graph import Node, SceneGraph
 
 PARAMS = GeometryParams(voxel=0)
 PLANE = np.array([0.0, 0.0, 1.0, 0.0])
@@ -157,3 +161,55 @@ def test_an_object_above_the_lower_drawer_rests_in_the_drawer_whose_height_holds
     sup = supports(instances, PLANE, RelationThresholds())
     middle = next(d for d in _drawers(instances) if d.aabb_min[2] > 0.12)
     assert sup["box_1"] == ("in", middle.key)
+
+
+def test_a_drawer_as_tall_as_its_object_is_the_body_misread_and_dropped():
+    members = ("f0m2", "f1m2", "f2m2", "f3m2")
+    rack = _inst("rack_1", "rack", _faces((-0.34, -0.39, 0.012), (-0.137, -0.13, 0.156)), members)
+    body = _inst("d_body", "drawer", _faces((-0.196, -0.39, 0.009), (-0.133, -0.13, 0.135)), ("f0m5", "f1m5"))
+    body.label = dataclasses.replace(
+        body.label, attributes={**body.label.attributes, PARENT_MEMBERS: ("f0m2",)}
+    )
+    high = drawer("d_high", (-0.417, 0.041, 0.23), (-0.166, 0.395, 0.308), ("f1m7", "f2m10"))
+    instances = [table(), rack, body, cabinet(), high]
+    assign_parts(instances, params=PARAMS)
+    assert [(d.label.parent, round(float(d.aabb_min[2]), 2)) for d in _drawers(instances)] == [
+        ("cabinet_1", 0.23)
+    ]
+
+
+def test_a_drawer_keeps_its_id_by_its_height_when_the_levels_are_renumbered():
+    from gsr.perception.track import Tracker
+
+    from gsr.scene_graph import BoundingBox, Vec3
+
+    def node(node_id, lo, hi, level=None, parent="cabinet_1", states=()):
+        box = BoundingBox(min=Vec3(x=lo[0], y=lo[1], z=lo[2]), max=Vec3(x=hi[0], y=hi[1], z=hi[2]))
+        attrs = {"level": level} if level is not None else {}
+        category = "drawer" if parent else "cabinet"
+        return Node(id=node_id, category=category, parent=parent, bbox=box, attributes=attrs, states=states)
+
+    cab = node("cabinet_1", (-0.12, -0.42, 0.0), (0.17, -0.06, 0.32), parent=None)
+    before = SceneGraph(
+        nodes=(
+            cab,
+            node("cabinet_1/drawer_1", (-0.12, -0.40, 0.04), (0.14, -0.08, 0.13), 0),
+            node("cabinet_1/drawer_2", (-0.15, -0.41, 0.14), (-0.10, -0.08, 0.22), 1),
+            node("cabinet_1/drawer_3", (-0.12, -0.40, 0.235), (0.14, -0.08, 0.326), 2),
+        ),
+        edges=(),
+    )
+    # the top drawer is pulled out and the middle one is no longer segmented: the top is level 1 now
+    now = SceneGraph(
+        nodes=(
+            cab,
+            node("cabinet_1/drawer_1", (-0.12, -0.40, 0.04), (0.14, -0.08, 0.13), 0),
+            node("cabinet_1/drawer_2", (-0.38, -0.41, 0.229), (-0.12, -0.06, 0.308), 1, states=("open",)),
+        ),
+        edges=(),
+    )
+    tracker = Tracker()
+    tracker.issued |= {n.id for n in before.nodes}
+    out = tracker.assign(now, before)
+    assert out.node("cabinet_1/drawer_3").states == ("open",)  # the top drawer, by its height
+    assert out.has_node("cabinet_1/drawer_1") and not out.has_node("cabinet_1/drawer_2")
