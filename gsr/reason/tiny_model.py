@@ -17,17 +17,21 @@ import time
 from pathlib import Path
 from typing import Any
 
+from gsr.check import check_step
 from gsr.errors import GSRError
+from gsr.facts import graph_with_state, state_from_graph
+from gsr.pddl.model import Atom
 from gsr.reason.cases import PROMPT_OPTIONS, libero_cases, split_cases
+from gsr.reason.examples import annotate_steps
+from gsr.reason.prompt import build_prompt
+from gsr.reason.step_format import format_step
+from gsr.resources import load_builtin_domain
+from gsr.step import Goal
 
 
 def random_goals(graph: Any, count: int, seed: int) -> list[tuple[Any, str]]:
     """``count`` seeded single-placement goals in a scene: (goal formula, instruction)."""
     import random
-
-    from gsr.facts import state_from_graph
-    from gsr.pddl.model import Atom
-    from gsr.resources import load_builtin_domain
 
     atoms = state_from_graph(graph, load_builtin_domain()).atoms
     movable = sorted(a.args[0] for a in atoms if a.predicate == "movable")
@@ -47,13 +51,7 @@ def random_goals(graph: Any, count: int, seed: int) -> list[tuple[Any, str]]:
 
 def trace_pairs(cases: list, goals_per_scene: int = 0, seed: int = 0) -> list[tuple[str, str]]:
     """(prompt text, answer line) for every planner step of every case (plus seeded random goals per scene)."""
-    from gsr.facts import graph_with_state, state_from_graph
     from gsr.plan.api import plan_graph
-    from gsr.reason.examples import annotate_steps
-    from gsr.reason.prompt import build_prompt
-    from gsr.reason.step_format import format_step
-    from gsr.resources import load_builtin_domain
-    from gsr.step import Goal
 
     domain = load_builtin_domain()
     pairs = []
@@ -72,7 +70,6 @@ def trace_pairs(cases: list, goals_per_scene: int = 0, seed: int = 0) -> list[tu
                 current, domain, instruction, (), steps[:i], (), goal, PROMPT_OPTIONS["prompt_actions"]
             )
             pairs.append((prompt.text(), format_step(step)))
-            from gsr.check import check_step
 
             diagnosis = check_step(domain, state_from_graph(current, domain), step)
             current = graph_with_state(current, diagnosis.next_state)

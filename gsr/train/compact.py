@@ -29,10 +29,33 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from gsr.errors import GSRError
+from gsr.check import check_step
+from gsr.datagen.schema import decode
+from gsr.errors import GSRError, ParseError
+from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain, Formula
+from gsr.pddl.parser import parse_formula
+from gsr.reason.applicable import applicable_steps
+from gsr.reason.backend import Query
+from gsr.reason.compact import (
+    EOS,
+    FORMATS,
+    HISTORY,
+    MARKER,
+    MAX_OBJECTS,
+    Naming,
+    action_tokens,
+    context_tokens,
+    scene_objects,
+)
+from gsr.reason.compact_decode import CompactAnswerer, answer_key
+from gsr.reason.prompt import Prompt
+from gsr.reason.step_format import parse_first_step
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import goal_holds
 from gsr.step import Step
+from gsr.train.format import read_rows
+from gsr.train.tiny import tiny_model
 
 
 @dataclass(frozen=True)
@@ -59,10 +82,6 @@ class CompactSpec:
 
 def dataset_samples(data: Path, split: str = "train", limit: int | None = None) -> list[Sample]:
     """Trajectory samples from a ``gsr datagen`` folder's ``next_action`` rows."""
-    from gsr.datagen.schema import decode
-    from gsr.pddl.parser import parse_formula
-    from gsr.train.format import read_rows
-
     files = sorted(glob.glob(str(data / "data" / split / "*.jsonl")))
     if not files:
         raise GSRError(f"{data}: no data/{split}/*.jsonl files (generate them with gsr datagen)")
@@ -76,9 +95,6 @@ def dataset_samples(data: Path, split: str = "train", limit: int | None = None) 
 
 
 def _apply(domain: Domain, graph: SceneGraph, step: Step) -> SceneGraph | None:
-    from gsr.check import check_step
-    from gsr.facts import graph_with_state, state_from_graph
-
     diagnosis = check_step(domain, state_from_graph(graph, domain), step)
     return graph_with_state(graph, diagnosis.next_state) if diagnosis.ok else None
 
@@ -87,9 +103,7 @@ def label(
     domain: Domain, graph: SceneGraph, goal: Formula, timeout: float = 10.0
 ) -> tuple[bool, Step | None]:
     """The planner's next step from ``graph``: (solvable, step; None when the goal already holds)."""
-    from gsr.facts import state_from_graph
     from gsr.plan.api import plan_graph
-    from gsr.semantics import goal_holds
 
     if goal_holds(domain, goal, state_from_graph(graph, domain)):
         return True, None
@@ -104,8 +118,6 @@ def recovery_samples(
     samples: Sequence[Sample], count: int, seed: int, domain: Domain, budget: float | None = None
 ) -> list[Sample]:
     """Off-plan states (1-2 random applicable steps away from a trajectory) with the planner's recovery step."""
-    from gsr.reason.applicable import applicable_steps
-
     rng = random.Random(seed)
     pool = [s for s in samples if s.answer is not None]
     out: list[Sample] = []
@@ -139,9 +151,6 @@ def encode(
 ) -> tuple[list[int], int]:
     """(token ids of context + answer + eos, context length) under a fresh random naming (the
     inference naming, sorted names, when ``rng`` is None)."""
-    from gsr.facts import state_from_graph
-    from gsr.reason.compact import EOS, Naming, action_tokens, context_tokens, scene_objects
-
     state = state_from_graph(sample.graph, domain)
     naming = Naming.make(scene_objects(state, domain), rng)
     context = context_tokens(state, domain, sample.goal, sample.history, naming, version)
@@ -152,8 +161,6 @@ def encode(
 def new_model(tokenizer: Any, spec: CompactSpec, seed: int) -> Any:
     """A freshly initialised LlamaForCausalLM for the word-level vocabulary (the same Llama shape as the
     tiny models: ``spec`` gives hidden, intermediate, layers, heads and context)."""
-    from gsr.train.tiny import tiny_model
-
     return tiny_model(tokenizer, spec, seed)
 
 
@@ -237,10 +244,6 @@ def accuracy(
     model: Any, samples: Sequence[Sample], domain: Domain, tokenizer: Any, version: int = 1
 ) -> float:
     """Share of samples whose free (beam) answer equals the planner's label (exact action and arguments)."""
-    from gsr.reason.backend import Query
-    from gsr.reason.compact_decode import CompactAnswerer, answer_key
-    from gsr.reason.prompt import Prompt
-
     if not samples:
         return float("nan")
     answerer = CompactAnswerer(model, tokenizer, version=version)
@@ -263,12 +266,6 @@ def rollout_samples(
 ) -> tuple[list[Sample], int]:
     """DAgger: run the model (free decoding, no checker) on ``tasks``; label every visited state with the
     planner. Returns (samples, episodes the model solved on its own)."""
-    from gsr.errors import ParseError
-    from gsr.reason.backend import Query
-    from gsr.reason.compact_decode import CompactAnswerer
-    from gsr.reason.prompt import Prompt
-    from gsr.reason.step_format import parse_first_step
-
     answerer = CompactAnswerer(model, tokenizer, version=version)
     out: list[Sample] = []
     solved = 0
@@ -300,8 +297,6 @@ def rollout_samples(
 
 def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any], version: int = 1) -> None:
     """Write the folder to a temporary name and rename it to ``out`` (never half-written)."""
-    from gsr.reason.compact import FORMATS, HISTORY, MARKER, MAX_OBJECTS
-
     if out.exists() and any(out.iterdir()):
         raise GSRError(f"{out} exists and is not empty; choose a new output folder")
     tmp = out.with_name(f".{out.name}.tmp")

@@ -11,8 +11,16 @@ the checker buys. Implements the core's episode seam :class:`gsr.episode.Agent`.
 from __future__ import annotations
 
 from gsr.diagnosis import Diagnosis
-from gsr.errors import GSRError
+from gsr.errors import GSRError, ParseError
+from gsr.facts import state_from_graph
+from gsr.language import ground
 from gsr.pddl.model import Domain, Formula
+from gsr.reason.applicable import applicable_steps
+from gsr.reason.backend import Query
+from gsr.reason.backends import make_backend
+from gsr.reason.goal_text import parse_goal_answer
+from gsr.reason.prompt import DONE, build_goal_prompt, build_prompt
+from gsr.reason.step_format import format_step, parse_first_step
 from gsr.scene_graph import SceneGraph
 from gsr.step import Step
 from gsr.task_spec import TaskSpec
@@ -26,8 +34,6 @@ class OpenLoopAgent:
     def __init__(
         self, backend: str = "grounder", constrained: bool = False, max_new_tokens: int = 160
     ) -> None:
-        from gsr.reason.backends import make_backend
-
         if not isinstance(backend, str) or not backend.startswith("transformers:"):
             raise GSRError("OpenLoopAgent: backend must be transformers:PATH")
         self.backend = make_backend(backend)
@@ -47,15 +53,9 @@ class OpenLoopAgent:
 
     def _goal(self, graph: SceneGraph, instruction: str) -> Formula | None:
         try:
-            from gsr.language import ground
-
             return ground(instruction, graph, domain=self.domain).formula
         except GSRError:
             pass
-        from gsr.facts import state_from_graph
-        from gsr.reason.backend import Query
-        from gsr.reason.goal_text import parse_goal_answer
-        from gsr.reason.prompt import build_goal_prompt
 
         prompt = build_goal_prompt(graph, self.domain, instruction)
         try:
@@ -73,17 +73,10 @@ class OpenLoopAgent:
 
     def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
         """The model's next step, unchecked (None when it answers done or nothing parseable)."""
-        from gsr.errors import ParseError
-        from gsr.reason.backend import Query
-        from gsr.reason.prompt import DONE, build_prompt
-        from gsr.reason.step_format import format_step, parse_first_step
-
         assert self.domain is not None, "reset() first"
         prompt = build_prompt(graph, self.domain, instruction, history=self.history, goal=self.goal)
         allowed = None
         if self.constrained:
-            from gsr.reason.applicable import applicable_steps
-
             allowed = (*(format_step(s) for s in applicable_steps(self.domain, graph)), DONE)
         # the structured query goes with every call: compact-format models read it instead of the text
         query = Query(
