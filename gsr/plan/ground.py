@@ -97,7 +97,7 @@ def _ruled_out(
 ) -> bool:
     """Whether one of the narrow disjunctions is statically false under ``binding`` (memoised)."""
     for k, (part, free) in enumerate(parts):
-        key = (si, k, *(binding[v] for v in free))
+        key = (si, k, *map(binding.__getitem__, free))
         false = memo.get(key)
         if false is None:
             false = memo[key] = simplify(part, binding) is FALSE
