@@ -21,7 +21,10 @@ from gsr.benchmarks.scoring import any_goal
 from gsr.diagnosis import Diagnosis
 from gsr.episode import Agent, AgentFailure
 from gsr.errors import GSRError
-from gsr.pddl.model import Domain, Formula
+from gsr.facts import problem_from_graph
+from gsr.pddl.model import TRUE, Domain, Formula
+from gsr.plan.ground import ground_task
+from gsr.reason import Reasoner, SolveOptions
 from gsr.scene_graph import SceneGraph
 from gsr.step import Step
 from gsr.task_spec import TaskSpec
@@ -120,8 +123,6 @@ class ReasonerAgent:
         max_steps: int = 200,
         planner_timeout: float = 30.0,
     ) -> None:
-        from gsr.reason import SolveOptions
-
         self.backend = _backend(backend)
         self.options = SolveOptions(
             mode=mode,
@@ -146,8 +147,6 @@ class ReasonerAgent:
 
     def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
         """Run the reasoner on the initial graph and instruction; its checked steps are the plan."""
-        from gsr.reason import Reasoner
-
         self.reasoner = Reasoner(self.backend, domain, self.options)
         result = self.reasoner.reset(task.initial, task.instruction)
         self.believed_goal = result.goal.formula if result.goal is not None else None
@@ -204,10 +203,6 @@ class RandomAgent:
 
     def reset(self, task: TaskSpec, domain: Domain, seed: int) -> None:
         """Ground the scene's actions (the goal is not used) and seed the choices."""
-        from gsr.facts import problem_from_graph
-        from gsr.pddl.model import TRUE
-        from gsr.plan.ground import ground_task
-
         self.rng = random.Random(seed)
         self.task = ground_task(domain, problem_from_graph(task.initial, TRUE, domain=domain))
         self.state = self.task.init

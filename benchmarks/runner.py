@@ -21,12 +21,14 @@ from typing import Any
 
 from gsr.benchmarks.agents import make_agent
 from gsr.benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
-from gsr.benchmarks.scoring import score_task
+from gsr.benchmarks.scoring import any_goal, score_task
 
 from gsr.diagnosis import Diagnosis
 from gsr.episode import AgentFailure, EpisodeResult, Executor
 from gsr.errors import GSRError
+from gsr.io import write_bytes_atomic
 from gsr.pddl.model import Domain
+from gsr.resources import load_builtin_domain
 from gsr.semantics import holds
 from gsr.symbolic_executor import SymbolicExecutor
 from gsr.task_spec import TaskSpec, task_from_dict
@@ -159,8 +161,6 @@ class RunConfig:
 
 def episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dict[str, Any]:
     """Worker entry: rebuild the task and agent, run one episode, return its record."""
-    from gsr.resources import load_builtin_domain
-
     task = task_from_dict(task_data, source=f"task {task_data.get('id')}")
     agent = make_agent(config.agent, config.agent_options)
     domain = load_builtin_domain("tabletop")
@@ -193,8 +193,6 @@ def save_frames(frames: list[Any], folder: str, task_id: str, trial: int) -> lis
     """Write an episode's RGB frames as PNGs (atomically) into ``folder``; paths relative to its parent."""
     from pathlib import Path
 
-    from gsr.io import write_bytes_atomic
-
     out = Path(folder)
     stem = re.sub(r"[^A-Za-z0-9._-]+", "_", task_id)[:120]
     names = []
@@ -220,8 +218,6 @@ def reference_length(
     task: TaskSpec, domain: Domain, planner: str = "lazy-ff", timeout: float = 120.0
 ) -> int | None:
     """Length of the reference plan (optimal with an A* planner, best-found with lazy-ff); None if none."""
-    from gsr.benchmarks.scoring import any_goal
-
     from gsr.plan.api import plan_graph
 
     result = plan_graph(domain, task.initial, any_goal(task), planner=planner, timeout=timeout)

@@ -5,8 +5,13 @@ from __future__ import annotations
 import itertools
 import math
 
+from gsr.check import check_step
+from gsr.facts import problem_from_graph, state_from_graph
 from gsr.pddl.model import TRUE, Domain
+from gsr.plan.ground import ground_task
+from gsr.reason.examples import claimed_effects
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import compile_domain
 from gsr.step import Step
 
 #: Above this many typed argument combinations for one action, ground with the planner's grounder.
@@ -15,9 +20,6 @@ _MAX_COMBINATIONS = 200_000
 
 def _calls(domain: Domain, graph: SceneGraph) -> list[tuple[str, tuple[str, ...]]]:
     """(action, args) applicable now: compiled preconditions over the typed argument lists."""
-    from gsr.facts import problem_from_graph, state_from_graph
-    from gsr.semantics import compile_domain
-
     cd = compile_domain(domain)
     state = state_from_graph(graph, domain)
     view = cd.view(state)
@@ -26,7 +28,6 @@ def _calls(domain: Domain, graph: SceneGraph) -> list[tuple[str, tuple[str, ...]
         lists = [view[1][slot] for slot in ca.param_slots]
         if math.prod(len(objs) for objs in lists) > _MAX_COMBINATIONS:
             # large scenes: relaxed-reachability grounding prunes the argument space first
-            from gsr.plan.ground import ground_task
 
             task = ground_task(domain, problem_from_graph(graph, TRUE, domain=domain))
             found = {(task.ops[i].name, task.ops[i].args) for i in task.applicable(task.init)}
@@ -38,10 +39,6 @@ def _calls(domain: Domain, graph: SceneGraph) -> list[tuple[str, tuple[str, ...]
 
 def applicable_steps(domain: Domain, graph: SceneGraph) -> list[Step]:
     """Every ground action applicable in ``graph``'s state, each claiming its true effects (sorted, unique)."""
-    from gsr.check import check_step
-    from gsr.facts import state_from_graph
-    from gsr.reason.examples import claimed_effects
-
     state = state_from_graph(graph, domain)
     out = []
     for name, args in _calls(domain, graph):

@@ -6,12 +6,17 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from gsr.check import check_step
 from gsr.diagnosis import Diagnosis
+from gsr.facts import state_from_graph
+from gsr.gsr_bench_format import graph_from_gsr_bench
 from gsr.pddl.model import Atom, Domain
 from gsr.reason.scene_text import scene_text
+from gsr.reason.step_format import format_step
 from gsr.scene_graph import SceneGraph
 from gsr.state import State
 from gsr.step import Step
+from gsr.transition import StepRejected
 
 
 @dataclass(frozen=True)
@@ -58,10 +63,6 @@ def claimed_effects(diagnosis: Diagnosis, state: State) -> Step:
 
 def annotate_steps(domain: Domain, graph: SceneGraph, steps: Sequence[Step]) -> list[Step]:
     """The steps with their true effects as claims (the checker's transition); StepRejected if one is invalid."""
-    from gsr.check import check_step
-    from gsr.facts import state_from_graph
-    from gsr.transition import StepRejected
-
     state = state_from_graph(graph, domain)
     out = []
     for i, step in enumerate(steps, 1):
@@ -77,9 +78,6 @@ _CACHE: dict[int, tuple[Domain, Example]] = {}
 
 
 def _example(domain: Domain) -> Example:
-    from gsr.gsr_bench_format import graph_from_gsr_bench
-    from gsr.reason.step_format import format_step
-
     graph = graph_from_gsr_bench(_EXAMPLE_SCENE)
     steps = annotate_steps(domain, graph, _EXAMPLE_PLAN)
     return Example(

@@ -18,19 +18,19 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
+from gsr.reason.backends import make_backend
 from gsr.reason.cases import PROMPT_OPTIONS, libero_cases, split_cases
+from gsr.reason.reasoner import solve
+from gsr.resources import load_builtin_domain
+from gsr.semantics import goal_holds
+from gsr.step import Goal
 
 
 def run_cases(
     cases: list, backend: Any, mode: str, given_goal: bool = False, echo: bool = False, **options: Any
 ) -> list[dict]:
     """One row per case: status, success, bench_goal, counts and seconds (``echo``: print each row as JSON)."""
-    from gsr.facts import state_from_graph
-    from gsr.reason.reasoner import solve
-    from gsr.resources import load_builtin_domain
-    from gsr.semantics import goal_holds
-    from gsr.step import Goal
-
     domain = load_builtin_domain()
     rows = []
     for name, graph, bench_goal, instruction in cases:
@@ -89,8 +89,6 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rows", action="store_true", help="print one JSON line per task too")
     args = parser.parse_args(argv)
     try:
-        from gsr.reason.backends import make_backend
-
         cases = split_cases(libero_cases(args.folder), args.split)[: args.limit]
         if not cases:
             raise GSRError(f"{args.folder}: no .bddl files")

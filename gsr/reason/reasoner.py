@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 
 from gsr.diagnosis import Diagnosis
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
 from gsr.pddl.model import Domain
 from gsr.reason.backend import Backend
 from gsr.reason.backends import as_backend
@@ -20,6 +21,7 @@ from gsr.reason.examples import Example
 from gsr.reason.loop import SolveLoop
 from gsr.reason.options import SolveOptions
 from gsr.reason.result import ReasonResult
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
@@ -41,8 +43,6 @@ class Reasoner:
         domain: Domain | None = None,
         options: SolveOptions | None = None,
     ) -> None:
-        from gsr.resources import load_builtin_domain
-
         self.backend = as_backend(backend)
         self.domain = domain or load_builtin_domain()
         self.options = options or SolveOptions()
@@ -71,8 +71,6 @@ class Reasoner:
         Plans again (towards the goal found at reset) when ``feedback`` rejects the last step or the
         graph's state is not the one the plan expected.
         """
-        from gsr.facts import state_from_graph
-
         if self.last is None:
             raise GSRError("Reasoner.step: call reset() first")
         rejected = feedback is not None and not feedback.ok
@@ -85,8 +83,6 @@ class Reasoner:
         return step
 
     def _adopt(self, graph: SceneGraph, result: ReasonResult) -> ReasonResult:
-        from gsr.facts import state_from_graph
-
         self.last = result
         self.rejections += result.rejections
         self._plan = deque((s.step, s.diagnosis.next_state.atoms) for s in result.steps)

@@ -6,8 +6,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gsr.diagnosis import Diagnosis, formula_text
+from gsr.reason.examples import claimed_effects
 from gsr.reason.options import Status
 from gsr.reason.prompt import Prompt
+from gsr.reason.step_format import format_step
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Plan, Step
 
@@ -31,8 +33,6 @@ class Attempt:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-friendly form."""
-        from gsr.reason.step_format import format_step
-
         out: dict[str, Any] = {"reply": self.reply, "ok": self.ok}
         if self.step is not None:
             out["step"] = format_step(self.step)
@@ -54,9 +54,6 @@ class CheckedStep:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-friendly form."""
-        from gsr.reason.examples import claimed_effects
-        from gsr.reason.step_format import format_step
-
         change = {}
         if self.diagnosis.transition is not None:  # the change the step made (what a claim must say)
             true = claimed_effects(self.diagnosis, self.diagnosis.transition[0])
