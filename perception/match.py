@@ -50,8 +50,13 @@ def scorable(truth: SceneGraph) -> list[Node]:
     return [n for n in truth.nodes if n.pose is not None and n.bbox is not None]
 
 
-def match_nodes(predicted: SceneGraph, truth: SceneGraph) -> dict[str, str]:
-    """Perceived node id -> truth node id, one-to-one, by 3D overlap (see the module docstring)."""
+def match_nodes(predicted: SceneGraph, truth: SceneGraph, same_category: float = 0.0) -> dict[str, str]:
+    """Perceived node id -> truth node id, one-to-one, by 3D overlap (see the module docstring).
+
+    ``same_category`` is added to the gain of an admissible pair whose categories agree. The evaluation
+    pairs by geometry alone (0: a cube read as a book still has its relations scored); a caller that must
+    act on what it pairs (the closed loop's body binding) prefers the drawer over the cabinet top that
+    overlaps the drawer's body more."""
     from scipy.optimize import linear_sum_assignment
 
     preds = [(n, b) for n in predicted.nodes if (b := padded_box(n)) is not None]
@@ -68,6 +73,8 @@ def match_nodes(predicted: SceneGraph, truth: SceneGraph) -> dict[str, str]:
             inside = bool(np.all(centre >= tb[0]) and np.all(centre <= tb[1]))
             if iou >= MIN_IOU or inside:
                 gain[i, j] = iou + 1e-3  # any admissible pair beats none
+                if p.category == t.category:
+                    gain[i, j] += same_category
     rows, cols = linear_sum_assignment(-gain)
     return {preds[r][0].id: trues[c][0].id for r, c in zip(rows, cols, strict=True) if gain[r, c] > 0}
 

@@ -219,11 +219,13 @@ def bind_to_world(graph: SceneGraph, world: World) -> dict[str, str]:
 
     This is the simulator's stand-in for a robot reaching to the place perception reported: the skills
     act on bodies, so a perceived ``bowl_1`` must be resolved to the body at its place. It reads the
-    bodies' boxes only, after perception, and never feeds anything back into the perceived graph."""
+    bodies' boxes only, after perception, and never feeds anything back into the perceived graph.
+    Among overlapping pairs the same category wins (a perceived drawer is the drawer it overlaps, not a
+    cabinet-top part that spans the drawer's body: the skills would open what the node names)."""
     from gsr.perception.match import match_nodes
     from gsr.skills.sim_graph import scene_graph_from_sim
 
-    return match_nodes(graph, scene_graph_from_sim(world))
+    return match_nodes(graph, scene_graph_from_sim(world), same_category=1.0)
 
 
 def frame_with_doors(world: World, spec: CameraSpec) -> Frame:

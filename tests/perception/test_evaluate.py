@@ -156,3 +156,49 @@ def test_view_study_more_cameras_see_more() -> None:
     assert all(k.split()[0] in ("on", "in") for k in hidden)
     text = markdown(report)
     assert "| top+back (top, back) |" in text and "no camera of 'top+back' sees" in text
+
+
+def test_pairing_by_overlap_and_the_binding_preferring_the_same_category():
+    from gsr.perception.match import match_nodes
+
+    from gsr.scene_graph import BoundingBox, Pose, Vec3
+
+    def node(node_id, category, lo, hi, parent=None):
+        box = BoundingBox(min=Vec3(x=lo[0], y=lo[1], z=lo[2]), max=Vec3(x=hi[0], y=hi[1], z=hi[2]))
+        centre = Vec3(x=(lo[0] + hi[0]) / 2, y=(lo[1] + hi[1]) / 2, z=(lo[2] + hi[2]) / 2)
+        return Node(id=node_id, category=category, parent=parent, bbox=box, pose=Pose(position=centre))
+
+    cab = ((-0.12, -0.42, 0.0), (0.17, -0.06, 0.32))
+    # perceived: a cabinet-top part over the upper half of the body, and the middle drawer's front slab
+    seen = SceneGraph(
+        nodes=(
+            node("cabinet_1", "cabinet", *cab),
+            node(
+                "cabinet_1/cabinet_top_1",
+                "cabinet_top",
+                (-0.1, -0.415, 0.153),
+                (0.17, -0.06, 0.322),
+                "cabinet_1",
+            ),
+            node("cabinet_1/drawer_3", "drawer", (-0.15, -0.416, 0.136), (-0.1, -0.077, 0.226), "cabinet_1"),
+        ),
+        edges=(),
+    )
+    truth = SceneGraph(
+        nodes=(
+            node("wooden_cabinet", "cabinet", *cab),
+            node(
+                "wooden_cabinet/middle_drawer",
+                "drawer",
+                (-0.12, -0.41, 0.138),
+                (0.14, -0.07, 0.218),
+                "wooden_cabinet",
+            ),
+        ),
+        edges=(),
+    )
+    # geometry alone (the evaluation): the cabinet top overlaps the drawer's body most
+    assert match_nodes(seen, truth)["cabinet_1/cabinet_top_1"] == "wooden_cabinet/middle_drawer"
+    bound = match_nodes(seen, truth, same_category=1.0)  # the closed loop's binding acts on a drawer
+    assert bound["cabinet_1/drawer_3"] == "wooden_cabinet/middle_drawer"
+    assert "cabinet_1/cabinet_top_1" not in bound
