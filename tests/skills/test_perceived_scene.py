@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import pytest
@@ -164,23 +165,32 @@ def test_contradicted_effects_ignore_unobservable_predicates() -> None:
     assert contradicted_effects(diagnosis, graph, domain) == []  # turned_on is not camera-observable
 
 
+@contextmanager
+def _libero10_world(libero_dir, scene: str):
+    """A built world (seed 0) of a LIBERO-10 task, closed afterwards."""
+    from gsr.benchmarks.suites.libero_suite import task_from_bddl
+    from gsr.skills import build_world
+
+    world = build_world(task_from_bddl(libero_dir / "libero_10" / f"{scene}.bddl"), seed=0)
+    try:
+        yield world
+    finally:
+        world.close()
+
+
+BOWL_IN_DRAWER = "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it"
+
+
 @pytest.mark.physics
 def test_perceived_scene_in_a_real_world(libero_dir) -> None:
     """Held from the gripper, regions from the map, a bowl in a closed drawer remembered."""
     pytest.importorskip("open3d")
-    from gsr.benchmarks.suites.libero_suite import task_from_bddl
-    from gsr.skills import build_world, run_step
+    from gsr.skills import run_step
     from gsr.skills.perceived_scene import PerceivedScene
 
     from gsr.step import Step
 
-    task = task_from_bddl(
-        libero_dir
-        / "libero_10"
-        / "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
-    )
-    world = build_world(task, seed=0)
-    try:
+    with _libero10_world(libero_dir, BOWL_IN_DRAWER) as world:
         scene = PerceivedScene(world, oracle_masks=True)
         first = scene.observe()
         assert first.metadata["source"] == "perception" and scene.last_rgb is not None
@@ -197,8 +207,6 @@ def test_perceived_scene_in_a_real_world(libero_dir) -> None:
         assert closed.node(bowl).attributes["observed"] is False  # hidden by the closed drawer
         assert (bowl, "in", drawer) in {e.key() for e in closed.edges}
         assert bowl not in observed_ids(closed) and scene.observations == 4
-    finally:
-        world.close()
 
 
 @pytest.mark.physics
@@ -206,17 +214,10 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
     """The microwave's door is no graph node: its own mask lets perception see it open or closed."""
     pytest.importorskip("open3d")
     import pybullet as p
-    from gsr.benchmarks.suites.libero_suite import task_from_bddl
-    from gsr.skills import build_world
     from gsr.skills.perceived_scene import PerceivedScene
 
-    task = task_from_bddl(
-        libero_dir
-        / "libero_10"
-        / "KITCHEN_SCENE6_put_the_yellow_and_white_mug_in_the_microwave_and_close_it.bddl"
-    )
-    world = build_world(task, seed=0)
-    try:
+    scene_name = "KITCHEN_SCENE6_put_the_yellow_and_white_mug_in_the_microwave_and_close_it"
+    with _libero10_world(libero_dir, scene_name) as world:
         scene = PerceivedScene(world, oracle_masks=True)
         door = world.objects["microwave_1"]
         labels = {lab.id for f in scene.frames() for lab in f.labels.values()}
@@ -226,8 +227,6 @@ def test_a_door_without_a_part_node_is_segmented_and_measured(libero_dir) -> Non
             graph = scene.observe()
             assert state in graph.node("microwave_1").states, (q, graph.node("microwave_1").states)
             assert not graph.has_node("microwave_1/door")  # the helper node is not in the agent's graph
-    finally:
-        world.close()
 
 
 def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
@@ -259,19 +258,12 @@ def test_a_released_object_no_camera_sees_is_where_the_step_put_it() -> None:
 def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -> None:
     """Without the simulator's masks: perception's own ids, stable across observations, bound to bodies."""
     pytest.importorskip("open3d")
-    from gsr.benchmarks.suites.libero_suite import task_from_bddl
-    from gsr.skills import build_world, run_step
+    from gsr.skills import run_step
     from gsr.skills.perceived_scene import PerceivedScene
 
     from gsr.step import Step
 
-    task = task_from_bddl(
-        libero_dir
-        / "libero_10"
-        / "KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
-    )
-    world = build_world(task, seed=0)
-    try:
+    with _libero10_world(libero_dir, BOWL_IN_DRAWER) as world:
         scene = PerceivedScene(world)
         first = scene.observe()
         world_ids = {n.id for n in world.graph.nodes}
@@ -288,8 +280,6 @@ def test_no_oracle_scene_keeps_ids_binds_bodies_and_tracks_a_grasp(libero_dir) -
         assert "held" in held.node(in_hand).states  # the gripper's grasp, on the perceived node it is
         assert not [e for e in held.edges if e.source == in_hand and e.relation in ("on", "in")]
         assert "held" in scene.in_world_ids(held).node("akita_black_bowl_1").states
-    finally:
-        world.close()
 
 
 def test_a_part_of_a_seen_object_stays_when_the_cameras_do_not_pick_it_out() -> None:
