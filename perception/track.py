@@ -859,9 +859,16 @@ def _look_cost(new: Node, old: Node) -> float | None:
 PART_TRACK_Z_IOU = 0.3
 
 
+#: Extra cost of a part only remembered (not seen in the last look): what the cameras saw last is the
+#: better evidence (a drawer pushed shut is the drawer seen open a moment ago, not a two-level box seen
+#: once at the start).
+REMEMBERED_PART_COST = 0.5
+
+
 def _part_cost(new: Node, old: Node) -> float | None:
     """Cost of ``new`` being the part ``old`` (same parent and category assumed): height-range mismatch
-    plus half the centre distance; by level rank and distance when either has no box."""
+    plus half the centre distance, plus ``REMEMBERED_PART_COST`` for a part not seen in the last look; by
+    level rank and distance when either has no box."""
     c1, c2 = _center(new), _center(old)
     d = float(np.linalg.norm(c1 - c2)) if c1 is not None and c2 is not None else 1.0
     if new.bbox is None or old.bbox is None:
@@ -871,7 +878,8 @@ def _part_cost(new: Node, old: Node) -> float | None:
     z_iou = max(overlap, 0.0) / max(union, 1e-6)
     if z_iou < PART_TRACK_Z_IOU:
         return None
-    return (1.0 - z_iou) + 0.5 * d
+    stale = REMEMBERED_PART_COST if old.attributes.get("observed") is False else 0.0
+    return (1.0 - z_iou) + 0.5 * d + stale
 
 
 def _assign(pairs: dict[tuple[str, str], float]) -> dict[str, str]:

@@ -213,3 +213,12 @@ def test_a_drawer_keeps_its_id_by_its_height_when_the_levels_are_renumbered():
     out = tracker.assign(now, before)
     assert out.node("cabinet_1/drawer_3").states == ("open",)  # the top drawer, by its height
     assert out.has_node("cabinet_1/drawer_1") and not out.has_node("cabinet_1/drawer_2")
+    # the bottom drawer, seen open in the last look, is pushed shut: it is that drawer, not a taller box
+    # over two levels remembered from an earlier look that overlaps its height range more
+    ghost = node("cabinet_1/drawer_9", (-0.356, -0.40, 0.008), (-0.129, -0.08, 0.191), 5)
+    ghost = ghost.model_copy(update={"attributes": {**ghost.attributes, "observed": False}})
+    pulled = node("cabinet_1/drawer_1", (-0.402, -0.40, 0.053), (-0.158, -0.08, 0.127), 0, states=("open",))
+    before = SceneGraph(nodes=(cab, ghost, pulled), edges=())
+    shut = node("cabinet_1/drawer_7", (-0.179, -0.40, 0.010), (-0.128, -0.08, 0.136), 0, states=("closed",))
+    out = tracker.assign(SceneGraph(nodes=(cab, shut), edges=()), before)
+    assert out.node("cabinet_1/drawer_1").states == ("closed",)
