@@ -292,7 +292,7 @@ def _disjuncts(formula: Formula) -> list[Formula]:
     return [formula]
 
 
-def _or_split(part: Formula, params: set[str]) -> OrSplit | None:
+def or_split(part: Formula, params: set[str]) -> OrSplit | None:
     """The OrSplit of a disjunction over all of ``params``; None when no disjunct mentions fewer."""
     if not isinstance(part, Or):
         return None
@@ -333,7 +333,7 @@ def _parts(schema: Schema, fluent: set[str]) -> list[Part]:
         free = free_variables(part)
         memo = tuple(sorted(free)) if len(free) < len(names) and not isinstance(part, Atom) else None
         kind = _part_kind(part, k < len(schema.join), fluent)
-        split = _or_split(part, names) if memo is None and kind == _GENERIC else None
+        split = or_split(part, names) if memo is None and kind == _GENERIC else None
         out.append((part, split, _SPLIT) if split is not None else (part, memo, kind))
     return out
 
