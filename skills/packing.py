@@ -61,7 +61,7 @@ WALL_DROP = 0.045
 Rect = tuple[np.ndarray, np.ndarray, float]
 
 
-def _container(world: World, target: str) -> tuple[SimObject, Interior, int, bool] | None:
+def container_of(world: World, target: str) -> tuple[SimObject, Interior, int, bool] | None:
     """The object, interior, interior link and whether it is a drawer, behind a container node."""
     found = world.interior_of(target)
     if found is None:
@@ -253,7 +253,7 @@ def packed_spot(
     ``closing_yaw`` is the world direction the fingers close along now; the room the fingers need
     beside the object is measured from the finger links, not assumed.
     """
-    found = _container(world, target)
+    found = container_of(world, target)
     if found is None:
         return None
     cont, interior, link, drawer = found
