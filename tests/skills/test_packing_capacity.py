@@ -56,7 +56,10 @@ def _set_down(world, obj, spot: np.ndarray, delta: float) -> None:
 
 
 @pytest.mark.physics
-def test_six_gsr_bench_mugs_go_on_the_floor_of_a_drawer_with_the_hand_clear_of_the_cabinet() -> None:
+@pytest.mark.parametrize("index", [0, 10])
+def test_six_gsr_bench_mugs_go_on_the_floor_of_a_drawer_with_the_hand_clear_of_the_cabinet(
+    index: int,
+) -> None:
     """GSR-Bench SOD General puts 5-6 mugs (4.4 cm, handle 3 cm) into one drawer of the short cabinet:
     all on the drawer's floor (no second layer), the hand's footprint at each release point clear of
     the carcass and the drawer above, the fingers' reach clear of the mugs already there."""
@@ -64,7 +67,9 @@ def test_six_gsr_bench_mugs_go_on_the_floor_of_a_drawer_with_the_hand_clear_of_t
     from gsr.skills.packing import HAND_HALF, finger_reach, packed_spot
     from gsr.skills.sim_graph import support_of
 
-    world, cab = _drawer_world("General", "Semantic Object Disambiguation", 0, "short_cabinet/drawer_middle")
+    world, cab = _drawer_world(
+        "General", "Semantic Object Disambiguation", index, "short_cabinet/drawer_middle"
+    )
     try:
         target = "short_cabinet/drawer_middle"
         mugs = [o for o in world.objects.values() if o.id.startswith("red_mug")]
