@@ -15,6 +15,7 @@ Rendered scenes are cached (``--cache DIR``) so that detector variants can be co
 frames. Usage::
 
     python -m gsr.benchmarks.perception_node_errors --scenes 10 --cameras 4 --seed 5 [--cache /tmp/c] [--json]
+        [--no-drawer-completion]
 """
 
 from __future__ import annotations
@@ -104,25 +105,56 @@ def classify_errors(graph: Any, truth: Any, visible: set[str]) -> list[dict[str,
     return out
 
 
-def run(scenes: int, seed: int, cameras: int, cache: Path | None, detector: Any = None) -> dict[str, Any]:
-    """Perceive the scenes and count errors; ``{nodes, errors, by_kind, by_category, cpu_s}``."""
+def run(
+    scenes: int,
+    seed: int,
+    cameras: int,
+    cache: Path | None,
+    detector: Any = None,
+    complete_drawers: bool = True,
+) -> dict[str, Any]:
+    """Perceive the scenes and count errors; ``{nodes, errors, by_kind, by_category, cpu_s}``.
+
+    ``complete_drawers=False`` perceives without the drawer-stack completion
+    (:func:`gsr.perception.drawer_slots.hidden_drawers`), for an A/B on the same cached frames."""
+    import gsr.perception.pipeline as pipeline
     from gsr.perception.detect import load_detector
     from gsr.perception.match import NodeScore, match_nodes
-    from gsr.perception.rgbd import View, perceive_rgbd
 
     detector = detector or load_detector()
     errors: list[dict[str, Any]] = []
     nodes = NodeScore()
     cpu = 0.0
-    for i, ss in enumerate(np.random.SeedSequence(seed).spawn(scenes)):
+    kept = pipeline.hidden_drawers
+    if not complete_drawers:
+        pipeline.hidden_drawers = lambda *args, **kwargs: []
+    try:
+        graphs = _perceive_all(scenes, seed, cameras, cache, detector)
+    finally:
+        pipeline.hidden_drawers = kept
+    for i, (graph, truth, visible, seconds) in enumerate(graphs):
+        cpu += seconds
+        nodes.add(graph, truth, match_nodes(graph, truth))
+        for e in classify_errors(graph, truth, visible):
+            errors.append({**e, "scene": i})
+    return _report(nodes, errors, cpu)
+
+
+def _perceive_all(scenes: int, seed: int, cameras: int, cache: Path | None, detector: Any) -> list[tuple]:
+    """(graph, truth, visible ids, perception CPU s) of each scene of the stream."""
+    from gsr.perception.rgbd import View, perceive_rgbd
+
+    out = []
+    for ss in np.random.SeedSequence(seed).spawn(scenes):
         scene_seed = int(ss.generate_state(1)[0])
         frames, truth, visible = _scene(scene_seed, cameras, cache)
         c0 = time.process_time()
         graph, _ = perceive_rgbd([View(f.rgb, f.depth, f.camera) for f in frames], detector)
-        cpu += time.process_time() - c0
-        nodes.add(graph, truth, match_nodes(graph, truth))
-        for e in classify_errors(graph, truth, visible):
-            errors.append({**e, "scene": i})
+        out.append((graph, truth, visible, time.process_time() - c0))
+    return out
+
+
+def _report(nodes: Any, errors: list[dict[str, Any]], cpu: float) -> dict[str, Any]:
     by_kind = Counter(f"{e['kind']}:{e['sub']}" if e["sub"] else e["kind"] for e in errors)
     by_cat = Counter(
         f"{e['kind']} {e['truth']}" + (f" -> {e['perceived']}" if e["kind"] != "missed" else "")
@@ -144,12 +176,24 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--cameras", type=int, default=4)
     ap.add_argument("--cache", type=Path, default=None, help="folder for rendered scenes (reused)")
     ap.add_argument("--model", default=None, help="a `gsr perceive-train` folder (default: shipped)")
+    ap.add_argument(
+        "--no-drawer-completion",
+        action="store_true",
+        help="perceive without completing hidden drawers of a stack (A/B on the same cached frames)",
+    )
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     try:
         from gsr.perception.detect import load_detector
 
-        report = run(args.scenes, args.seed, args.cameras, args.cache, load_detector(args.model))
+        report = run(
+            args.scenes,
+            args.seed,
+            args.cameras,
+            args.cache,
+            load_detector(args.model),
+            complete_drawers=not args.no_drawer_completion,
+        )
     except GSRError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

@@ -120,6 +120,8 @@ def cut_dark_handles(seg: Segments, parts: list[Part]) -> list[Part]:
             if mask.sum() < DARK_MIN_PIXELS:
                 continue
             pts, _, pix = _cloud(seg, mask)
+            if len(pts) < DARK_MIN_PIXELS:
+                continue  # a dark blob without depth (no return): nothing to measure
             # pixels on a silhouette get depths smeared towards the background: not part of the bar
             near = np.all(np.abs(pts - np.median(pts, axis=0)) <= HANDLE_SIZE / 2, axis=1)
             pts, pix = pts[near], pix[near]
