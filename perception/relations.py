@@ -6,7 +6,9 @@ All thresholds live in :class:`RelationThresholds` and are documented in docs/pe
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from gsr.perception.articulation import label_affordances
@@ -99,12 +101,23 @@ def in_ratio(a: Instance, b: Instance, th: RelationThresholds) -> float:
     The larger of two measures: the share of A's points inside, and A's share over B's footprint times
     the share of A's height span inside B's z range. Cameras see mostly the top of a tall object whose
     lower part B's walls hide (a bottle in a basket), so counting points undercounts; the span does not."""
+    return _in_ratio(a, b, th, container_footprint(b), bottom_z(a), top_z(a))
+
+
+def top_z(inst: Instance) -> float:
+    """Robust top height of an instance (98th percentile of its points' z)."""
+    return float(np.percentile(inst.points[:, 2], 98.0))
+
+
+def _in_ratio(
+    a: Instance, b: Instance, th: RelationThresholds, footprint: Instance, bottom: float, top: float
+) -> float:
+    """:func:`in_ratio` given B's footprint and A's robust bottom and top (computed once per instance)."""
     pts = a.points
     lo, hi = b.aabb_min[2] - 0.01, b.aabb_max[2] + th.in_rim
-    inside_xy = container_footprint(b).footprint_contains(pts[:, :2], margin=0.005)
+    inside_xy = footprint.footprint_contains(pts[:, :2], margin=0.005)
     inside_z = (pts[:, 2] >= lo) & (pts[:, 2] <= hi)
     by_points = float(np.mean(inside_xy & inside_z))
-    bottom, top = bottom_z(a), float(np.percentile(pts[:, 2], 98.0))
     span_inside = max(0.0, min(top, hi) - max(bottom, lo)) / max(top - bottom, 1e-3)
     return max(by_points, float(np.mean(inside_xy)) * span_inside)
 
@@ -143,17 +156,26 @@ def supports(
     out: dict[str, tuple[str, str]] = {}
     by_key = {i.key: i for i in instances}
     grounds = [i for i in instances if i.label.category in GROUND_CATEGORIES]
+    # per-instance values every pair reads, computed once (points do not change during the call)
+    memo: dict[tuple[Callable[[Instance], Any], int], Any] = {}
+
+    def once(fn: Callable[[Instance], Any], inst: Instance) -> Any:
+        key = (fn, id(inst))
+        if key not in memo:
+            memo[key] = fn(inst)
+        return memo[key]
+
     for a in instances:
         if not is_subject(a):
             continue
         containers = [
-            (in_ratio(a, b, th), b)
+            (_in_ratio(a, b, th, once(container_footprint, b), once(bottom_z, a), once(top_z, a)), b)
             for b in instances
             if b is not a
             and is_container(b)
             and b.key != a.key
             and _may_hold(a, b, closed, th)
-            and bottom_z(a) >= bottom_z(b) - th.in_floor
+            and once(bottom_z, a) >= once(bottom_z, b) - th.in_floor
             and (b.key in closed or not _on_flat_lid(a, b, th))
         ]
         containers = [
@@ -166,7 +188,7 @@ def supports(
             # box), then the larger ratio
             out[a.key] = ("in", max(containers, key=lambda rb: (float(rb[1].aabb_min[2]), rb[0]))[1].key)
             continue
-        a_bottom = bottom_z(a)
+        a_bottom = once(bottom_z, a)
         strict: list[tuple[float, str]] = []  # surfaces touching A's bottom
         below: list[tuple[float, str]] = []  # any surface under A (fallback: everything rests on something)
         for b in instances:
