@@ -96,8 +96,9 @@ def _features(seg: Segments, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     cov = xy.T @ xy / n
     _, evecs = np.linalg.eigh(cov)
     proj = xy @ evecs
-    span = np.percentile(proj, 98, axis=0) - np.percentile(proj, 2, axis=0)
-    bottom, top = np.percentile(hgt, 2), np.percentile(hgt, 98)
+    lo, hi = np.percentile(proj, [2, 98], axis=0)  # one partition for both ends
+    span = hi - lo
+    bottom, top = np.percentile(hgt, [2, 98])
     up = np.abs(nrm[:, 2]) > 0.9
     side = np.abs(nrm[:, 2]) < 0.3
     # how box-like the sides are: horizontal normal directions of a box cluster at one angle modulo 90
