@@ -797,6 +797,65 @@ def graspable_later(
     return packed
 
 
+#: Where a release in a container stopped high, other spots are tried this far apart (m), at most
+#: :data:`CLEAR_SPOT_TRIES` of them, nearest the packing's spot first.
+CLEAR_SPOT_STEP = 0.02
+CLEAR_SPOT_TRIES = 40
+
+
+def hand_clear_spot(
+    world: World, obj: SimObject, target: str, spot: np.ndarray, turn: float = 0.0
+) -> np.ndarray | None:
+    """A spot in the container ``target`` (a box or a drawer) for the held ``obj``, nearest ``spot``, whose
+    footprint stays inside the interior and off what already lies there, and where the hand holding
+    ``obj`` as it does now (the wrist turned by ``turn``), at the release point and straight above it,
+    touches nothing (:func:`gsr.skills.hand_clearance.hand_clear_at`); None when there is none. For a release whose
+    descent stopped high (the hand met the drawer above or a neighbour before the object got down)."""
+    from gsr.skills.hand_clearance import hand_clear_at
+
+    found = world.interior_of(target)
+    if found is None:
+        return None
+    host, _, interior = found
+    link = host.links[interior.link]
+    centre = world.to_world(host.body, link, interior.center)
+    half = np.array(interior.size[:2]) / 2
+    yaw = world.yaw_of(host.body, link)
+    axes = np.array([[math.cos(yaw), math.sin(yaw)], [-math.sin(yaw), math.cos(yaw)]])
+    lo, hi = world.body_aabb(obj.body)
+    reach = float(max(hi[:2] - lo[:2])) / 2 + 0.004
+    inside = [
+        world.body_aabb(o.body)
+        for o in world.objects.values()
+        if o.id != obj.id and (support_of(world, o.id) or ("", ""))[1] == target
+    ]
+    room = half - reach
+    if np.any(room < 0):
+        return None
+    grid = [
+        centre[:2] + a * axes[0] + b * axes[1]
+        for a in np.arange(-room[0], room[0] + 1e-9, CLEAR_SPOT_STEP)
+        for b in np.arange(-room[1], room[1] + 1e-9, CLEAR_SPOT_STEP)
+    ]
+    grid.sort(key=lambda xy: float(np.linalg.norm(xy - spot[:2])))
+    tried = 0
+    for xy in grid:
+        if float(np.linalg.norm(xy - spot[:2])) < CLEAR_SPOT_STEP / 2:
+            continue  # the spot that stopped high
+        if any(
+            np.all(np.abs(xy - (olo[:2] + ohi[:2]) / 2) < reach + (ohi[:2] - olo[:2]) / 2)
+            for olo, ohi in inside
+        ):
+            continue
+        here = np.array([xy[0], xy[1], spot[2]])
+        if hand_clear_at(world, obj, here, turn):
+            return here
+        tried += 1
+        if tried >= CLEAR_SPOT_TRIES:
+            break
+    return None
+
+
 def _recentre(
     world: World, m: Motion, obj: SimObject, spot: np.ndarray, goal: np.ndarray, quat: tuple, z: float
 ) -> np.ndarray:
@@ -919,6 +978,21 @@ def place(
     # (the Panda's hand is 22 cm long: over a 3 cm cube in an 8.5 cm deep box it cannot reach the floor;
     # the object is then let go a few centimetres above it)
     short = m.move_until_contact((goal, quat))
+    if short > MAX_DROP and packed is not None and opening is None:
+        # the hand met something before the object got down (the drawer above, a neighbour): straight
+        # back up, then once more over the nearest spot in the container where the hand clears all
+        other = hand_clear_spot(world, obj, target, spot)
+        if other is not None:
+            m.move_line((np.array([m.pose()[0][0], m.pose()[0][1], z_transit]), quat), check=False)
+            spot = other
+            goal = spot + offset + np.array([0, 0, 0.012])
+            above = (np.array([goal[0], goal[1], z_transit]), quat)
+            m.park_for(goal, poses=[(goal, quat), above])
+            m.move_continuous(above, [above, (goal + np.array([0, 0, 0.04]), quat), (goal, quat)])
+            goal = _recentre(world, m, obj, spot, goal, quat, z_transit)
+            m.move_until_contact((goal + np.array([0, 0, 0.04]), quat))
+            goal = _recentre(world, m, obj, spot, goal, quat, float(m.pose()[0][2]))
+            short = m.move_until_contact((goal, quat))
     if short > MAX_DROP:
         raise SkillError(
             Failure.BLOCKED, f"the hand stops {short:.3f} m above the release point of {obj.id} in {target}"

@@ -321,3 +321,40 @@ def test_every_wall_grasp_of_a_rectangular_box_is_on_a_wall_and_the_box_comes_up
         assert result.ok, result.message
         assert support_of(world, box.id) == ("held", "")
         assert support_of(world, "red_mug1") == ("in", box.id)
+
+
+def test_a_release_that_stops_high_finds_a_spot_in_the_box_where_the_hand_clears() -> None:
+    from gsr.skills.grasping import hand_clear_spot
+    from gsr.skills.library import run_step
+
+    from gsr.step_grammar import parse_step_text
+
+    # a cube in the hand over a deep box: in the box's corner the 20 cm hand meets a wall (a release
+    # there stops high); hand_clear_spot gives the nearest spot inside the box, off what it already
+    # holds, where the hand at the release point and above it touches nothing
+    with build_world(_task("gsrgen_sod_complex_02"), seed=0) as world:
+        result = run_step(world, parse_step_text("(pick red_cube2 table)"))
+        assert result.ok, result.message
+        cube, box = world.objects["red_cube2"], world.objects["blue_box"]
+        bpos, along, across, sx, sy = _box_axes(world, box)
+        floor = float(world.body_aabb(box.body)[0][2]) + 0.01
+        corner = np.asarray(bpos[:2]) + along * (max(sx, sy) / 2 - 0.03) + across * (min(sx, sy) / 2 - 0.03)
+        spot = np.array([corner[0], corner[1], floor])
+        # the wrist turned so the fingers close along the box (as the packing turns it going in)
+        import pybullet as p
+
+        rot = np.array(p.getMatrixFromQuaternion(world.robot.ee_pose()[1])).reshape(3, 3)
+        turn = math.atan2(along[1], along[0]) - math.atan2(rot[1, 1], rot[0, 1])
+        assert not hc.hand_clear_at(world, cube, spot, turn)
+        other = hand_clear_spot(world, cube, "blue_box", spot, turn)
+        assert other is not None
+        assert hc.hand_clear_at(world, cube, other, turn)
+        rel = other[:2] - np.asarray(bpos[:2])
+        assert abs(float(rel @ along)) < max(sx, sy) / 2 - 0.015
+        assert abs(float(rel @ across)) < min(sx, sy) / 2 - 0.015
+        # off the cube already in the box
+        rlo, rhi = world.body_aabb(world.objects["red_cube1"].body)
+        assert support_of(world, "red_cube1") == ("in", "blue_box")
+        gap = np.abs(other[:2] - (rlo[:2] + rhi[:2]) / 2) - (rhi[:2] - rlo[:2]) / 2
+        assert float(gap.max()) > 0.015
+        assert float(np.linalg.norm(other[:2] - spot[:2])) > 0.01
