@@ -37,6 +37,37 @@ def _handle(world: World, obj: SimObject, art: Articulation) -> tuple[np.ndarray
     return world.to_world(obj.body, link, art.handle.xyz), world.yaw_of(obj.body, link) + art.handle.yaw
 
 
+#: m the hand backs off out of a front part's way when it cannot rise to transit height first
+BACK_OFF = 0.1
+
+
+def _clear_of_part(world: World, m: Motion, obj: SimObject, art: Articulation, front: bool) -> None:
+    """Raise the hand to transit height before the base moves; for a front handle, when the arm cannot
+    raise it that high from where it is (the tilted hand left low at the drawer's front by a stroke that
+    ended short, a finger still on the part), first back it off along its approach axis, the part's own
+    link not counted as an obstacle while the hand leaves it.
+
+    The base slides with the arm held still and only its own links checked: a hand left on the part's
+    front would be carried into it by a base that comes forward for the next stroke, and the joint-space
+    approach would start in contact with the part itself (``blocked`` by the drawer being closed).
+    """
+    z = transit_height(world)
+    lift(m, z)
+    pos, quat = m.pose()
+    if not front or pos[2] >= z - 0.005:
+        return
+    m.ignore_links = {(obj.body, obj.links[art.link])}
+    try:
+        m.move_line((pos - approach_axis(quat) * BACK_OFF, quat))
+    except SkillError as exc:
+        if exc.failure not in (Failure.BLOCKED, Failure.IK_FLIP, Failure.UNREACHABLE):
+            raise
+        return
+    finally:
+        m.ignore_links = set()
+    lift(m, z)
+
+
 def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation, target: float) -> None:
     """Move a prismatic part along its axis to joint position ``target``.
 
@@ -55,7 +86,7 @@ def _slide(world: World, m: Motion, obj: SimObject, part: str, art: Articulation
     quat = angled(math.atan2(-axis[1], -axis[0]), fingers_vertical=False) if front else top_down(yaw)
     back = -approach_axis(quat) * 0.1 if front else np.array([0, 0, APPROACH])
     contact = handle + axis * (0.02 if pushing else 0.0)  # pushing: the fingertips meet the bar's front
-    lift(m, transit_height(world))
+    _clear_of_part(world, m, obj, art, front)
     # the arm works best in the middle of the stroke; a tilted hand keeps its wrist 6 cm further back
     overshoot = axis * 0.01 * (-1 if pushing else 1)
     poses = [(contact + back, quat), (contact, quat), (contact + travel + overshoot, quat)]
