@@ -7,6 +7,7 @@ and loading is fast.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 Vec = tuple[float, float, float]
@@ -79,12 +80,35 @@ def _extent(s: Shape, i: int) -> float:
     return s.size[i] if s.kind == "box" or i == 2 else 2 * s.size[i]
 
 
+def volume(s: Shape) -> float:
+    """The shape's volume in cubic metres (a box's extents' product, a cylinder's pi r^2 l)."""
+    if s.kind == "box":
+        return s.size[0] * s.size[1] * s.size[2]
+    return math.pi * s.size[0] * s.size[1] * s.size[2]
+
+
+def centre_of_mass(link: Link) -> Vec:
+    """The link's centre of mass in its frame: its solid shapes' centres weighted by their volumes.
+
+    Uniform density over the shapes that collide (visual-only shapes weigh nothing, unless a link has no
+    other). A mug's handle or a box's thin walls no longer pull the centre to the middle of the bounding box:
+    a 4.4 cm mug with a 3 cm handle had its centre 1.5 cm towards the handle and tipped onto it at 15.6 deg.
+    """
+    solid = [s for s in link.shapes if s.collide] or list(link.shapes)
+    weights = [volume(s) for s in solid]
+    total = sum(weights)
+    if total <= 0.0:
+        return tuple(sum(s.xyz[i] for s in solid) / len(solid) for i in range(3))  # type: ignore[return-value]
+    return tuple(sum(w * s.xyz[i] for w, s in zip(weights, solid, strict=True)) / total for i in range(3))  # type: ignore[return-value]
+
+
 def _inertia(link: Link) -> str:
-    # a solid-box approximation over the link's shapes' bounding box: plausible, positive definite
+    # the centre of mass from the solid shapes' volumes; the inertia a solid-box approximation over the
+    # shapes' bounding box: plausible, positive definite
     lo = [min(s.xyz[i] - _extent(s, i) / 2 for s in link.shapes) for i in range(3)]
     hi = [max(s.xyz[i] + _extent(s, i) / 2 for s in link.shapes) for i in range(3)]
     dx, dy, dz = (max(hi[i] - lo[i], 0.01) for i in range(3))
-    com = tuple((hi[i] + lo[i]) / 2 for i in range(3))
+    com = centre_of_mass(link)
     m = link.mass
     ixx, iyy, izz = m * (dy * dy + dz * dz) / 12, m * (dx * dx + dz * dz) / 12, m * (dx * dx + dy * dy) / 12
     return (
