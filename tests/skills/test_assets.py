@@ -66,7 +66,7 @@ def test_cabinet_has_three_drawers_with_handles_and_interiors() -> None:
         assert f"{d}/handle" in cab.keypoints
 
 
-def test_a_mug_stands_back_up_from_a_lean_towards_its_handle(client: int) -> None:
+def test_a_mug_stands_back_up_from_a_lean_towards_its_handle() -> None:
     """The centre of mass comes from the shapes' volumes, not their bounding box (the handle weighs little).
 
     GSR-Bench's 4.4 cm mug with its centre in the bounding box's middle (1.5 cm towards the handle) tips onto
@@ -79,17 +79,18 @@ def test_a_mug_stands_back_up_from_a_lean_towards_its_handle(client: int) -> Non
     model = make_asset("mug", (0.044, 0.044, 0.05), "red")
     com = centre_of_mass(model.links[0])
     assert abs(com[0]) < 1e-9 and 0.0 < com[1] < 0.022 / 3  # the handle pulls it, a little
-    plane = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=client)
-    ground = pybullet.createMultiBody(0, plane, physicsClientId=client)
-    pybullet.setGravity(0, 0, -9.81, physicsClientId=client)
-    lean = math.radians(20)  # about x: the top towards +y, the handle's side
-    body = pybullet.loadURDF(
-        str(asset_urdf_path(model)),
-        basePosition=(0, 0, 0.004),
-        baseOrientation=pybullet.getQuaternionFromEuler((-lean, 0, 0)),
-        physicsClientId=client,
-    )
+    client = pybullet.connect(pybullet.DIRECT)  # its own world: the module's client holds every asset
     try:
+        plane = pybullet.createCollisionShape(pybullet.GEOM_PLANE, physicsClientId=client)
+        pybullet.createMultiBody(0, plane, physicsClientId=client)
+        pybullet.setGravity(0, 0, -9.81, physicsClientId=client)
+        lean = math.radians(20)  # about x: the top towards +y, the handle's side
+        body = pybullet.loadURDF(
+            str(asset_urdf_path(model)),
+            basePosition=(0, 0, 0.004),
+            baseOrientation=pybullet.getQuaternionFromEuler((-lean, 0, 0)),
+            physicsClientId=client,
+        )
         for _ in range(480):
             pybullet.stepSimulation(physicsClientId=client)
         roll, pitch, _ = pybullet.getEulerFromQuaternion(
@@ -97,5 +98,4 @@ def test_a_mug_stands_back_up_from_a_lean_towards_its_handle(client: int) -> Non
         )
         assert math.degrees(math.hypot(roll, pitch)) < 5.0  # upright again, not on its handle
     finally:
-        pybullet.removeBody(body, physicsClientId=client)
-        pybullet.removeBody(ground, physicsClientId=client)
+        pybullet.disconnect(client)
