@@ -342,22 +342,20 @@ def _split_disjunction(
     key: tuple, split: OrSplit, binding: dict[str, str], simplify: Simplifier, memo: dict[tuple, Formula]
 ) -> Formula:
     """A split disjunction under ``binding`` (see OrSplit): its groups memoised, nested Ors flattened."""
-    alts: list[Formula] = []
     full, groups = split
-    for gi, (group, names) in enumerate(groups):
-        gkey = (*key, gi, *map(binding.__getitem__, names))
-        g = memo.get(gkey)
-        if g is None:
-            g = memo[gkey] = simplify(group, binding)
-        if g is TRUE:
-            return TRUE
-        if g is not FALSE:
-            if type(g) is Or:
-                alts.extend(g.parts)  # type: ignore[union-attr]
-            else:
-                alts.append(g)
-    for q in full:
-        g = simplify(q, binding)
+
+    def parts():  # the groups (memoised per value of their variables), then the unsplit disjuncts
+        for gi, (group, names) in enumerate(groups):
+            gkey = (*key, gi, *map(binding.__getitem__, names))
+            g = memo.get(gkey)
+            if g is None:
+                g = memo[gkey] = simplify(group, binding)
+            yield g
+        for q in full:
+            yield simplify(q, binding)
+
+    alts: list[Formula] = []
+    for g in parts():  # lazily: a true part settles the disjunction before the rest is simplified
         if g is TRUE:
             return TRUE
         if g is not FALSE:
