@@ -125,19 +125,19 @@ def _complete(
                 break
             levels.append((lo, hi))
             step += 1
-    face = side * float(parent.size[axis]) / 2.0
+    front = _Front(parent, axis, side, side * float(parent.size[axis]) / 2.0, lat)
     used = {p.key for p in parts}
     k = 0
     out: list[Instance] = []
     for lo, hi in sorted(levels):
         if any(_covers(p, lo, hi, h, params) for p in parts):
             continue
-        if _seen_share(parent, axis, side, face, lat, (lo, hi), frames, params) > params.seen_max:
+        if _seen_share(front, (lo, hi), frames, params) > params.seen_max:
             continue
         k += 1
         while f"{parent.key}/{PART}_{k}" in used:
             k += 1
-        out.append(_drawer(parent, template, axis, side, face, lat, (lo, hi), k, params))
+        out.append(_drawer(front, template, (lo, hi), k, params))
     return out
 
 
@@ -152,6 +152,21 @@ def _covers(part: Instance, lo: float, hi: float, h: float, params: SlotParams) 
     return top - bottom <= 1.5 * h or lo <= (top + bottom) / 2.0 <= hi
 
 
+@dataclass(frozen=True)
+class _Front:
+    """A drawer stack's front: the parent's box, the axis and side it faces, the face's offset along that
+    axis from the box's centre and the drawers' lateral span across it (box frame)."""
+
+    parent: Instance
+    axis: int
+    side: float
+    face: float
+    lat: tuple[float, float]
+
+    def to_world(self, along: np.ndarray, across: np.ndarray, z: np.ndarray) -> np.ndarray:
+        return _to_world(self.parent, along, across, self.axis, z)
+
+
 def _to_world(
     parent: Instance, along: np.ndarray, across: np.ndarray, axis: int, z: np.ndarray
 ) -> np.ndarray:
@@ -162,22 +177,13 @@ def _to_world(
     return np.column_stack([xy, z])
 
 
-def _seen_share(
-    parent: Instance,
-    axis: int,
-    side: float,
-    face: float,
-    lat: tuple[float, float],
-    level: tuple[float, float],
-    frames: list[Frame],
-    params: SlotParams,
-) -> float:
+def _seen_share(front: _Front, level: tuple[float, float], frames: list[Frame], params: SlotParams) -> float:
     """Largest share, over the views, of the level's front face that a camera sees at the measured depth."""
-    a, z = np.meshgrid(np.linspace(lat[0], lat[1], 12), np.linspace(level[0], level[1], 5))
-    pts = _to_world(parent, np.full(a.size, face), a.ravel(), axis, z.ravel())
+    a, z = np.meshgrid(np.linspace(front.lat[0], front.lat[1], 12), np.linspace(level[0], level[1], 5))
+    pts = front.to_world(np.full(a.size, front.face), a.ravel(), z.ravel())
     normal = np.zeros(2)
-    normal[axis] = side
-    normal_w = np.append(normal @ parent.axes, 0.0)
+    normal[front.axis] = front.side
+    normal_w = np.append(normal @ front.parent.axes, 0.0)
     best = 0.0
     for f in frames:
         cam = f.camera
@@ -197,22 +203,15 @@ def _seen_share(
 
 
 def _drawer(
-    parent: Instance,
-    template: Instance,
-    axis: int,
-    side: float,
-    face: float,
-    lat: tuple[float, float],
-    level: tuple[float, float],
-    k: int,
-    params: SlotParams,
+    front: _Front, template: Instance, level: tuple[float, float], k: int, params: SlotParams
 ) -> Instance:
     """A closed drawer instance filling the level's slab of the parent's box behind its front face."""
-    depth = params.depth_share * float(parent.size[axis])
+    parent, face, side = front.parent, front.face, front.side
+    depth = params.depth_share * float(parent.size[front.axis])
     al, ac, z = np.meshgrid(
-        np.linspace(face - side * depth, face, 6), np.linspace(lat[0], lat[1], 6), np.linspace(*level, 4)
+        np.linspace(face - side * depth, face, 6), np.linspace(*front.lat, 6), np.linspace(*level, 4)
     )
-    points = _to_world(parent, al.ravel(), ac.ravel(), axis, z.ravel())
+    points = front.to_world(al.ravel(), ac.ravel(), z.ravel())
     # a closed drawer's front has its cabinet's colour (the template may be an open drawer's inside)
     rgb = np.repeat(np.median(parent.rgb, axis=0).astype(np.uint8)[None, :], len(points), axis=0)
     label = replace(
