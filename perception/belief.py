@@ -72,14 +72,10 @@ def occluded(node: Node, frames: Sequence[Frame], margin: float = OCCLUSION_MARG
     lo, hi = node.bbox.min, node.bbox.max
     top = np.array([(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, hi.z])
     for f in frames:
-        cam = f.camera
-        rot, t = cam.cam_to_world[:3, :3], cam.cam_to_world[:3, 3]
-        x, y, z = rot.T @ (top - t)  # OpenCV camera frame: z forward
-        if z <= 0:
-            continue
-        u, v = round(float(cam.fx * x / z + cam.cx)), round(float(cam.fy * y / z + cam.cy))
-        if not (0 <= u < cam.width and 0 <= v < cam.height):
-            continue
+        us, vs, zs, inside = f.camera.project(top[None, :])
+        if not inside[0]:
+            continue  # behind the camera or outside its image
+        u, v, z = int(us[0]), int(vs[0]), float(zs[0])
         window = f.depth[max(v - 1, 0) : v + 2, max(u - 1, 0) : u + 2]
         valid = window[np.isfinite(window) & (window > 0)]
         if valid.size == 0 or float(valid.max()) >= z - margin:

@@ -54,6 +54,30 @@ class Camera:
         """The camera centre in the world frame."""
         return self.cam_to_world[:3, 3].copy()
 
+    def project(
+        self, points: np.ndarray, near: float = 0.0
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """World points ``(N, 3)`` seen by this camera: the nearest pixel's column ``u`` and row ``v`` (int),
+        the depth ``z`` along the optical axis, and ``inside``: in front of the camera by more than ``near``
+        and within the image. ``u`` and ``v`` are 0 where not ``inside`` (a NaN point is never inside)."""
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        rot, t = self.cam_to_world[:3, :3], self.cam_to_world[:3, 3]
+        cam = (pts - t) @ rot  # rot.T @ (p - t) for every point: OpenCV camera frame, z forward
+        z = cam[:, 2]
+        front = z > near
+        safe = np.where(front, z, 1.0)
+        u = np.round(self.fx * cam[:, 0] / safe + self.cx)
+        v = np.round(self.fy * cam[:, 1] / safe + self.cy)
+        inside = front & (u >= 0) & (u < self.width) & (v >= 0) & (v < self.height)
+        return np.where(inside, u, 0).astype(int), np.where(inside, v, 0).astype(int), z, inside
+
+    def rays(self, stride: int = 1) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised image coordinates ``(x/z, y/z)`` of every pixel on the strided grid, each (H', W'):
+        the inverse of :meth:`project` up to the depth (back-projection multiplies them by the depth)."""
+        u = (np.arange(0, self.width, stride, dtype=np.float64) - self.cx) / self.fx
+        v = (np.arange(0, self.height, stride, dtype=np.float64) - self.cy) / self.fy
+        return np.broadcast_to(u[None, :], (v.size, u.size)), np.broadcast_to(v[:, None], (v.size, u.size))
+
     def to_dict(self) -> dict[str, Any]:
         """The camera JSON object (see docs/perception.md)."""
         return {

@@ -186,15 +186,8 @@ def _seen_share(front: _Front, level: tuple[float, float], frames: list[Frame], 
     normal_w = np.append(normal @ front.parent.axes, 0.0)
     best = 0.0
     for f in frames:
-        cam = f.camera
-        facing = (cam.position - pts) @ normal_w > 0
-        world_to_cam = np.linalg.inv(cam.cam_to_world)
-        pc = pts @ world_to_cam[:3, :3].T + world_to_cam[:3, 3]
-        zc = pc[:, 2]
-        ok = facing & (zc > 1e-3)
-        u = np.round(cam.fx * pc[:, 0] / np.where(ok, zc, 1.0) + cam.cx).astype(int)
-        v = np.round(cam.fy * pc[:, 1] / np.where(ok, zc, 1.0) + cam.cy).astype(int)
-        ok &= (u >= 0) & (u < cam.width) & (v >= 0) & (v < cam.height)
+        u, v, zc, ok = f.camera.project(pts, near=1e-3)
+        ok &= (f.camera.position - pts) @ normal_w > 0  # the face turned towards this camera
         seen = np.zeros(len(pts), dtype=bool)
         d = f.depth[v[ok], u[ok]]
         seen[ok] = (d > 0) & (np.abs(d - zc[ok]) <= params.depth_tolerance)

@@ -61,10 +61,8 @@ class Instance:
 
 
 def pixel_rays(camera: Camera, stride: int = 1) -> tuple[np.ndarray, np.ndarray]:
-    """Per-pixel normalised image coordinates ``(x/z, y/z)`` on the strided grid."""
-    u = (np.arange(0, camera.width, stride, dtype=np.float64) - camera.cx) / camera.fx
-    v = (np.arange(0, camera.height, stride, dtype=np.float64) - camera.cy) / camera.fy
-    return np.broadcast_to(u[None, :], (v.size, u.size)), np.broadcast_to(v[:, None], (v.size, u.size))
+    """Per-pixel normalised image coordinates ``(x/z, y/z)`` on the strided grid (:meth:`Camera.rays`)."""
+    return camera.rays(stride)
 
 
 def back_project(depth: np.ndarray, camera: Camera, stride: int = 1) -> np.ndarray:

@@ -132,10 +132,9 @@ def _median3(z: np.ndarray) -> np.ndarray:
 
 
 def _world(z: np.ndarray, camera: Camera, stride: int) -> np.ndarray:
-    u = (np.arange(0, camera.width, stride, dtype=np.float64) - camera.cx) / camera.fx
-    v = (np.arange(0, camera.height, stride, dtype=np.float64) - camera.cy) / camera.fy
+    u, v = camera.rays(stride)
     zz = np.where(z > 0, z, np.nan).astype(np.float64)
-    cam = np.stack((u[None, :] * zz, v[:, None] * zz, zz), axis=-1)
+    cam = np.stack((u * zz, v * zz, zz), axis=-1)
     rot, t = camera.cam_to_world[:3, :3], camera.cam_to_world[:3, 3]
     return cam @ rot.T + t
 

@@ -44,6 +44,28 @@ def test_pixels_without_depth_back_project_to_nan():
     assert np.isnan(pts[0, 0]).all() and np.isnan(pts[1, 1]).all() and np.isfinite(pts[2, 2]).all()
 
 
+def test_project_inverts_back_projection_pixel_for_pixel():
+    cam = Camera(64, 48, 50.0, 50.0, 31.5, 23.5, DOWN)
+    depth = np.random.default_rng(0).uniform(0.5, 1.5, (48, 64)).astype(np.float32)
+    pts = back_project(depth, cam).reshape(-1, 3)
+    u, v, z, inside = cam.project(pts)
+    rows, cols = np.divmod(np.arange(48 * 64), 64)
+    assert inside.all() and np.array_equal(u, cols) and np.array_equal(v, rows)
+    assert np.allclose(z, depth.reshape(-1), atol=1e-6)
+
+
+def test_project_marks_points_behind_outside_or_nan_as_not_inside():
+    cam = Camera(64, 48, 50.0, 50.0, 31.5, 23.5, DOWN)
+    pts = np.array(
+        [[0.0, 0.0, 2.0], [0.0, 0.0, 1.4995], [5.0, 0.0, 0.0], [np.nan, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    )
+    u, v, z, inside = cam.project(pts, near=1e-3)
+    # above the camera (behind it), 0.5 mm in front (nearer than `near`), far off the image, NaN, in view
+    assert inside.tolist() == [False, False, False, False, True]
+    assert (u[:4] == 0).all() and (v[:4] == 0).all() and z[0] < 0 and z[4] == pytest.approx(1.5)
+    assert cam.project(pts[1:2])[3].tolist() == [True]  # near=0: any point in front counts
+
+
 def test_camera_json_round_trip(tmp_path):
     cam = Camera(640, 480, 554.3, 554.3, 319.5, 239.5, DOWN)
     path = tmp_path / "cam.json"
