@@ -23,6 +23,7 @@ from gsr.episode import Agent, AgentFailure
 from gsr.errors import GSRError
 from gsr.facts import problem_from_graph
 from gsr.pddl.model import TRUE, Domain, Formula
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.plan.ground import ground_task
 from gsr.reason import Reasoner, SolveOptions
 from gsr.scene_graph import SceneGraph
@@ -44,10 +45,10 @@ class _PlanningAgent:
         self.plan_time = 0.0
 
     def _plan(self, graph: SceneGraph) -> None:
-        from gsr.plan.api import plan_graph
-
         assert self.domain is not None and self.goal is not None
-        result = plan_graph(self.domain, graph, self.goal, planner=self.planner, timeout=self.timeout)
+        result = plan_api.plan_graph(
+            self.domain, graph, self.goal, planner=self.planner, timeout=self.timeout
+        )
         self.plan_time += result.time
         if not result.solved or result.plan is None:
             raise AgentFailure(f"planner {result.planner}: {result.status}: {result.message}")

@@ -8,14 +8,19 @@ import time
 from pathlib import Path
 from typing import Any
 
+from gsr.benchmarks.agents import BUILTIN
+from gsr.benchmarks.report import results_document, write_reports
+from gsr.benchmarks.runner import RunConfig, run_jobs, run_tasks
+from gsr.benchmarks.suites import SUITES, get_suite
+
+from gsr.episode import EpisodeOptions
 from gsr.errors import GSRError
+from gsr.io import write_text_atomic
+from gsr.task_spec import task_json
 
 
 def list_text() -> str:
     """The suites and agents, one per line."""
-    from gsr.benchmarks.agents import BUILTIN
-    from gsr.benchmarks.suites import SUITES
-
     lines = ["suites:"]
     lines += [f"  {s.name:<14} {s.description}" for s in SUITES.values()]
     lines.append("agents (TaskSpec suites):")
@@ -45,8 +50,6 @@ def parse_options(pairs: list[str]) -> dict[str, Any]:
 
 def load_suite_tasks(suite: str, source: str | None, tasks: str | None, seed: int, limit: int | None) -> list:
     """The tasks of a suite (``--tasks`` overrides the source), cut to ``limit``."""
-    from gsr.benchmarks.suites import get_suite
-
     s = get_suite("tasks" if tasks else suite)
     out = s.tasks(tasks or source, seed)
     if limit is not None:
@@ -104,12 +107,6 @@ def run(
     oracle_masks: bool = False,
 ) -> dict[str, Any]:
     """Run a suite and write the reports; the results document."""
-    from gsr.benchmarks.report import results_document, write_reports
-    from gsr.benchmarks.runner import RunConfig, run_tasks
-    from gsr.benchmarks.suites import SUITES, get_suite
-
-    from gsr.episode import EpisodeOptions
-
     if trials < 1 or workers < 1 or max_steps < 1 or retries < 0:
         raise GSRError("--trials, --workers and --max-steps must be at least 1, --retries at least 0")
     hosted = get_suite(suite).episode_suite() if suite in SUITES else None
@@ -179,9 +176,6 @@ def run_episode_suite(
     hosted: Any, options: Any, workers: int, backend: str, address: str | None, out: str | None
 ) -> dict[str, Any]:
     """Run an episode suite (``gsr.episode.EpisodeSuite``) on the runner's pool; write its reports."""
-    from gsr.benchmarks.report import write_reports
-    from gsr.benchmarks.runner import run_jobs
-
     payloads, config = hosted.prepare(options)
     jobs = [(p, k) for p in payloads for k in range(options.trials)]
     progress = _Progress(len(jobs))
@@ -197,8 +191,6 @@ def run_episode_suite(
 
 def summary_text(doc: dict[str, Any]) -> str:
     """A few lines for the terminal: overall and per-category success."""
-    from gsr.benchmarks.suites import SUITES
-
     hosted = SUITES[doc["suite"]].episode_suite() if doc["suite"] in SUITES else None
     if hosted is not None:
         return hosted.summary_text(doc)
@@ -215,9 +207,6 @@ def summary_text(doc: dict[str, Any]) -> str:
 
 def export(suite: str, out: str, source: str | None = None, seed: int = 0) -> int:
     """Write every task of a suite as ``OUT/<id>.json`` (atomically); the number written."""
-    from gsr.io import write_text_atomic
-    from gsr.task_spec import task_json
-
     task_list = load_suite_tasks(suite, source, None, seed, None)
     folder = Path(out)
     for t in task_list:

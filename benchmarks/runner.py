@@ -22,12 +22,14 @@ from typing import Any
 from gsr.benchmarks.agents import make_agent
 from gsr.benchmarks.gsr_bench_executor import GSR_BENCH_SUITES, GSRBenchExecutor
 from gsr.benchmarks.scoring import any_goal, score_task
+from gsr.skills.perceived_executor import RunnerSimExecutor
 
 from gsr.diagnosis import Diagnosis
 from gsr.episode import AgentFailure, EpisodeResult, Executor
 from gsr.errors import GSRError
 from gsr.io import write_bytes_atomic
 from gsr.pddl.model import Domain
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.resources import load_builtin_domain
 from gsr.semantics import holds
 from gsr.symbolic_executor import SymbolicExecutor
@@ -166,8 +168,6 @@ def episode_job(task_data: dict[str, Any], trial: int, config: RunConfig) -> dic
     domain = load_builtin_domain("tabletop")
     executor = None
     if config.physical:  # the simulator executor implements the Executor seam (skills, 'sim' extra)
-        from gsr.skills.perceived_executor import RunnerSimExecutor
-
         frames = config.frames if config.frames_dir else 0
         executor = RunnerSimExecutor(
             episode_seed(config.seed, task.id, trial),
@@ -218,9 +218,7 @@ def reference_length(
     task: TaskSpec, domain: Domain, planner: str = "lazy-ff", timeout: float = 120.0
 ) -> int | None:
     """Length of the reference plan (optimal with an A* planner, best-found with lazy-ff); None if none."""
-    from gsr.plan.api import plan_graph
-
-    result = plan_graph(domain, task.initial, any_goal(task), planner=planner, timeout=timeout)
+    result = plan_api.plan_graph(domain, task.initial, any_goal(task), planner=planner, timeout=timeout)
     return len(result.plan) if result.solved and result.plan is not None else None
 
 

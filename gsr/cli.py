@@ -13,8 +13,16 @@ from typing import Annotated
 
 import typer
 
+from gsr.check import check_step
 from gsr.cli_support import fail as _fail
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
+from gsr.io import load_any, load_domain_and_problem, load_scene, write_any
+from gsr.plan_format import load_plan, parse_plan
+from gsr.reason.options import SolveOptions
+from gsr.resources import load_builtin_domain
+from gsr.scene_graph import scene_graph_schema
+from gsr.validate import validate_plan
 
 app = typer.Typer(
     name="gsr",
@@ -30,8 +38,6 @@ def parse_cmd(
     file: Annotated[Path, typer.Argument(help="A PDDL domain/problem or a BDDL (LIBERO/BEHAVIOR) file.")],
 ) -> None:
     """Parse FILE and print it as normalized PDDL (exit 1 with file:line:column on bad input)."""
-    from gsr.io import load_any, write_any
-
     typer.echo(write_any(load_any(file)), nl=False)
 
 
@@ -46,10 +52,6 @@ def validate_cmd(
     as_json: Annotated[bool, typer.Option("--json", help="Print the report as JSON.")] = False,
 ) -> None:
     """Validate an IPC-format plan against a problem: exit 0 valid, 1 invalid (with the report)."""
-    from gsr.io import load_domain_and_problem
-    from gsr.plan_format import load_plan
-    from gsr.validate import validate_plan
-
     if len(files) not in (2, 3):
         raise _fail("expected [DOMAIN] PROBLEM PLAN")
     domain_file = files[0] if len(files) == 3 else None
@@ -89,8 +91,6 @@ app.add_typer(schema_app, name="schema")
 @schema_app.command("scene-graph")
 def schema_scene_graph() -> None:
     """JSON Schema of the scene-graph format."""
-    from gsr.scene_graph import scene_graph_schema
-
     typer.echo(json.dumps(scene_graph_schema(), indent=2))
 
 
@@ -101,12 +101,6 @@ def check_cmd(
     as_json: Annotated[bool, typer.Option("--json", help="Print the diagnosis as JSON.")] = False,
 ) -> None:
     """Check one step against a scene graph with the tabletop domain: exit 0 valid, 1 invalid."""
-    from gsr.check import check_step
-    from gsr.facts import state_from_graph
-    from gsr.io import load_scene
-    from gsr.plan_format import parse_plan
-    from gsr.resources import load_builtin_domain
-
     domain = load_builtin_domain()
     steps = parse_plan(step, source="--step").steps
     if len(steps) != 1:
@@ -174,7 +168,6 @@ def solve_cmd(
 ) -> None:
     """Reason from a scene to an instruction and print the checked plan: exit 0 with a plan, 1 when none was found."""
     from gsr.reason.cli import solve_command
-    from gsr.reason.options import SolveOptions
 
     if (instruction is None) == (instruction_arg is None):
         raise _fail("give the instruction once: as an argument or with --instruction")

@@ -9,7 +9,16 @@ import json
 import sys
 from pathlib import Path
 
+from gsr.benchmarks.delivery.agent import BaselineAgent
+from gsr.benchmarks.delivery.building.checks import building_problems
+from gsr.benchmarks.delivery.building.generator import generate_building
 from gsr.benchmarks.delivery.building.model import Building, save_building
+from gsr.benchmarks.delivery.building.navigation import BuildingMap
+from gsr.benchmarks.delivery.building.people import PeopleClock
+from gsr.benchmarks.delivery.metrics import breakdown, breakdown_table, score_episode, summary_table
+from gsr.benchmarks.delivery.run import AGENTS, checked_building, parser_for, run_split, run_tasks
+from gsr.benchmarks.delivery.tasks import SPLITS, generate_tasks, load_tasks, make_task, save_tasks
+from gsr.benchmarks.delivery.world import DeliveryWorld
 
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
@@ -22,16 +31,11 @@ def _err(message: str) -> int:
 
 def _building(path: Path | None) -> Building:
     """The shipped building, or a user's file checked against the building invariants."""
-    from gsr.benchmarks.delivery.run import checked_building
-
     return checked_building(path)
 
 
 def generate_building_command(seed: int, out: Path, floors: int, people: int, name: str | None) -> int:
     """Generate a building, check its invariants, write it atomically and print a summary."""
-    from gsr.benchmarks.delivery.building.checks import building_problems
-    from gsr.benchmarks.delivery.building.generator import generate_building
-
     try:
         building = generate_building(seed, floors=floors, people=people, name=name)
     except ValueError as exc:
@@ -63,8 +67,6 @@ def describe(building: Building) -> str:
 
 def tasks_command(split: str, building_path: Path | None, limit: int | None, out: Path | None) -> int:
     """Generate a split's tasks; print them (id, instruction) or write JSON Lines."""
-    from gsr.benchmarks.delivery.tasks import generate_tasks, save_tasks
-
     try:
         building = _building(building_path)
         tasks = generate_tasks(building, split, limit)
@@ -93,10 +95,6 @@ def run_command(
     by_kind: bool = False,
 ) -> int:
     """Run the baseline on a split (or a tasks file) and print the PRS-style table or JSON summary."""
-    from gsr.benchmarks.delivery.metrics import breakdown, breakdown_table, summary_table
-    from gsr.benchmarks.delivery.run import run_split, run_tasks
-    from gsr.benchmarks.delivery.tasks import load_tasks
-
     try:
         building = _building(building_path)
         if tasks_path is not None:
@@ -137,9 +135,6 @@ def run_command(
 
 def schedule_command(person: str, seed: int, building_path: Path | None) -> int:
     """Print a person's routine and their actual day under a world seed."""
-    from gsr.benchmarks.delivery.building.navigation import BuildingMap
-    from gsr.benchmarks.delivery.building.people import PeopleClock
-
     try:
         building = _building(building_path)
         p = building.person(person.lower())
@@ -174,9 +169,6 @@ def parse_clock(text: str) -> int:
 
 def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> int:
     """Print a floor's grid with everyone on it at a time of day (first letter of their name)."""
-    from gsr.benchmarks.delivery.building.navigation import BuildingMap
-    from gsr.benchmarks.delivery.building.people import PeopleClock
-
     try:
         t = parse_clock(at)
         building = _building(building_path)
@@ -201,12 +193,6 @@ def map_command(floor: int, at: str, seed: int, building_path: Path | None) -> i
 
 def episode_command(task_id: str, building_path: Path | None, agent: str) -> int:
     """Run one task (``test-0004``) and print what the agent understood and did, second by second."""
-    from gsr.benchmarks.delivery.building.navigation import BuildingMap
-    from gsr.benchmarks.delivery.metrics import score_episode
-    from gsr.benchmarks.delivery.run import AGENTS, parser_for
-    from gsr.benchmarks.delivery.tasks import SPLITS, make_task
-    from gsr.benchmarks.delivery.world import DeliveryWorld
-
     split, _, number = task_id.partition("-")
     if split not in SPLITS or not number.isdigit() or int(number) >= SPLITS[split][1]:
         return _err(
@@ -214,7 +200,6 @@ def episode_command(task_id: str, building_path: Path | None, agent: str) -> int
         )
     if agent not in AGENTS:
         return _err(f"unknown agent {agent!r} (known: {', '.join(AGENTS)})")
-    from gsr.benchmarks.delivery.agent import BaselineAgent
 
     try:
         building = _building(building_path)

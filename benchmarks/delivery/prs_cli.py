@@ -13,6 +13,9 @@ import sys
 from collections import Counter
 from pathlib import Path
 
+from gsr.benchmarks.delivery.building.prs import load_station
+from gsr.benchmarks.delivery.prs_run import SPLITS, run_prs, run_prs_crossfit
+
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
 
@@ -34,8 +37,6 @@ def prs_command(
     ``crossfit`` K >= 2: the honest estimate on a task file that is also the calibration/caption source
     (each of K folds runs on a station calibrated, with captions built, from the other folds); ``split``
     says how the tasks are folded (``prs_run.SPLITS``: position, person or object)."""
-    from gsr.benchmarks.delivery.prs_run import SPLITS, run_prs, run_prs_crossfit
-
     if workers < 1 or crossfit < 0 or crossfit == 1:
         print("error: --workers must be >= 1 and --crossfit 0 (off) or >= 2", file=sys.stderr)
         return 1
@@ -113,8 +114,6 @@ def _floor_svg(grid, trace: dict, cell_px: int = 3) -> str:
 
 def render_report(run: dict, data: Path) -> str:
     """The HTML report: metrics, a failure-reason table and floor maps of a few tasks."""
-    from gsr.benchmarks.delivery.building.prs import load_station
-
     s = run["summary"]
     rec = run["records"]
     station = load_station(data, None)

@@ -6,21 +6,23 @@
 
 from __future__ import annotations
 
-from gsr.datagen.catalog import Catalog, CatalogEntry, load_catalog
-from gsr.datagen.generate import generate_shard
-from gsr.datagen.runner import RunConfig, generate_dataset
-from gsr.datagen.schema import SAMPLE_TYPES, SCHEMAS, SampleRow, decode, schemas_json
+from gsr.lazy import lazy_exports
 
-__all__ = [
-    "SAMPLE_TYPES",
-    "SCHEMAS",
-    "Catalog",
-    "CatalogEntry",
-    "RunConfig",
-    "SampleRow",
-    "decode",
-    "generate_dataset",
-    "generate_shard",
-    "load_catalog",
-    "schemas_json",
-]
+#: public name -> defining module; a name loads its module on first use, so importing a submodule
+#: of gsr.datagen does not load the whole package
+_EXPORTS = {
+    "Catalog": "gsr.datagen.catalog",
+    "CatalogEntry": "gsr.datagen.catalog",
+    "decode": "gsr.datagen.schema",
+    "generate_dataset": "gsr.datagen.runner",
+    "generate_shard": "gsr.datagen.generate",
+    "load_catalog": "gsr.datagen.catalog",
+    "RunConfig": "gsr.datagen.runner",
+    "SAMPLE_TYPES": "gsr.datagen.schema",
+    "SampleRow": "gsr.datagen.schema",
+    "SCHEMAS": "gsr.datagen.schema",
+    "schemas_json": "gsr.datagen.schema",
+}
+
+__all__ = sorted(_EXPORTS)
+__getattr__, __dir__ = lazy_exports("gsr.datagen", _EXPORTS, globals())

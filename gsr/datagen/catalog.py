@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from gsr.categories import COLORS, affordances, is_category
 from gsr.errors import GSRError
+from gsr.resources import data_dir
 from gsr.scene_graph import format_validation_error
 
 ROLES = ("fixture", "container", "supporter", "item")
@@ -90,8 +91,6 @@ class Catalog(BaseModel):
 
 def default_catalog_path() -> Path:
     """``data/catalog/objects.json`` of the installed data directory."""
-    from gsr.resources import data_dir
-
     return data_dir() / "catalog" / "objects.json"
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from gsr.datagen.runner import RunConfig, generate_dataset
 from gsr.errors import GSRError
 
 
@@ -19,8 +20,6 @@ def datagen_command(
     progress: bool,
 ) -> int:
     """Generate (or resume) a dataset; prints a one-line summary; exit code 0."""
-    from gsr.datagen.runner import RunConfig, generate_dataset
-
     if out.exists() and not out.is_dir():
         raise GSRError(f"{out}: not a directory")
     cfg = RunConfig(out, samples, seed, shard_size)

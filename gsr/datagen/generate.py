@@ -21,6 +21,7 @@ from gsr.datagen.samples import task_rows
 from gsr.datagen.scene import Scene, initial_atoms, pair_key, reskin, sample_scene
 from gsr.datagen.synth import GroundedScene, PlannedTask, SceneEngine
 from gsr.pddl.model import Domain
+from gsr.resources import load_builtin_domain
 
 #: Probability of each scene kind: (split, held-out tag).
 SCENE_KINDS: tuple[tuple[str, str | None, float], ...] = (
@@ -97,8 +98,6 @@ def generate_shard(
 ) -> ShardResult:
     """Exactly ``size`` rows for shard ``shard`` of the run with ``seed`` (same inputs, same rows)."""
     if domain is None:
-        from gsr.resources import load_builtin_domain
-
         domain = load_builtin_domain("tabletop")
     catalog = catalog or load_catalog()
     rng = random.Random(f"gsr-datagen:{seed}:{shard}")

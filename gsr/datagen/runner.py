@@ -25,6 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from gsr.datagen.card import dataset_card
+from gsr.datagen.generate import generate_shard
 from gsr.datagen.schema import SCHEMA_VERSION, SPLITS
 from gsr.errors import GSRError
 from gsr.io import write_bytes_atomic
@@ -84,8 +86,6 @@ def shard_done(out: Path, shard: int) -> bool:
 
 def run_shard(out: str, seed: int, shard: int, size: int) -> dict[str, Any]:
     """Generate one shard and write it atomically; returns its marker (picklable: used by workers)."""
-    from gsr.datagen.generate import generate_shard
-
     start = time.perf_counter()
     result = generate_shard(seed, shard, size)
     root = Path(out)
@@ -216,7 +216,6 @@ def generate_dataset(
         "shards": len(todo),
     }
     write_bytes_atomic(cfg.out / "manifest.json", json.dumps(manifest, indent=1).encode())
-    from gsr.datagen.card import dataset_card
 
     write_bytes_atomic(cfg.out / "README.md", dataset_card(manifest).encode())
     return manifest

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from gsr.datagen.goals import GoalLiteral, goal_formula
 from gsr.datagen.scene import Scene
+from gsr.datagen.serialize import graph_dict
 from gsr.facts import DYNAMIC_PREDICATES, problem_from_graph, state_from_graph
 from gsr.pddl.model import TRUE, Atom, Domain
 from gsr.plan.ground import ground_goal, ground_task
@@ -54,8 +55,6 @@ def _fluents(domain: Domain) -> frozenset[str]:
 
 def scene_graph(scene: Scene, atoms: frozenset[Atom]) -> SceneGraph:
     """The validated SceneGraph of a scene in a state (used once per scene; samples use plain dicts)."""
-    from gsr.datagen.serialize import graph_dict
-
     return SceneGraph.model_validate(graph_dict(scene, atoms))
 
 

@@ -3,66 +3,54 @@
 Heavy backends (torch/transformers, httpx) are imported only when a backend is built.
 """
 
-from gsr.reason.applicable import applicable_steps
-from gsr.reason.backend import Backend, BackendError, FunctionBackend, Query
-from gsr.reason.backends import as_backend, make_backend, register_backend
-from gsr.reason.examples import Example, annotate_steps, builtin_example, default_examples
-from gsr.reason.goal_text import GoalRejected, parse_goal_answer
-from gsr.reason.loop import LoopState, SolveLoop
-from gsr.reason.options import MODES, SolveOptions, Status
-from gsr.reason.prompt import DONE, Prompt, action_text, build_goal_prompt, build_prompt, predicate_text
-from gsr.reason.reasoner import Reasoner, solve
-from gsr.reason.result import STATUSES, Attempt, CheckedStep, Exchange, ReasonResult
-from gsr.reason.scene_text import scene_text
-from gsr.reason.step_format import (
-    STEP_GRAMMAR,
-    format_step,
-    format_steps,
-    parse_first_step,
-    parse_step_line,
-    parse_steps,
-    step_from_json,
-)
+from __future__ import annotations
 
-__all__ = [
-    "DONE",
-    "MODES",
-    "STATUSES",
-    "STEP_GRAMMAR",
-    "Attempt",
-    "Backend",
-    "BackendError",
-    "CheckedStep",
-    "Example",
-    "Exchange",
-    "FunctionBackend",
-    "GoalRejected",
-    "LoopState",
-    "Prompt",
-    "Query",
-    "ReasonResult",
-    "Reasoner",
-    "SolveLoop",
-    "SolveOptions",
-    "Status",
-    "action_text",
-    "annotate_steps",
-    "applicable_steps",
-    "as_backend",
-    "build_goal_prompt",
-    "build_prompt",
-    "builtin_example",
-    "default_examples",
-    "format_step",
-    "format_steps",
-    "make_backend",
-    "parse_first_step",
-    "parse_goal_answer",
-    "parse_step_line",
-    "parse_steps",
-    "predicate_text",
-    "register_backend",
-    "scene_text",
-    "solve",
-    "step_from_json",
-]
+from gsr.lazy import lazy_exports
+
+#: public name -> defining module; a name loads its module on first use, so importing a submodule
+#: of gsr.reason does not load the whole package
+_EXPORTS = {
+    "action_text": "gsr.reason.prompt",
+    "annotate_steps": "gsr.reason.examples",
+    "applicable_steps": "gsr.reason.applicable",
+    "as_backend": "gsr.reason.backends",
+    "Attempt": "gsr.reason.result",
+    "Backend": "gsr.reason.backend",
+    "BackendError": "gsr.reason.backend",
+    "build_goal_prompt": "gsr.reason.prompt",
+    "build_prompt": "gsr.reason.prompt",
+    "builtin_example": "gsr.reason.examples",
+    "CheckedStep": "gsr.reason.result",
+    "default_examples": "gsr.reason.examples",
+    "DONE": "gsr.reason.prompt",
+    "Example": "gsr.reason.examples",
+    "Exchange": "gsr.reason.result",
+    "format_step": "gsr.reason.step_format",
+    "format_steps": "gsr.reason.step_format",
+    "FunctionBackend": "gsr.reason.backend",
+    "GoalRejected": "gsr.reason.goal_text",
+    "LoopState": "gsr.reason.loop",
+    "make_backend": "gsr.reason.backends",
+    "MODES": "gsr.reason.options",
+    "parse_first_step": "gsr.reason.step_format",
+    "parse_goal_answer": "gsr.reason.goal_text",
+    "parse_step_line": "gsr.reason.step_format",
+    "parse_steps": "gsr.reason.step_format",
+    "predicate_text": "gsr.reason.prompt",
+    "Prompt": "gsr.reason.prompt",
+    "Query": "gsr.reason.backend",
+    "Reasoner": "gsr.reason.reasoner",
+    "ReasonResult": "gsr.reason.result",
+    "register_backend": "gsr.reason.backends",
+    "scene_text": "gsr.reason.scene_text",
+    "solve": "gsr.reason.reasoner",
+    "SolveLoop": "gsr.reason.loop",
+    "SolveOptions": "gsr.reason.options",
+    "Status": "gsr.reason.options",
+    "STATUSES": "gsr.reason.result",
+    "step_from_json": "gsr.reason.step_format",
+    "STEP_GRAMMAR": "gsr.reason.step_format",
+}
+
+__all__ = sorted(_EXPORTS)
+__getattr__, __dir__ = lazy_exports("gsr.reason", _EXPORTS, globals())

@@ -2,8 +2,8 @@
 
 A spec is ``KIND`` or ``KIND:ARG``. Each kind maps to a factory ``(arg, **options) -> Backend`` in
 :data:`BACKENDS`; :func:`register_backend` adds one (a client for another server, a scripted backend in
-a test). The built-in factories import their module only when called, so the heavy libraries behind a
-backend (torch/transformers, httpx) load only when that backend is built. The protocol the backends
+a test). The backend modules load the heavy libraries behind them (torch/transformers, httpx) only when a
+backend is built, so importing the registry stays cheap. The protocol the backends
 implement lives in :mod:`gsr.reason.backend`, which imports none of them.
 """
 
@@ -13,13 +13,15 @@ from collections.abc import Callable
 
 from gsr.errors import GSRError
 from gsr.reason.backend import Backend, FunctionBackend
+from gsr.reason.grounder_backend import GrounderBackend
+from gsr.reason.hf_backend import TransformersBackend
+from gsr.reason.openai_backend import OpenAIBackend
 
 #: A factory gets the text after ``KIND:`` ("" for a bare ``KIND``) and the caller's options.
 BackendFactory = Callable[..., Backend]
 
 
 def _grounder(arg: str, **options: object) -> Backend:
-    from gsr.reason.grounder_backend import GrounderBackend
 
     if arg:
         raise GSRError(f"the grounder backend takes no argument (got 'grounder:{arg}')")
@@ -30,7 +32,6 @@ _LOADED: dict[tuple, Backend] = {}
 
 
 def _transformers(arg: str, **options: object) -> Backend:
-    from gsr.reason.hf_backend import TransformersBackend
 
     if not arg:
         raise GSRError("the transformers backend needs a model: transformers:PATH")
@@ -42,7 +43,6 @@ def _transformers(arg: str, **options: object) -> Backend:
 
 
 def _openai(arg: str, **options: object) -> Backend:
-    from gsr.reason.openai_backend import OpenAIBackend
 
     if not arg:
         raise GSRError("the openai backend needs a model name: openai:MODEL")

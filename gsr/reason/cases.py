@@ -8,6 +8,8 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.libero import libero_task
+from gsr.pddl.bddl import parse_bddl
 
 #: Prompt options shared by the training pairs and the measurement runs.
 PROMPT_OPTIONS = {"examples": (), "prompt_actions": "signatures"}
@@ -24,9 +26,6 @@ def split_cases(cases: list, split: str) -> list:
 
 def libero_cases(folder: Path) -> list[tuple[str, Any, Any, str]]:
     """(name, graph, benchmark goal formula, instruction) for every ``*.bddl`` under ``folder``, sorted."""
-    from gsr.libero import libero_task
-    from gsr.pddl.bddl import parse_bddl
-
     cases = []
     for path in sorted(folder.rglob("*.bddl")):
         bddl = parse_bddl(path.read_text(encoding="utf-8"), str(path))

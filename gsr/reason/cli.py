@@ -11,17 +11,29 @@ import json
 import sys
 from pathlib import Path
 
+from gsr.diagnosis import formula_text
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
+from gsr.gsr_bench_format import gsr_bench_commands
+from gsr.gsr_bench_rules import replay
+from gsr.io import load_scene, read_text
 from gsr.pddl.model import Domain
+from gsr.pddl.parser import load_domain
+from gsr.plan_format import write_plan
+from gsr.reason.backends import make_backend
+from gsr.reason.goal_text import GoalRejected, parse_goal_answer
 from gsr.reason.options import SolveOptions
+from gsr.reason.prompt import build_goal_prompt, build_prompt
+from gsr.reason.reasoner import solve
 from gsr.reason.result import ReasonResult
+from gsr.reason.step_format import format_step, parse_steps
+from gsr.resources import load_builtin_domain
+from gsr.validate import validate_plan
 
 FORMATS = ("text", "json", "pddl", "gsr-bench")
 
 
 def _domain(path: Path | None) -> Domain:
-    from gsr.pddl.parser import load_domain
-    from gsr.resources import load_builtin_domain
 
     return load_domain(path) if path is not None else load_builtin_domain()
 
@@ -29,8 +41,6 @@ def _domain(path: Path | None) -> Domain:
 def _goal(text: str | None, domain: Domain, graph):
     if text is None:
         return None
-    from gsr.facts import state_from_graph
-    from gsr.reason.goal_text import GoalRejected, parse_goal_answer
 
     try:
         return parse_goal_answer(text, domain, state_from_graph(graph, domain))
@@ -40,9 +50,6 @@ def _goal(text: str | None, domain: Domain, graph):
 
 def render(result: ReasonResult) -> str:
     """Human-readable report: the goal, the checked steps (with who proposed them), the outcome."""
-    from gsr.diagnosis import formula_text
-    from gsr.reason.step_format import format_step
-
     lines = []
     if result.goal is not None:
         lines.append(f"goal: {formula_text(result.goal.formula)}  ({result.goal_source})")
@@ -79,10 +86,6 @@ def solve_command(
     decides the rules a ``gsr-bench`` plan is made under); ``transcript`` adds every prompt and reply
     to JSON output.
     """
-    from gsr.io import load_scene
-    from gsr.reason.backends import make_backend
-    from gsr.reason.reasoner import solve
-
     if fmt not in FORMATS:
         raise GSRError(f"unknown --format {fmt!r}: choose one of {', '.join(FORMATS)}")
     options = options or SolveOptions()
@@ -98,8 +101,6 @@ def solve_command(
     elif fmt == "text" or not result.success:
         print(render(result))
     elif fmt == "pddl":
-        from gsr.plan_format import write_plan
-
         print(write_plan(result.plan), end="")
     else:
         print("\n".join(gsr_bench_plan(graph, result.plan)))
@@ -115,9 +116,6 @@ def solve_command(
 
 def gsr_bench_plan(graph, plan) -> list[str]:
     """The plan as GSR-Bench commands, replayed under the benchmark's validator rules (GSRError if rejected)."""
-    from gsr.gsr_bench_format import gsr_bench_commands
-    from gsr.gsr_bench_rules import replay
-
     commands = gsr_bench_commands(plan)
     checked = replay(graph, commands)
     bad = checked.rejected
@@ -131,9 +129,6 @@ def gsr_bench_plan(graph, plan) -> list[str]:
 
 def prompt_command(scene: Path, instruction: str, mode: str, domain_file: Path | None = None) -> int:
     """Print the prompt the reasoner would send for the first step (or the goal)."""
-    from gsr.io import load_scene
-    from gsr.reason.prompt import build_goal_prompt, build_prompt
-
     domain = _domain(domain_file)
     graph = load_scene(scene)
     prompt = (build_goal_prompt if mode == "goal" else build_prompt)(graph, domain, instruction)
@@ -143,11 +138,6 @@ def prompt_command(scene: Path, instruction: str, mode: str, domain_file: Path |
 
 def check_command(scene: Path, steps_file: Path, as_json: bool, domain_file: Path | None = None) -> int:
     """Parse step lines (a model's output) and check them in order against the scene: 0 all valid, 1 not."""
-    from gsr.facts import state_from_graph
-    from gsr.io import load_scene, read_text
-    from gsr.reason.step_format import parse_steps
-    from gsr.validate import validate_plan
-
     domain = _domain(domain_file)
     graph = load_scene(scene)
     steps = parse_steps(read_text(steps_file), source=str(steps_file))

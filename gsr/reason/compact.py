@@ -30,8 +30,10 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
 from gsr.pddl.model import And, Atom, Domain, Equals, Exists, Forall, Formula, Imply, Not, Or
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import compile_domain, holds
 from gsr.state import State
 from gsr.step import Goal, Step
 
@@ -98,7 +100,6 @@ def scene_objects(state: State, domain: Domain) -> list[str]:
 
 
 def _fluents(domain: Domain) -> frozenset[str]:
-    from gsr.semantics import compile_domain
 
     return frozenset(compile_domain(domain).fluents)
 
@@ -201,8 +202,6 @@ def goal_tokens(
     about its objects (where each one is, whether it is held, open or openable), so what the next
     step needs stands next to the literal it serves. From version 3 on, the focus facts also include
     the ones naming the object in a later position (what is on or in it: what blocks it)."""
-    from gsr.semantics import holds
-
     grounded = ground_goal(formula, state, domain)
     parts = grounded.parts if isinstance(grounded, And) else (grounded,)
     out = ["G:"]
@@ -289,8 +288,6 @@ def query_tokens(
     version: int = 1,
 ) -> tuple[list[str], Naming]:
     """Inference-side context: the graph's state with sorted-name placeholders."""
-    from gsr.facts import state_from_graph
-
     state = state_from_graph(graph, domain)
     naming = Naming.make(scene_objects(state, domain))
     return context_tokens(state, domain, goal, history, naming, version), naming

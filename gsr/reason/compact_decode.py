@@ -12,7 +12,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from gsr.errors import ParseError
 from gsr.reason.compact import EOS, UNK, CompactError, action_tokens, answer_step, query_tokens
+from gsr.reason.prompt import DONE
+from gsr.reason.step_format import format_step, parse_first_step
 from gsr.step import Step
 
 BEAM = 4
@@ -21,17 +24,12 @@ MAX_UNKNOWN = 3  # distinct unknown context words tolerated (as <unk>)
 
 
 def _text(step: Step | None) -> str:
-    from gsr.reason.prompt import DONE
-    from gsr.reason.step_format import format_step
 
     return DONE if step is None else format_step(step)
 
 
 def answer_key(text: str) -> tuple[str, tuple[str, ...]] | None:
     """An answer's (action, args), ignoring claimed effects; None when it does not parse."""
-    from gsr.errors import ParseError
-    from gsr.reason.step_format import parse_first_step
-
     try:
         step = parse_first_step(text, source="reply")
     except ParseError:

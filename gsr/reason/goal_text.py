@@ -6,7 +6,9 @@ import difflib
 
 from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Atom, Domain, Formula, is_variable
+from gsr.pddl.parser import parse_formula
 from gsr.pddl.walk import bound_variables, free_variables, subformulas, terms
+from gsr.reason.step_format import content_lines
 from gsr.state import State
 from gsr.step import Goal
 
@@ -50,9 +52,6 @@ def goal_problems(domain: Domain, state: State, formula: Formula) -> list[str]:
 
 def parse_goal_answer(text: str, domain: Domain, state: State, instruction: str | None = None) -> Goal:
     """The first formula in a model's goal answer as a Goal; GoalRejected with the reasons otherwise."""
-    from gsr.pddl.parser import parse_formula
-    from gsr.reason.step_format import content_lines
-
     lines = [line.strip() for _, line in content_lines(text)]
     body = " ".join(lines)
     if body.lower().startswith("goal:"):

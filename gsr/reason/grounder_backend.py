@@ -4,19 +4,20 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from gsr.diagnosis import formula_text
+from gsr.language import ground
 from gsr.pddl.model import Domain
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.reason.backend import BackendError, GoalUnreachable, Query
+from gsr.reason.examples import annotate_steps
 from gsr.reason.prompt import DONE, Prompt
+from gsr.reason.step_format import format_step
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
 
 def ground_goal(query: Query) -> Goal:
-    """The embedded grounder's goal for the query's instruction; BackendError when unavailable."""
-    try:
-        from gsr.language import ground
-    except ImportError as exc:  # the language package is optional at this layer
-        raise BackendError(f"the embedded grounder (gsr.language.ground) is not available: {exc}") from None
+    """The embedded grounder's goal for the query's instruction (its GSRError when it finds none)."""
     return ground(query.instruction, query.graph, domain=query.domain)
 
 
@@ -31,10 +32,6 @@ class GrounderBackend:
 
     def complete(self, prompt: Prompt, stop: Sequence[str] = (), query: Query | None = None) -> str:
         """The goal formula, or the next planned step with its effects (``(done)`` when the goal holds)."""
-        from gsr.diagnosis import formula_text
-        from gsr.reason.examples import annotate_steps
-        from gsr.reason.step_format import format_step
-
         if query is None:
             raise BackendError("the grounder backend needs the structured query, not only the prompt text")
         goal = query.goal if query.goal is not None else ground_goal(query)
@@ -48,9 +45,7 @@ class GrounderBackend:
 
     def propose_plan(self, domain: Domain, graph: SceneGraph, goal: Goal) -> list[Step]:
         """The planner's whole plan from ``graph`` to ``goal`` (the loop's :class:`PlanProposer` path)."""
-        from gsr.plan.api import plan_graph
-
-        result = plan_graph(domain, graph, goal, planner=self.planner, timeout=self.timeout)
+        result = plan_api.plan_graph(domain, graph, goal, planner=self.planner, timeout=self.timeout)
         if result.status == "unsolvable":
             raise GoalUnreachable(f"the planner proves the goal unreachable: {result.message}")
         if not result.solved or result.plan is None:

@@ -13,6 +13,9 @@ from collections.abc import Sequence
 from typing import Any
 
 from gsr.reason.backend import BackendError, Query
+from gsr.reason.compact import FORMATS, MARKER, CompactError
+from gsr.reason.compact_decode import CompactAnswerer
+from gsr.reason.constrained import TokenTrie, completion_ids, step_logits_processor
 from gsr.reason.prompt import Prompt
 
 
@@ -20,9 +23,6 @@ def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any
     """The compact-format answerer when the folder holds a compact model's marker, else None."""
     import json
     from pathlib import Path
-
-    from gsr.reason.compact import FORMATS, MARKER
-    from gsr.reason.compact_decode import CompactAnswerer
 
     marker = Path(path) / MARKER
     if not marker.is_file():
@@ -97,8 +97,6 @@ class TransformersBackend:
         import torch
         from transformers import LogitsProcessorList, StoppingCriteria, StoppingCriteriaList
 
-        from gsr.reason.constrained import TokenTrie, completion_ids, step_logits_processor
-
         if self.compact is not None:
             return self._compact_complete(query)
         ids = self.encode(prompt)
@@ -140,8 +138,6 @@ class TransformersBackend:
 
     def _compact_complete(self, query: Query | None) -> str:
         """Answer with a compact-format model: it reads the structured query, not the prompt text."""
-        from gsr.reason.compact import CompactError
-
         if query is None or query.kind != "step":
             raise BackendError(
                 f"{self.name} is a compact-format step model: it answers step queries only "

@@ -23,6 +23,7 @@ from gsr.pddl.model import Domain, Formula
 from gsr.pddl.writer import effect_inline, inline_formula
 from gsr.reason.examples import Example, default_examples
 from gsr.reason.scene_text import scene_text
+from gsr.reason.step_format import format_step
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal, Step
 
@@ -93,8 +94,6 @@ def build_prompt(
     ``examples`` defaults to the built-in example (pass ``()`` for none); ``history`` holds the
     steps already executed; ``rejected`` the (reply, diagnosis) pairs already tried for this step.
     """
-    from gsr.reason.step_format import format_step
-
     if examples is None:
         examples = default_examples(domain)
     parts = [

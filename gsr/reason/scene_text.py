@@ -6,9 +6,11 @@ fine-tuning rows (:mod:`gsr.train.format`) all describe a scene this way, so a m
 
 from __future__ import annotations
 
+from gsr.facts import state_from_graph
 from gsr.graph_text import to_prompt_text
 from gsr.pddl.model import Domain
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import compile_domain
 
 #: Static predicates the scene text already says (colour, parts) or that only encode counting.
 _SHOWN_STATIC = frozenset({"has_color", "part_of", "next"})
@@ -18,9 +20,6 @@ _SHOWN_FLUENTS = frozenset({"on", "in", "open", "turned_on", "holding"})
 
 def scene_text(graph: SceneGraph, domain: Domain | None = None) -> str:
     """Compact scene text plus the facts it does not show (affordances, counters, hand) for ``domain``."""
-    from gsr.facts import state_from_graph
-    from gsr.semantics import compile_domain
-
     text = to_prompt_text(graph)
     if domain is None:
         return text

@@ -21,6 +21,7 @@ from gsr.check import check_step
 from gsr.errors import GSRError
 from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Atom
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.reason.cases import PROMPT_OPTIONS, libero_cases, split_cases
 from gsr.reason.examples import annotate_steps
 from gsr.reason.prompt import build_prompt
@@ -51,8 +52,6 @@ def random_goals(graph: Any, count: int, seed: int) -> list[tuple[Any, str]]:
 
 def trace_pairs(cases: list, goals_per_scene: int = 0, seed: int = 0) -> list[tuple[str, str]]:
     """(prompt text, answer line) for every planner step of every case (plus seeded random goals per scene)."""
-    from gsr.plan.api import plan_graph
-
     domain = load_builtin_domain()
     pairs = []
     tasks = []
@@ -60,7 +59,7 @@ def trace_pairs(cases: list, goals_per_scene: int = 0, seed: int = 0) -> list[tu
         tasks.append((graph, goal, instruction))
         tasks.extend((graph, g, text) for g, text in random_goals(graph, goals_per_scene, seed * 1000 + i))
     for graph, goal, instruction in tasks:
-        found = plan_graph(domain, graph, Goal(goal, instruction))
+        found = plan_api.plan_graph(domain, graph, Goal(goal, instruction))
         if not found.solved or found.plan is None:
             continue
         steps = annotate_steps(domain, graph, found.plan.steps)

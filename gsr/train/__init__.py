@@ -6,7 +6,17 @@
 
 from __future__ import annotations
 
-from gsr.train.format import DEFAULT_TYPES, Example, row_example
-from gsr.train.sft import TrainConfig, train
+from gsr.lazy import lazy_exports
 
-__all__ = ["DEFAULT_TYPES", "Example", "TrainConfig", "row_example", "train"]
+#: public name -> defining module; a name loads its module on first use, so importing a submodule
+#: of gsr.train does not load the whole package
+_EXPORTS = {
+    "DEFAULT_TYPES": "gsr.train.format",
+    "Example": "gsr.train.format",
+    "row_example": "gsr.train.format",
+    "train": "gsr.train.sft",
+    "TrainConfig": "gsr.train.sft",
+}
+
+__all__ = sorted(_EXPORTS)
+__getattr__, __dir__ = lazy_exports("gsr.train", _EXPORTS, globals())

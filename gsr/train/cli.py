@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from gsr.datagen.schema import SAMPLE_TYPES
 from gsr.errors import GSRError
+from gsr.train.sft import TrainConfig, train
 
 
 def train_command(
@@ -22,8 +24,6 @@ def train_command(
     time_budget: float | None = None,
 ) -> int:
     """Validate the options, train, print the metrics (JSON line); exit code 0."""
-    from gsr.datagen.schema import SAMPLE_TYPES
-
     if not (data / "data" / "train").is_dir():
         raise GSRError(f"--data {data}: no data/train folder (generate one with gsr datagen)")
     wanted = tuple(t.strip() for t in types.split(",") if t.strip())
@@ -34,10 +34,6 @@ def train_command(
         raise GSRError(f"--time-budget must be positive seconds, got {time_budget}")
     if batch_size < 1 or train_rows < 1 or eval_rows < 0:
         raise GSRError("--batch-size and --train-rows must be >= 1, --eval-rows >= 0")
-    try:
-        from gsr.train.sft import TrainConfig, train
-    except ImportError as exc:  # pragma: no cover - depends on the installed extras
-        raise GSRError(f"training needs the 'llm' extra (pip install 'gsr[llm]'): {exc}") from None
     cfg = TrainConfig(
         data=data,
         model=model,
@@ -52,5 +48,8 @@ def train_command(
         seed=seed,
         time_budget=time_budget,
     )
-    train(cfg)
+    try:
+        train(cfg)  # torch and transformers load inside train
+    except ImportError as exc:  # pragma: no cover - depends on the installed extras
+        raise GSRError(f"training needs the 'llm' extra (pip install 'gsr[llm]'): {exc}") from None
     return 0

@@ -35,6 +35,7 @@ from gsr.errors import GSRError, ParseError
 from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain, Formula
 from gsr.pddl.parser import parse_formula
+from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.reason.applicable import applicable_steps
 from gsr.reason.backend import Query
 from gsr.reason.compact import (
@@ -103,11 +104,9 @@ def label(
     domain: Domain, graph: SceneGraph, goal: Formula, timeout: float = 10.0
 ) -> tuple[bool, Step | None]:
     """The planner's next step from ``graph``: (solvable, step; None when the goal already holds)."""
-    from gsr.plan.api import plan_graph
-
     if goal_holds(domain, goal, state_from_graph(graph, domain)):
         return True, None
-    found = plan_graph(domain, graph, goal, timeout=timeout)
+    found = plan_api.plan_graph(domain, graph, goal, timeout=timeout)
     if not found.solved or found.plan is None or not found.plan.steps:
         return False, None
     first = found.plan.steps[0]

@@ -17,7 +17,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from gsr.datagen.schema import decode
+from gsr.graph_text import to_prompt_text
 from gsr.pddl.model import Atom, Domain
+from gsr.pddl.parser import parse_formula
+from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt
+from gsr.reason.scene_text import scene_text
+from gsr.reason.step_format import format_step
+from gsr.step import Step
 
 DEFAULT_TYPES: tuple[str, ...] = ("next_action", "goal_interpretation", "forward_prediction")
 
@@ -38,7 +44,6 @@ def _atom(text: str) -> Atom:
 
 
 def _step(data: Any, effects: bool = True):
-    from gsr.step import Step
 
     if not effects or data.add is None:
         return Step(data.action, tuple(data.args))
@@ -56,13 +61,6 @@ def _plain(prompt: Any, chat: Any | None) -> str:
 
 def row_example(row: dict[str, Any], domain: Domain, chat: Any | None = None) -> Example | None:
     """The training example of one dataset row (None for a type without a text form)."""
-    from gsr.graph_text import to_prompt_text
-    from gsr.pddl.parser import parse_formula
-    from gsr.reason.prompt import DONE, Prompt, build_goal_prompt, build_prompt
-    from gsr.reason.scene_text import scene_text
-    from gsr.reason.step_format import format_step
-    from gsr.step import Step
-
     envelope, inp, out = decode(row)
     kind = envelope.type
     if kind == "next_action":

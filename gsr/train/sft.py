@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.resources import load_builtin_domain
 from gsr.train.format import DEFAULT_TYPES, Example, read_rows, row_example
 from gsr.train.tiny import SCRATCH_SPECS, TOKENIZER_TEXTS, TinySpec, tiny_model, train_tokenizer
 
@@ -60,8 +61,6 @@ def _split_files(data: Path, split: str) -> list[str]:
 
 def load_examples(cfg: TrainConfig, split: str, limit: int, chat: Any | None = None) -> list[Example]:
     """Text examples of ``split`` (train/val/test) in the reasoner's format."""
-    from gsr.resources import load_builtin_domain
-
     files = _split_files(cfg.data, split)
     if not files and split == "train":
         raise GSRError(f"{cfg.data}: no data/train/*.jsonl files (generate them with gsr datagen)")
