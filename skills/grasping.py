@@ -801,17 +801,75 @@ def graspable_later(
 #: :data:`CLEAR_SPOT_TRIES` of them, nearest the packing's spot first.
 CLEAR_SPOT_STEP = 0.02
 CLEAR_SPOT_TRIES = 40
+#: Heights (m) above the release point at which the hand may stop and still let go (below
+#: :data:`MAX_DROP`, with the descent's 1 cm steps and 3 mm contact margin to spare), lowest first: over
+#: a cube on an 8.5 cm deep box's floor the 20 cm hand fits only lying inside the box, which an object
+#: in the box's middle (a mug) rules out everywhere; 3-4.5 cm higher the hand is above the walls and
+#: only the fingers must be inside them.
+RELEASE_LIFTS = (0.0, 0.015, 0.03, 0.045)
 
 
 def hand_clear_spot(
     world: World, obj: SimObject, target: str, spot: np.ndarray, turn: float = 0.0
 ) -> np.ndarray | None:
-    """A spot in the container ``target`` (a box or a drawer) for the held ``obj``, nearest ``spot``, whose
-    footprint stays inside the interior and off what already lies there, and where the hand holding
-    ``obj`` as it does now (the wrist turned by ``turn``), at the release point and straight above it,
-    touches nothing (:func:`gsr.skills.hand_clearance.hand_clear_at`); None when there is none. For a release whose
-    descent stopped high (the hand met the drawer above or a neighbour before the object got down)."""
-    from gsr.skills.hand_clearance import hand_clear_at
+    """:func:`hand_clear_release` with the wrist turned by ``turn`` only: the spot, or None."""
+    found = hand_clear_release(world, obj, target, spot, turns=(turn,))
+    return None if found is None else found[0]
+
+
+#: Room (rad) kept from the wrist's last joint's limits when a release turns the held object.
+WRIST_ROOM = 0.15
+
+
+def wrist_turns(world: World, target: str | None = None) -> tuple[float, ...]:
+    """Turns of the hand (pointing down) about the vertical for a release: none first, then those that
+    lay its closing axis along the container ``target``'s walls (across them, then along), then the
+    quarter turns; each as the wrist's last joint can make it (it turns the other way round: a yaw of
+    +d is a joint move of -d; of d and d +- pi, the same grasp, the one nearest the joint's middle)."""
+    import pybullet as p
+
+    robot = world.robot
+    q7 = float(robot.q()[8])
+    mid = (robot.lower[8] + robot.upper[8]) / 2
+
+    def can(d: float) -> bool:
+        return robot.lower[8] + WRIST_ROOM <= q7 - d <= robot.upper[8] - WRIST_ROOM
+
+    rot = np.array(p.getMatrixFromQuaternion(list(robot.ee_pose()[1]))).reshape(3, 3)
+    closing = math.atan2(rot[1, 1], rot[0, 1])
+    wanted: list[float] = []
+    found = world.interior_of(target) if target is not None and target in world.objects else None
+    if found is not None:
+        host, _, interior = found
+        yaw = world.yaw_of(host.body, host.links[interior.link])
+        sx, sy = interior.size[:2]
+        short, long_ = (yaw, yaw + math.pi / 2) if sx <= sy else (yaw + math.pi / 2, yaw)
+        wanted += [(a - closing + math.pi / 2) % math.pi - math.pi / 2 for a in (short, long_)]
+    wanted += [math.pi / 2, -math.pi / 2]
+    out = [0.0]
+    for d in wanted:
+        ways = sorted((x for x in (d, d + math.pi, d - math.pi) if can(x)), key=lambda x: abs(q7 - x - mid))
+        if ways and all(abs(ways[0] - o) > 0.05 for o in out):
+            out.append(ways[0])
+    return tuple(out)
+
+
+def hand_clear_release(
+    world: World,
+    obj: SimObject,
+    target: str,
+    spot: np.ndarray,
+    turns: tuple[float, ...] = (0.0,),
+) -> tuple[np.ndarray, float] | None:
+    """``(spot, turn)``: a spot in the container ``target`` (a box or a drawer) for the held ``obj``,
+    nearest ``spot``, whose footprint stays inside the interior and off what already lies there, and
+    where the hand holding ``obj`` as it does now with the wrist turned by one of ``turns`` (first
+    first), at the release point or at most the highest of :data:`RELEASE_LIFTS` above it and straight
+    above that, touches nothing (:func:`gsr.skills.hand_clearance.hand_clear_at`); the lowest such
+    height wins over the turn's order and nearness. None when there is none. For a release whose descent stopped high (the hand met the drawer above, a
+    wall top or a neighbour before the object got down): ``place`` descends until contact and lets go
+    there, up to :data:`MAX_DROP` above the release point."""
+    from gsr.skills.hand_clearance import RELEASE_MARGIN, hand_clear_at
 
     found = world.interior_of(target)
     if found is None:
@@ -838,21 +896,20 @@ def hand_clear_spot(
         for b in np.arange(-room[1], room[1] + 1e-9, CLEAR_SPOT_STEP)
     ]
     grid.sort(key=lambda xy: float(np.linalg.norm(xy - spot[:2])))
-    tried = 0
-    for xy in grid:
-        if float(np.linalg.norm(xy - spot[:2])) < CLEAR_SPOT_STEP / 2:
-            continue  # the spot that stopped high
-        if any(
+    free = [
+        np.array([xy[0], xy[1], spot[2]])
+        for xy in grid
+        if float(np.linalg.norm(xy - spot[:2])) >= CLEAR_SPOT_STEP / 2  # not the spot that stopped high
+        and not any(
             np.all(np.abs(xy - (olo[:2] + ohi[:2]) / 2) < reach + (ohi[:2] - olo[:2]) / 2)
             for olo, ohi in inside
-        ):
-            continue
-        here = np.array([xy[0], xy[1], spot[2]])
-        if hand_clear_at(world, obj, here, turn):
-            return here
-        tried += 1
-        if tried >= CLEAR_SPOT_TRIES:
-            break
+        )
+    ][:CLEAR_SPOT_TRIES]
+    for h in RELEASE_LIFTS:
+        for turn in turns:
+            for here in free:
+                if hand_clear_at(world, obj, here, turn, lift=h, margin=RELEASE_MARGIN):
+                    return here, turn
     return None
 
 
@@ -981,10 +1038,20 @@ def place(
     if short > MAX_DROP and packed is not None and opening is None:
         # the hand met something before the object got down (the drawer above, a neighbour): straight
         # back up, then once more over the nearest spot in the container where the hand clears all
-        other = hand_clear_spot(world, obj, target, spot)
+        # (a turn of the wrist lays the 20 cm hand across the box: over a box whose middle is taken,
+        # the free spots are by its end walls, where a hand lying along or aslant the box meets one)
+        other = hand_clear_release(world, obj, target, spot, turns=wrist_turns(world, target))
         if other is not None:
             m.move_line((np.array([m.pose()[0][0], m.pose()[0][1], z_transit]), quat), check=False)
-            spot = other
+            spot, turn_more = other
+            if turn_more:
+                quat = tuple(
+                    p.multiplyTransforms(
+                        (0, 0, 0), p.getQuaternionFromEuler((0, 0, turn_more)), (0, 0, 0), quat
+                    )[1]
+                )
+                c, s = math.cos(turn_more), math.sin(turn_more)
+                offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
             goal = spot + offset + np.array([0, 0, 0.012])
             above = (np.array([goal[0], goal[1], z_transit]), quat)
             m.park_for(goal, poses=[(goal, quat), above])

@@ -46,6 +46,10 @@ MAX_SLIDE = 0.02
 SLIDES = (0.0, 0.005, -0.005, 0.01, -0.01, 0.015, -0.015, 0.02, -0.02)
 #: Clearance the proxy keeps from everything but the object (m).
 MARGIN = 0.001
+#: Room (m) a release's hand must keep from everything: the descent stops 3 mm before a contact, and
+#: the held object's re-measured position (the hand re-centred over the spot) is good to a few mm; a
+#: finger passed down a hair outside a box's wall stops on its top.
+RELEASE_MARGIN = 0.006
 
 
 @dataclass(frozen=True)
@@ -97,9 +101,17 @@ class HandProxy:
             self._bodies.append(body)
         return self._fingers[key]
 
-    def hit(self, pos: np.ndarray, quat: tuple, opening: float, bodies: list[int], table: int) -> bool:
+    def hit(
+        self,
+        pos: np.ndarray,
+        quat: tuple,
+        opening: float,
+        bodies: list[int],
+        table: int,
+        margin: float = MARGIN,
+    ) -> bool:
         """Whether the fingers open to ``opening`` at this pose, or the palm there or straight above it
-        (:data:`RISES`), touch any of ``bodies`` (the table: only by going into it)."""
+        (:data:`RISES`), come within ``margin`` of any of ``bodies`` (the table: only by going into it)."""
         import pybullet as p
 
         c = self.world.client
@@ -110,22 +122,22 @@ class HandProxy:
             for rise in RISES:
                 if rise == 0.0:
                     part = fingers
-                    if self._touches(part, bodies, table):
+                    if self._touches(part, bodies, table, margin):
                         return True
                 at = (palm_pos[0], palm_pos[1], palm_pos[2] + rise)
                 p.resetBasePositionAndOrientation(self.palm, at, quat, physicsClientId=c)
-                if self._touches(self.palm, bodies, table):
+                if self._touches(self.palm, bodies, table, margin):
                     return True
             return False
         finally:
             for b in (self.palm, fingers):
                 p.resetBasePositionAndOrientation(b, (0, 0, -5), (0, 0, 0, 1), physicsClientId=c)
 
-    def _touches(self, part: int, bodies: list[int], table: int) -> bool:
+    def _touches(self, part: int, bodies: list[int], table: int, margin: float = MARGIN) -> bool:
         import pybullet as p
 
         c = self.world.client
-        if any(p.getClosestPoints(part, b, MARGIN, physicsClientId=c) for b in bodies):
+        if any(p.getClosestPoints(part, b, margin, physicsClientId=c) for b in bodies):
             return True
         return bool(p.getClosestPoints(part, table, -0.002, physicsClientId=c))
 
@@ -354,10 +366,18 @@ def clear_grasps(
     return found[:limit]
 
 
-def hand_clear_at(world: World, held: SimObject, spot: np.ndarray, turn: float = 0.0) -> bool:
+def hand_clear_at(
+    world: World,
+    held: SimObject,
+    spot: np.ndarray,
+    turn: float = 0.0,
+    lift: float = 0.0,
+    margin: float = MARGIN,
+) -> bool:
     """Whether the hand, holding ``held`` as it does now (the wrist turned by ``turn`` about the
-    vertical), clears everything else when the object's bottom centre is set at ``spot`` (the release
-    point and the vertical way down to it)."""
+    vertical), keeps ``margin`` from everything else when the object's bottom centre is set ``lift``
+    above ``spot`` (the release point, or a point above it a release may stop at, and the vertical way
+    down to it)."""
     import pybullet as p
 
     ee, quat = world.robot.ee_pose()
@@ -367,12 +387,14 @@ def hand_clear_at(world: World, held: SimObject, spot: np.ndarray, turn: float =
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
         quat = p.multiplyTransforms((0, 0, 0), p.getQuaternionFromEuler((0, 0, turn)), (0, 0, 0), quat)[1]
-    pos = np.asarray(spot, dtype=float) + offset + np.array([0.0, 0.0, 0.012])
+    pos = np.asarray(spot, dtype=float) + offset + np.array([0.0, 0.0, 0.012 + lift])
     opening = min(GRIPPER.open_width, world.robot.finger_width() + 0.016)
     bodies = sorted(_object_bodies(world) - {held.body})
     proxy = HandProxy(world)
     try:
-        return not proxy.hit(pos, tuple(float(v) for v in quat), opening, bodies, world.table_body)
+        return not proxy.hit(
+            pos, tuple(float(v) for v in quat), opening, bodies, world.table_body, margin=margin
+        )
     finally:
         proxy.remove()
 
