@@ -35,10 +35,13 @@ from __future__ import annotations
 from time import perf_counter
 
 from gsr.plan import relax_jit
+from gsr.plan.landmarks_mutex import MutexGroups
+from gsr.plan.landmarks_orders import Orders
 from gsr.plan.task import Task, bits
 
 MAX_DISJUNCTION = 4  # RHW's limit on disjunctive landmarks
 REQUIRED_AGAIN = True  # count accepted landmarks that are false again and still needed
+REASONABLE = True  # natural, reasonable and obedient-reasonable orders (landmarks_orders)
 
 
 class Landmarks:
@@ -49,9 +52,13 @@ class Landmarks:
     (``pos_mask[k]``) is true or one of its complemented atoms (``neg_mask[k]``) is false.
     """
 
-    def __init__(self, task: Task, limit: int = 2000, disjunctive: bool = False) -> None:
+    def __init__(
+        self, task: Task, limit: int = 2000, disjunctive: bool = False, reasonable: bool = REASONABLE
+    ) -> None:
         """``disjunctive``: also RHW's disjunctive landmarks (off by default: measured mixed, see
-        the module docstring)."""
+        the module docstring); ``reasonable``: natural, reasonable and obedient-reasonable orders
+        (``gsr.plan.landmarks_orders``)."""
+        build_start = perf_counter()
         self.task = task
         n = self.n_atoms = len(task.atoms)
         self.lm_facts: list[tuple[int, ...]] = []  # landmark index -> extended fact ids
@@ -78,6 +85,7 @@ class Landmarks:
         order: dict[int, set[int]] = {}  # landmark -> landmarks ordered before it
         todo: list[int] = []
         later: list[tuple[tuple[int, ...], int]] = []  # disjunctive candidates, after the simple ones
+        reach: dict[int, int] = {}  # landmark -> extended facts reachable without it
         in_disjunction: set[int] = set()  # facts of the disjunctive landmarks
 
         def add(facts: tuple[int, ...]) -> int:
@@ -113,6 +121,7 @@ class Landmarks:
             if any(init_ext >> f & 1 for f in facts):
                 continue  # true at the start: nothing needs to precede it
             reached = self._reached_without(facts)
+            reach[k] = reached
             pre_ext = self._pre_ext
             first = [u for f in facts for u in adders.get(f, ()) if reached & pre_ext[u] == pre_ext[u]]
             if not first:
@@ -143,11 +152,26 @@ class Landmarks:
                 if users[name] == len(first) and 1 < len(group) <= MAX_DISJUNCTION:
                     later.append((tuple(sorted(group)), k))
         m = len(self.lm_facts)
-        self.parents = [0] * m
+        self.gn_parents = [0] * m  # greedy-necessary orders: "required again" follows these
         for k, before in order.items():
             for p in before:
                 if p != k:
-                    self.parents[k] |= 1 << p
+                    self.gn_parents[k] |= 1 << p
+        self.parents = self.gn_parents  # orders a landmark's acceptance waits for
+        self.orders: Orders | None = None
+        if reasonable and m > 1:
+            self.orders = Orders(
+                task,
+                self.lm_facts,
+                self.negated,
+                self.gn_parents,
+                self.goal_mask,
+                self._init_ext,
+                reach,
+                MutexGroups(task),
+            )
+            self.parents = self.orders.accept_parents
+        self.build_time = perf_counter() - build_start
         self.pos_mask = [0] * m
         self.neg_mask = [0] * m
         self.by_pos: dict[int, list[int]] = {}
@@ -336,10 +360,10 @@ class Landmarks:
         (a single-fact landmark owns its atom, so "false again" is one mask test per state)."""
         found = self._ready.get(accepted)
         if found is None:
-            parents = self.parents
+            parents, gn_parents = self.parents, self.gn_parents
             ready = needed = 0
             for k in bits(self.all_mask & ~accepted):
-                needed |= parents[k]
+                needed |= gn_parents[k]
                 if accepted & parents[k] == parents[k]:
                     ready |= 1 << k
             if not REQUIRED_AGAIN:

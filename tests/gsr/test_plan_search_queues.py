@@ -81,12 +81,12 @@ def _reference_value(
     lm: Landmarks, accepted: int, state: int, applicable: list[int]
 ) -> tuple[int, list[int]]:
     h = sum(1 for k in range(len(lm.facts)) if not accepted >> k & 1)
-    # Accepted landmarks false again count when still needed: goals, and landmarks ordered
-    # before one not accepted yet.
+    # Accepted landmarks false again count when still needed: goals, and landmarks greedy-necessarily
+    # ordered before one not accepted yet (reasonable orders only delay acceptance, as in LAMA).
     needed = lm.goal_mask
     for k in range(len(lm.facts)):
         if not accepted >> k & 1:
-            needed |= lm.parents[k]
+            needed |= lm.gn_parents[k]
     h += sum(
         1 for k in range(len(lm.facts)) if needed >> k & 1 and accepted >> k & 1 and not lm.holds(k, state)
     )
