@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from gsr.cli import app
+
 # typer ships its own copy of click, so commands, groups and parameters are recognised by shape, not class.
 
 
@@ -64,8 +66,6 @@ def _walk(prefix: str, group: Any, ctx: Any) -> list[tuple[str, Any]]:
 def cli_reference() -> str:
     """Markdown reference of every ``gsr`` command, option and exit-code note."""
     import typer
-
-    from gsr.cli import app
 
     root = typer.main.get_command(app)
     ctx = root.make_context("gsr", [], resilient_parsing=True)

@@ -12,6 +12,13 @@ from pathlib import Path
 import typer
 
 from gsr.errors import GSRError
+from gsr.graph_text import to_prompt_text
+from gsr.libero import libero_task
+from gsr.pddl.bddl import load_bddl
+from gsr.plan import plan
+from gsr.resources import data_dir, load_builtin_domain
+from gsr.transition import apply_step
+from gsr.validate import validate_plan
 
 DEFAULT_TASK = (
     "libero_10/KITCHEN_SCENE4_put_the_black_bowl_in_the_bottom_drawer_of_the_cabinet_and_close_it.bddl"
@@ -20,21 +27,11 @@ DEFAULT_TASK = (
 
 def default_task_path() -> Path:
     """The demo's LIBERO task, shipped with the project (``data/libero``, MIT; see ``data/README.md``)."""
-    from gsr.resources import data_dir
-
     return data_dir() / "libero" / DEFAULT_TASK
 
 
 def run_demo(task: Path | None = None, planner: str = "lazy-ff") -> int:
     """Run the demo on ``task`` (a BDDL file); returns the process exit code (0 only when the goal is verified)."""
-    from gsr.graph_text import to_prompt_text
-    from gsr.libero import libero_task
-    from gsr.pddl.bddl import load_bddl
-    from gsr.plan import plan
-    from gsr.resources import load_builtin_domain
-    from gsr.transition import apply_step
-    from gsr.validate import validate_plan
-
     path = task or default_task_path()
     if not path.is_file():
         raise GSRError(f"{path}: task file not found (pass --task FILE)")

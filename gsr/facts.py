@@ -14,6 +14,7 @@ from collections.abc import Iterable
 
 from gsr.categories import COLORS, affordances, ancestors, get_category, is_part_category
 from gsr.pddl.model import Atom, Domain, Formula, Problem
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import Edge, Node, SceneGraph
 from gsr.state import State
 
@@ -29,7 +30,6 @@ DYNAMIC_STATES = frozenset({"open", "closed", "on", "off", "held"})
 
 
 def default_domain() -> Domain:
-    from gsr.resources import load_builtin_domain
 
     return load_builtin_domain("tabletop")
 

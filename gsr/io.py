@@ -9,7 +9,14 @@ import tempfile
 from pathlib import Path
 
 from gsr.errors import GSRError
+from gsr.gsr_bench_format import graph_from_gsr_bench
+from gsr.libero import libero_task
+from gsr.pddl.bddl import parse_bddl, parse_bddl_domain
+from gsr.pddl.files import find_domain_file
 from gsr.pddl.model import Domain, Problem
+from gsr.pddl.parser import parse_domain, parse_pddl, parse_problem
+from gsr.pddl.writer import write_domain, write_problem
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 
 
@@ -69,9 +76,6 @@ def _is_bddl(path: Path, text: str) -> bool:
 
 def load_any(path: str | Path) -> Domain | Problem:
     """Parse a PDDL or BDDL file into a Domain or Problem (BDDL problems keep their own predicates)."""
-    from gsr.pddl.bddl import parse_bddl, parse_bddl_domain
-    from gsr.pddl.parser import parse_pddl
-
     p = Path(path)
     text = read_text(p)
     if not _is_bddl(p, text):
@@ -80,8 +84,6 @@ def load_any(path: str | Path) -> Domain | Problem:
         return parse_bddl_domain(text, str(p))
     bddl = parse_bddl(text, str(p))
     if bddl.domain_name == "robosuite" or bddl.fixtures or bddl.regions:
-        from gsr.libero import libero_task
-
         return libero_task(bddl)[1]
     return Problem(
         name=bddl.name,
@@ -94,8 +96,6 @@ def load_any(path: str | Path) -> Domain | Problem:
 
 def write_any(model: Domain | Problem) -> str:
     """Normalized PDDL text of a domain or problem."""
-    from gsr.pddl.writer import write_domain, write_problem
-
     return write_domain(model) if isinstance(model, Domain) else write_problem(model)
 
 
@@ -103,17 +103,11 @@ def load_domain_and_problem(
     domain_file: str | Path | None, problem_file: str | Path
 ) -> tuple[Domain, Problem]:
     """Load a (domain, problem) pair; a LIBERO BDDL problem without a domain uses the tabletop domain."""
-    from gsr.pddl.parser import parse_domain, parse_problem
-
     problem_path = Path(problem_file)
     text = read_text(problem_path)
     if _is_bddl(problem_path, text):
-        from gsr.pddl.bddl import parse_bddl
-
         bddl = parse_bddl(text, str(problem_path))
         if domain_file is None:
-            from gsr.libero import libero_task
-
             return _builtin_domain(), libero_task(bddl)[1]
         domain = load_any(domain_file)
         if not isinstance(domain, Domain):
@@ -124,7 +118,6 @@ def load_domain_and_problem(
     if domain_file is None:
         if _DEFINES_DOMAIN_ANYWHERE.search(_COMMENT.sub("", text)):
             raise GSRError(f"{problem_path}: this is a domain file; give DOMAIN PROBLEM")
-        from gsr.pddl.files import find_domain_file
 
         # As `gsr plan` and Fast Downward's driver: domain.pddl, NAME-domain.pddl, ... beside it.
         domain_file = find_domain_file(problem_path)
@@ -138,7 +131,6 @@ def load_domain_and_problem(
 
 
 def _builtin_domain() -> Domain:
-    from gsr.resources import load_builtin_domain
 
     return load_builtin_domain("tabletop")
 
@@ -148,9 +140,6 @@ def load_scene(path: str | Path) -> SceneGraph:
     p = Path(path)
     text = read_text(p)
     if _is_bddl(p, text):
-        from gsr.libero import libero_task
-        from gsr.pddl.bddl import parse_bddl
-
         return libero_task(parse_bddl(text, str(p)))[0]
     try:
         data = json.loads(text)
@@ -162,7 +151,5 @@ def load_scene(path: str | Path) -> SceneGraph:
 def scene_from_data(data: object, source: str = "<scene>") -> SceneGraph:
     """A scene graph from parsed JSON: scene-graph JSON or a GSR-Bench message ``{nodes: [str], edges: [str]}``."""
     if isinstance(data, dict) and data.get("nodes") and all(isinstance(n, str) for n in data["nodes"]):
-        from gsr.gsr_bench_format import graph_from_gsr_bench
-
         return graph_from_gsr_bench(data)
     return SceneGraph.from_data(data, source)

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from gsr.errors import GSRError
+from gsr.pddl.parser import load_domain
 
 if TYPE_CHECKING:
     from gsr.pddl.model import Domain
@@ -76,7 +77,6 @@ def domain_path(name: str = "tabletop") -> Path:
 
 @lru_cache(maxsize=8)
 def _load(path: str, mtime: float) -> Domain:
-    from gsr.pddl.parser import load_domain
 
     return load_domain(path)
 

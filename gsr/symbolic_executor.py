@@ -8,6 +8,7 @@ and simulator executors implement the same protocol with observed states.
 
 from __future__ import annotations
 
+from gsr.check import check_step
 from gsr.diagnosis import Diagnosis
 from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain
@@ -34,8 +35,6 @@ class SymbolicExecutor:
 
     def execute(self, step: Step) -> Diagnosis:
         """check_step; on success the state advances."""
-        from gsr.check import check_step
-
         assert self.domain is not None and self.state is not None
         diagnosis = check_step(self.domain, self.state, step)
         if diagnosis.ok and diagnosis.next_state is not None:

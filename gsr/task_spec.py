@@ -17,8 +17,9 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from gsr.errors import GSRError
+from gsr.errors import GSRError, ParseError
 from gsr.pddl.model import Formula
+from gsr.pddl.parser import parse_formula
 from gsr.scene_graph import SceneGraph, format_validation_error
 
 
@@ -100,8 +101,6 @@ class TaskSpec(BaseModel):
     @field_validator("goal", "goal_alternatives")
     @classmethod
     def _parses(cls, v: str | tuple[str, ...]) -> str | tuple[str, ...]:
-        from gsr.errors import ParseError
-        from gsr.pddl.parser import parse_formula
 
         for text in (v,) if isinstance(v, str) else v:
             try:
@@ -117,14 +116,10 @@ class TaskSpec(BaseModel):
 
     def goal_formula(self) -> Formula:
         """The goal parsed into a formula."""
-        from gsr.pddl.parser import parse_formula
-
         return parse_formula(self.goal, source=f"{self.id}:goal")
 
     def goal_formulas(self) -> tuple[Formula, ...]:
         """The goal followed by its alternatives, parsed."""
-        from gsr.pddl.parser import parse_formula
-
         alternatives = (
             parse_formula(t, source=f"{self.id}:goal_alternatives") for t in self.goal_alternatives
         )

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from gsr.check import check_step
 from gsr.errors import GSRError
 from gsr.facts import graph_with_state, state_from_graph
 from gsr.pddl.model import Domain
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import apply
 from gsr.step import Step
 
 
@@ -22,15 +25,12 @@ class StepRejected(GSRError):
 def _domain(domain: Domain | None) -> Domain:
     if domain is not None:
         return domain
-    from gsr.resources import load_builtin_domain
 
     return load_builtin_domain("tabletop")
 
 
 def apply_step(graph: SceneGraph, step: Step, domain: Domain | None = None) -> SceneGraph:
     """The graph after ``step``; raises :class:`StepRejected` (a GSRError) with the diagnosis when invalid."""
-    from gsr.check import check_step
-
     domain = _domain(domain)
     state = state_from_graph(graph, domain)
     diagnosis = check_step(domain, state, step)
@@ -38,8 +38,6 @@ def apply_step(graph: SceneGraph, step: Step, domain: Domain | None = None) -> S
         raise StepRejected(str(diagnosis), diagnosis)
     nxt = diagnosis.next_state
     if nxt is None:  # an ok diagnosis always carries its transition; guard against a bare one
-        from gsr.semantics import apply
-
         nxt = apply(domain, state, step.action, step.args)
     return graph_with_state(graph, nxt)
 

@@ -7,7 +7,10 @@ from pathlib import Path
 
 import typer
 
+from gsr.io import load_scene
 from gsr.language.errors import GroundingError
+from gsr.language.ground import ground
+from gsr.pddl.writer import write_formula
 
 
 def goal_payload(instruction: str, goal_text: str, scene: Path) -> dict[str, object]:
@@ -17,10 +20,6 @@ def goal_payload(instruction: str, goal_text: str, scene: Path) -> dict[str, obj
 
 def ground_command(scene: Path, instruction: str, as_json: bool) -> int:
     """Ground ``instruction`` on the scene file; print the goal as PDDL (or JSON). Returns the exit code."""
-    from gsr.io import load_scene
-    from gsr.language.ground import ground
-    from gsr.pddl.writer import write_formula
-
     graph = load_scene(scene)  # GSRError (bad file) -> exit 1 via gsr.cli.main
     try:
         goal = ground(instruction, graph)

@@ -4,7 +4,11 @@ from __future__ import annotations
 
 from gsr.facts import problem_from_graph
 from gsr.pddl.model import Domain, Formula
+from gsr.plan.ground import ObjectsByType
+from gsr.plan.normalize import ground_simplify, nnf, to_dnf
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
+from gsr.semantics import compile_domain
 
 
 def ground_dnf(formula: Formula, graph: SceneGraph, domain: Domain | None = None) -> frozenset:
@@ -14,11 +18,6 @@ def ground_dnf(formula: Formula, graph: SceneGraph, domain: Domain | None = None
     evaluated in the graph, exactly as the planner compiles a goal. Two goals with the same DNF have
     the same satisfying states among the states reachable from the graph (statics never change).
     """
-    from gsr.plan.ground import ObjectsByType
-    from gsr.plan.normalize import ground_simplify, nnf, to_dnf
-    from gsr.resources import load_builtin_domain
-    from gsr.semantics import compile_domain
-
     domain = domain or load_builtin_domain("tabletop")
     problem = problem_from_graph(graph, formula, domain=domain)
     fluents = compile_domain(domain).fluents

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 from gsr.language.errors import GroundingError
 from gsr.language.lexicon import Entity, Lexicon
+from gsr.language.parse import CONTRACTIONS
+from gsr.language.words import FILLER
 from gsr.pddl.model import And, Atom, Formula, Not
 
 #: Least confidence (explained content words / all content words, times the fit of the match).
@@ -51,9 +53,6 @@ class Match:
 
 def _words(instruction: str, lex: Lexicon) -> list[tuple[str, str, str]]:
     """(word, class, value) per word; class ``?`` for unknown words."""
-    from gsr.language.parse import CONTRACTIONS
-    from gsr.language.words import FILLER
-
     text = instruction.lower().replace("\u2019", "'")
     for pattern, full in CONTRACTIONS:
         text = pattern.sub(full, text)

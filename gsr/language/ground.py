@@ -8,11 +8,14 @@ from lark.visitors import CollapseAmbiguities
 from gsr.facts import graph_objects
 from gsr.language.build import Interpreter
 from gsr.language.errors import GroundingError
+from gsr.language.fallback import clarifying_error, match_goal
 from gsr.language.goals import goal_formula
 from gsr.language.lexicon import build_lexicon
 from gsr.language.parse import parse_tokens, tokenize
 from gsr.language.refs import Resolver
 from gsr.pddl.model import Domain, Formula
+from gsr.pddl.writer import write_formula
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.step import Goal
 
@@ -34,8 +37,6 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
     objects of an ambiguous or unmatched reference. Every reading of the sentence is interpreted; when
     the readings that can be grounded disagree, that is an ambiguity error too (never a silent guess).
     """
-    from gsr.resources import load_builtin_domain
-
     if not isinstance(instruction, str) or not instruction.strip():
         raise GroundingError("empty instruction")
     domain = domain or load_builtin_domain("tabletop")
@@ -46,7 +47,6 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
     except GroundingError as exc:
         # the second route: a scored match over the simple goals the scene allows, else a clarifying
         # error naming the unknown words and the closest known ones
-        from gsr.language.fallback import clarifying_error, match_goal
 
         match = match_goal(instruction, lex)
         if match is not None:
@@ -93,8 +93,6 @@ def ground(instruction: str, graph: SceneGraph, domain: Domain | None = None) ->
         # it): never pick silently between verb senses (a PP read as a restriction is not enough)
         raise unsure[0]
     if len(goals) > 1:
-        from gsr.pddl.writer import write_formula
-
         readings = "; ".join(write_formula(g) for g in goals[:4])
         raise GroundingError(f"{instruction!r} has {len(goals)} readings with different goals: {readings}")
     return Goal(formula=goals[0], text=instruction)

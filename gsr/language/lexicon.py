@@ -16,6 +16,8 @@ from functools import lru_cache
 from typing import Any
 
 from gsr.categories import (
+    COLOR_SYNONYMS,
+    COLORS,
     ancestors,
     canonical,
     categories,
@@ -24,8 +26,10 @@ from gsr.categories import (
     is_category,
     is_part_category,
 )
+from gsr.errors import GSRError
 from gsr.facts import node_affordances, node_colors
 from gsr.language.words import DRAWER_WORDS, FILLER, FUNCTION_WORDS, POSITION_SYNONYMS, VERB_CLASSES, gerund
+from gsr.resources import data_dir
 from gsr.scene_graph import Node, SceneGraph
 
 __all__ = [
@@ -79,9 +83,6 @@ def vocabulary() -> dict[str, Any]:
     """The everyday vocabulary (data/language/vocabulary.yaml): verbs by class, dropped phrases, numbers,
     and nouns naming categories loosely (hypernyms and near-synonyms)."""
     import yaml
-
-    from gsr.errors import GSRError
-    from gsr.resources import data_dir
 
     path = data_dir() / "language" / "vocabulary.yaml"
     try:
@@ -247,7 +248,6 @@ def build_lexicon(graph: SceneGraph) -> Lexicon:
         add(words, "NOUN", raw)
         add((*words[:-1], _plural(words[-1])), "NOUN", raw + "#pl")
     # colours
-    from gsr.categories import COLOR_SYNONYMS, COLORS
 
     for c in COLORS:
         add((c,), "COLOR", c, override=True)

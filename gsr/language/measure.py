@@ -27,17 +27,21 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from gsr.datagen.generate import generate_shard
+from gsr.datagen.runner import RunConfig
+from gsr.datagen.schema import decode
 from gsr.errors import GSRError
+from gsr.language import GroundingError, ground
+from gsr.language.equivalence import equivalent_goals
 from gsr.language.paraphrase import Item, load_items, same_goal_states, scene_graph
+from gsr.pddl.parser import parse_formula
+from gsr.pddl.writer import write_formula
 
 KINDS = ("equivalent", "wrong_goal", "unknown_word", "not_understood", "ambiguous", "no_match", "other_error")
 
 
 def generated_rows(samples: int, seed: int) -> Iterator[dict[str, Any]]:
     """The goal_interpretation rows of ``gsr datagen --samples N --seed S`` (default shard size), in order."""
-    from gsr.datagen.generate import generate_shard
-    from gsr.datagen.runner import RunConfig
-
     cfg = RunConfig(Path("."), samples, seed)
     for shard in range(cfg.n_shards):
         result = generate_shard(seed, shard, cfg.shard_rows(shard))
@@ -66,10 +70,6 @@ def classify(instruction: str, graph, reference, equivalent=None) -> tuple[str, 
 
     ``equivalent(a, b, graph)`` decides goal equivalence (default: equal ground DNFs).
     """
-    from gsr.language import GroundingError, ground
-    from gsr.language.equivalence import equivalent_goals
-    from gsr.pddl.writer import write_formula
-
     equivalent = equivalent or equivalent_goals
 
     try:
@@ -92,9 +92,6 @@ def classify(instruction: str, graph, reference, equivalent=None) -> tuple[str, 
 
 def measure(rows: Iterator[dict[str, Any]], limit: int | None = None, examples: int = 5) -> dict[str, Any]:
     """Classify up to ``limit`` rows; the report (counts, fractions, unknown words, examples)."""
-    from gsr.datagen.schema import decode
-    from gsr.pddl.parser import parse_formula
-
     counts: Counter[str] = Counter()
     words: Counter[str] = Counter()
     shown: dict[str, list[dict[str, str]]] = {k: [] for k in KINDS}
@@ -123,8 +120,6 @@ def measure(rows: Iterator[dict[str, Any]], limit: int | None = None, examples: 
 
 def classify_item(item: Item) -> tuple[str, str]:
     """(kind, detail) of one paraphrase item (gsr.language.paraphrase) on its scene."""
-    from gsr.pddl.parser import parse_formula
-
     graph = scene_graph(item.scene)
     reference = parse_formula(item.goal, f"{item.part}: {item.say!r}")
     return classify(item.say, graph, reference, equivalent=same_goal_states)

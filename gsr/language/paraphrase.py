@@ -15,7 +15,12 @@ from pathlib import Path
 from typing import Any
 
 from gsr.errors import GSRError
+from gsr.gsr_bench_format import graph_from_gsr_bench
+from gsr.language.equivalence import ground_dnf
+from gsr.libero import libero_graph
+from gsr.pddl.bddl import load_bddl
 from gsr.pddl.model import Formula
+from gsr.resources import data_dir, shared_data_dir
 from gsr.scene_graph import SceneGraph
 
 PARTS = ("dev", "heldout")
@@ -35,8 +40,6 @@ class Item:
 
 def suite_path(part: str) -> Path:
     """The file of one part of the benchmark."""
-    from gsr.resources import data_dir
-
     if part not in PARTS:
         raise GSRError(f"unknown paraphrase part {part!r} (known: {', '.join(PARTS)})")
     return data_dir() / "language" / f"paraphrase_{part}.yaml"
@@ -69,8 +72,6 @@ def load_items(part: str, path: Path | None = None) -> list[Item]:
 def _gsr_bench_configs() -> dict[str, Any]:
     import yaml
 
-    from gsr.resources import shared_data_dir
-
     path = shared_data_dir() / "gsr_bench" / "saved_configs_dev.yaml"
     if not path.is_file():
         raise GSRError(f"GSR-Bench dev configs not found at {path}: set GSR_SHARED_DATA")
@@ -83,17 +84,11 @@ def scene_graph(source: str) -> SceneGraph:
     """The start graph of a scene source (``gsr_bench:<id>`` or ``libero:<suite>/<task>``)."""
     kind, _, ref = source.partition(":")
     if kind == "gsr_bench":
-        from gsr.gsr_bench_format import graph_from_gsr_bench
-
         config = _gsr_bench_configs().get(ref)
         if config is None:
             raise GSRError(f"no GSR-Bench dev config with id {ref}")
         return graph_from_gsr_bench(config["scene_graph"])
     if kind == "libero":
-        from gsr.libero import libero_graph
-        from gsr.pddl.bddl import load_bddl
-        from gsr.resources import data_dir
-
         path = data_dir() / "libero" / f"{ref}.bddl"
         if not path.is_file():
             raise GSRError(f"no LIBERO task file {path}")
@@ -112,8 +107,6 @@ def same_goal_states(a: Formula, b: Formula, graph: SceneGraph) -> bool:
     atoms they mention, with the invariant that an object is at one place at a time (two location
     atoms of one object are never both true).
     """
-    from gsr.language.equivalence import ground_dnf
-
     da, db = ground_dnf(a, graph), ground_dnf(b, graph)
     if da == db:
         return True

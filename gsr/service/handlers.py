@@ -12,7 +12,19 @@ import hashlib
 from functools import lru_cache
 from typing import Any
 
+from gsr.check import check_step
+from gsr.diagnosis import typed_text
 from gsr.errors import GSRError
+from gsr.facts import facts, graph_objects
+from gsr.io import scene_from_data
+from gsr.language import ground
+from gsr.pddl.model import Problem
+from gsr.pddl.parser import parse_atom, parse_domain, parse_formula, parse_problem
+from gsr.pddl.writer import write_formula
+from gsr.plan import PLANNERS, plan
+from gsr.plan_format import parse_plan
+from gsr.reason import MODES, solve
+from gsr.resources import data_dir, load_builtin_domain
 from gsr.service.schemas import (
     CheckRequest,
     DomainRef,
@@ -24,6 +36,9 @@ from gsr.service.schemas import (
     ValidateRequest,
 )
 from gsr.service.settings import ServiceSettings
+from gsr.state import State
+from gsr.step import Plan, Step
+from gsr.validate import validate_plan
 
 
 class ApiError(Exception):
@@ -74,14 +89,12 @@ def api_error_from(exc: BaseException) -> ApiError | None:
 
 @lru_cache(maxsize=32)
 def _parse_domain_text(digest: str, text: str):  # digest keys the cache without hashing long text twice
-    from gsr.pddl.parser import parse_domain
 
     return parse_domain(text, source="domain_pddl")
 
 
 @lru_cache(maxsize=16)
 def builtin_domain(name: str):  # per process: a server reads its domain files once (restart to reload)
-    from gsr.resources import load_builtin_domain
 
     return load_builtin_domain(name)
 
@@ -134,22 +147,17 @@ class Scene:
     def facts(self) -> frozenset:
         """The atoms the graph entails (domain-independent; computed once)."""
         if self._facts is None:
-            from gsr.facts import facts
-
             self._facts = frozenset(facts(self.graph))
         return self._facts
 
     @classmethod
     def from_data(cls, data: dict[str, Any], settings: ServiceSettings, field: str = "scene_graph") -> Scene:
-        from gsr.io import scene_from_data
 
         check_scene_size(data, settings, field)
         return cls(scene_from_data(data, source=field))
 
     def objects_and_facts(self, domain, ref: DomainRef) -> tuple[dict[str, str], frozenset]:
         """(objects, true atoms) of the graph in ``domain``; cached for built-in domains."""
-        from gsr.facts import graph_objects
-
         key = None if ref.domain_pddl is not None else ref.domain
         cached = self._derived.get(key) if key is not None else None
         if cached is None:
@@ -161,8 +169,6 @@ class Scene:
     def state(self, domain, ref: DomainRef):
         """The symbolic state; for built-in domains the same State object every time, so the checker's
         per-state indexes are built once per scene."""
-        from gsr.state import State
-
         key = None if ref.domain_pddl is not None else "state:" + ref.domain
         state = self._derived.get(key) if key is not None else None
         if state is None:
@@ -174,9 +180,6 @@ class Scene:
 
 
 def _step(value: str | StepIn, where: str = "step"):
-    from gsr.pddl.parser import parse_atom
-    from gsr.plan_format import parse_plan
-    from gsr.step import Step
 
     if isinstance(value, StepIn):
 
@@ -194,9 +197,6 @@ def _step(value: str | StepIn, where: str = "step"):
 
 def _task(req: TaskIn, scene: Scene | None):
     """(domain, problem) from a PDDL problem or from a scene graph + goal."""
-    from gsr.pddl.model import Problem
-    from gsr.pddl.parser import parse_formula, parse_problem
-
     domain = domain_of(req)
     if req.problem_pddl is not None:
         return domain, parse_problem(req.problem_pddl, source="problem_pddl", domain=domain)
@@ -252,26 +252,18 @@ def check_instruction(text: str, settings: ServiceSettings) -> None:
 
 def handle_check(req: CheckRequest, settings: ServiceSettings, scene: Scene) -> dict[str, Any]:
     """Check one step against a scene graph."""
-    from gsr.check import check_step
-
     domain = domain_of(req)
     return check_step(domain, scene.state(domain, req), _step(req.step)).to_dict()
 
 
 def handle_validate(req: ValidateRequest, settings: ServiceSettings, scene: Scene | None) -> dict[str, Any]:
     """Validate a plan against a task."""
-    from gsr.plan_format import parse_plan
-    from gsr.step import Plan
-    from gsr.validate import validate_plan
-
     check_plan_length(req, settings)
     if isinstance(req.plan, str):
         plan = parse_plan(req.plan, source="plan")
     else:
         plan = Plan(tuple(_step(s, where=f"plan[{i}]") for i, s in enumerate(req.plan)))
     if req.problem_pddl is None and scene is not None and req.goal is not None:
-        from gsr.pddl.parser import parse_formula
-
         domain = domain_of(req)  # from the scene's cached state: no problem to build
         goal = parse_formula(req.goal, source="goal")
         return validate_plan(domain, scene.state(domain, req), plan, goal=goal).to_dict()
@@ -281,8 +273,6 @@ def handle_validate(req: ValidateRequest, settings: ServiceSettings, scene: Scen
 
 def handle_plan(req: PlanRequest, settings: ServiceSettings, scene: Scene | None) -> dict[str, Any]:
     """Plan a task within the server's time budget."""
-    from gsr.plan import PLANNERS, plan
-
     if req.planner not in PLANNERS or req.planner == "fd":
         offered = ", ".join(p for p in PLANNERS if p != "fd")
         raise ApiError(422, "unknown_planner", f"unknown planner {req.planner!r}; choose one of {offered}")
@@ -293,9 +283,6 @@ def handle_plan(req: PlanRequest, settings: ServiceSettings, scene: Scene | None
 
 def handle_ground(req: GroundRequest, settings: ServiceSettings, scene: Scene) -> dict[str, Any]:
     """Ground an instruction into a goal formula over the graph."""
-    from gsr.language import ground
-    from gsr.pddl.writer import write_formula
-
     check_instruction(req.instruction, settings)
     goal = ground(req.instruction, scene.graph)
     return {"goal": write_formula(goal.formula), "instruction": req.instruction}
@@ -303,8 +290,6 @@ def handle_ground(req: GroundRequest, settings: ServiceSettings, scene: Scene) -
 
 def handle_solve(req: SolveRequest, settings: ServiceSettings, scene: Scene) -> dict[str, Any]:
     """Instruction -> goal -> checked steps, through the reasoner loop with a server-approved backend."""
-    from gsr.reason import MODES, solve
-
     if req.backend not in settings.backends:
         offered = ", ".join(settings.backends)
         raise ApiError(
@@ -330,9 +315,6 @@ def scene_summary(scene: Scene) -> dict[str, Any]:
 
 def list_domains() -> list[dict[str, Any]]:
     """The built-in domains with their action signatures."""
-    from gsr.diagnosis import typed_text
-    from gsr.resources import data_dir, load_builtin_domain
-
     out = []
     for path in sorted((data_dir() / "domains").glob("*.pddl")):
         domain = load_builtin_domain(path.stem)

@@ -22,7 +22,7 @@ import resource
 import signal
 from typing import Any
 
-from gsr.service.handlers import ApiError, api_error_from, limit_error
+from gsr.service.handlers import ApiError, api_error_from, limit_error, run_handler
 from gsr.service.settings import ServiceSettings
 
 log = logging.getLogger("gsr.service")
@@ -31,8 +31,6 @@ _PRELOAD = ["gsr.service.handlers", "gsr.plan", "gsr.check", "gsr.validate", "gs
 
 def _worker_main(conn, settings: ServiceSettings) -> None:
     """A worker: receive (handler name, args), answer ("ok", result) or ("error", ApiError parts)."""
-    from gsr.service.handlers import run_handler
-
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the server stops us; Ctrl-C is for it
     gc.freeze()  # the preloaded modules stay out of the collector's way
     if settings.worker_nice > 0:
