@@ -42,13 +42,41 @@ class Variant:
     core: tuple[Formula, ...]  # what the delete relaxation tests of ``compound`` (see relaxed_core)
     effects: list[EffectBlock] | None = None
     fired: bool = False
+    # Disjunctive conjuncts in key form (the compiled path, gsr.plan.ground_compile): per choice,
+    # (its alternatives as (positive keys, negative keys), the positive keys of each alternative
+    # or None when one has none: what the delete relaxation tests).
+    choices: tuple = ()
+    # Memoised conjuncts in key form (gsr.plan.ground_compile.KeyCnf), shared by many actions;
+    # their positive keys are in ``pos`` too.
+    pieces: tuple = ()
 
     @property
     def pre(self) -> Formula:
         """The simplified precondition as one formula (TRUE when it has no conjunct)."""
         parts: list[Formula] = [Atom(p, args) for p, args in self.pos]
         parts += [Not(Atom(p, args)) for p, args in self.neg]
+        parts += [Not(Atom(p, args)) for piece in self.pieces for p, args in piece[1]]
+        for alts, _relax in (*self.choices, *(c for piece in self.pieces for c in piece[2])):
+            parts.append(Simplifier.combine(False, [_key_conj(p, n) for p, n in alts]))
         return Simplifier.combine(True, [*parts, *self.compound])
+
+    def choices_hold(self, reached: set[AtomKey]) -> bool:
+        """Whether every choice has an alternative whose positive keys are all reached."""
+        for _alts, relax in self.choices:
+            if relax is not None and not any(reached.issuperset(p) for p in relax):
+                return False
+        for piece in self.pieces:
+            for relax in piece[3]:
+                if not any(reached.issuperset(p) for p in relax):
+                    return False
+        return True
+
+
+def _key_conj(pos: tuple[AtomKey, ...], neg: tuple[AtomKey, ...]) -> Formula:
+    """A conjunction of key literals as a formula."""
+    parts: list[Formula] = [Atom(p, args) for p, args in pos]
+    parts += [Not(Atom(p, args)) for p, args in neg]
+    return Simplifier.combine(True, parts)
 
 
 EMPTY: Conjunction = frozenset()

@@ -7,6 +7,7 @@ gsr.plan.effects, interning into a Task in gsr.plan.intern.
 from __future__ import annotations
 
 import itertools
+import os
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from time import perf_counter
@@ -35,6 +36,7 @@ from gsr.plan.effects import (
     ground_group,
     new_adds,
 )
+from gsr.plan.ground_compile import bind, compile_schema
 from gsr.plan.intern import axiom_action, ground_goal, intern_task
 from gsr.plan.normalize import (
     EQUALS,
@@ -61,6 +63,7 @@ class GroundingTimeout(GSRError):
 
 
 _CHECK_EVERY = 4096  # bindings between two looks at the clock (a look costs ~50 ns)
+_MISSING = object()
 
 
 def _check(deadline: float | None) -> None:
@@ -431,6 +434,26 @@ def _variant(
     return Variant(schema.name, args, binding, schema, tuple(pos), tuple(neg), tuple(compound), tuple(core))
 
 
+def _general(
+    schema: Schema,
+    si: int,
+    parts: list[Part],
+    simplify: Simplifier,
+    memo: dict[tuple, Formula],
+    cores: FormulaCache,
+):
+    """The general path as a function of the binding alone."""
+
+    def general(binding: dict[str, str]) -> Variant | None:
+        return _variant(schema, si, parts, binding, simplify, memo, cores)
+
+    return general
+
+
+# The compiled preconditions (gsr.plan.ground_compile) on or off (tests compare both paths).
+COMPILED = os.environ.get("GSR_GROUND_COMPILED", "1") != "0"
+
+
 @dataclass(frozen=True, slots=True)
 class GroundingTables:
     """What grounding derives from a domain alone: normalised schemas and their per-schema tables."""
@@ -443,6 +466,7 @@ class GroundingTables:
     parts: list[list[Part]]
     disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see schema_bindings)
     triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
+    factories: list  # compiled preconditions (gsr.plan.ground_compile), one per schema
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
@@ -496,6 +520,7 @@ def grounding_tables(domain: Domain) -> GroundingTables:
         [_parts(s, fluent) for s in schemas],
         [],
         [],
+        [],
     )
     for s, alts in zip(schemas, compiled.alternatives, strict=True):
         disjunction = _disjunction(s, alts)
@@ -503,6 +528,10 @@ def grounding_tables(domain: Domain) -> GroundingTables:
             alts.remove(disjunction)  # holds for every listed binding: no need to test it again
         compiled.disjunctions.append(disjunction)
         compiled.triggers.append(tuple(a.predicate for a in (*s.join, *disjunction)))
+    kinds = (_GENERIC, _SKIP, _FLUENT, _NOT_FLUENT, _DISTINCT, _SPLIT)
+    compiled.factories.extend(
+        compile_schema(s, p, kinds, fluent) for s, p in zip(schemas, compiled.parts, strict=True)
+    )
     _COMPILED.insert(0, (domain, compiled))
     del _COMPILED[_COMPILED_MAX:]
     return compiled
@@ -551,7 +580,21 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     deferred: list[Deferred] = []
     effect_memo: EffectMemo = {}
     join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
-    unfired: list[list[dict[str, str]]] = [[] for _ in schemas]
+    # Each schema's compiled precondition, handing a binding it cannot hold to _variant.
+    shared: dict = {}
+    variant_of = [
+        bind(factory, simplify, _general(schema, si, parts[si], simplify, part_memo, cores), shared)
+        if COMPILED
+        else _general(schema, si, parts[si], simplify, part_memo, cores)
+        for si, (schema, factory) in enumerate(zip(schemas, compiled.factories, strict=True))
+    ]
+    # Bindings that may fire later, as (key, binding): a built action waiting for a positive
+    # precondition atom is kept under that atom (``watch``) and looked at again once it is
+    # reached (``retry``); the others (a disjunction or alternative not reached yet) every round.
+    slow: list[list[tuple[tuple, dict[str, str]]]] = [[] for _ in schemas]
+    retry: list[list[tuple[tuple, dict[str, str]]]] = [[] for _ in schemas]
+    watch: dict[AtomKey, list[tuple[int, tuple, dict[str, str]]]] = {}
+    watched: set[tuple] = set()
     changed = True
     while changed:
         changed = False
@@ -561,43 +604,53 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
             # the bindings that have not fired yet (and may now) are looked at again.
             sizes = tuple(len(index.get(p, ())) for p in triggers[si])
             old = join_sizes[si]
-            if sizes == old:
-                candidates = unfired[si]
-            elif old is None or disjunctions[si] or not schema.join:
+            candidates = slow[si] + retry[si]
+            retry[si] = []
+            if sizes != old:
                 join_sizes[si] = sizes
-                candidates = schema_bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
-            else:
-                # Semi-naive: only the bindings using an atom reached since the last listing are
-                # new; the others are fired already or waiting in unfired.
-                join_sizes[si] = sizes
-                delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
-                candidates = unfired[si] + schema_bindings(
-                    schema, index, objects, (), by_arg, delta, deadline
-                )
-            unfired[si] = still = []
+                if old is None or disjunctions[si] or not schema.join:
+                    new = schema_bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
+                else:
+                    # Semi-naive: only the bindings using an atom reached since the last listing
+                    # are new; the others are fired already or waiting.
+                    delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
+                    new = schema_bindings(schema, index, objects, (), by_arg, delta, deadline)
+                for b in new:
+                    key = (si, *map(b.__getitem__, names))
+                    if key not in watched:
+                        candidates.append((key, b))
+            slow[si] = still = []
             listed: set[tuple] = set()
-            for count, binding in enumerate(candidates):
+            for count, (key, binding) in enumerate(candidates):
                 if not count % _CHECK_EVERY:
                     _check(deadline)
-                key = (si, *map(binding.__getitem__, names))
                 if key in listed:
                     continue
                 listed.add(key)
-                if key not in cache:
-                    if narrow[si] and _ruled_out(si, narrow[si], binding, simplify, narrow_memo):
+                v = cache.get(key, _MISSING)
+                if v is _MISSING:
+                    # (A compiled precondition evaluates the narrow disjunctions itself, memoised.)
+                    if (
+                        narrow[si]
+                        and not COMPILED
+                        and _ruled_out(si, narrow[si], binding, simplify, narrow_memo)
+                    ):
                         cache[key] = None
                         continue
                     if alternatives[si] and not _any_reached(alternatives[si], binding, reached_keys):
-                        still.append(binding)
+                        still.append((key, binding))
                         continue
-                if key in cache:
-                    v = cache[key]
-                else:
-                    v = cache[key] = _variant(schema, si, parts[si], binding, simplify, part_memo, cores)
+                    v = cache[key] = variant_of[si](binding)
                 if v is None or v.fired:
                     continue
-                if not reached_keys.issuperset(v.pos) or not all(relaxed(c, reached_keys) for c in v.core):
-                    still.append(binding)
+                if not reached_keys.issuperset(v.pos):
+                    missing = next(k for k in v.pos if k not in reached_keys)
+                    watch.setdefault(missing, []).append((si, key, binding))
+                    watched.add(key)
+                elif not all(relaxed(c, reached_keys) for c in v.core) or (
+                    (v.choices or v.pieces) and not v.choices_hold(reached_keys)
+                ):
+                    still.append((key, binding))
                 else:
                     v.fired = True
                     ground_effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
@@ -624,6 +677,9 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                 reached_keys.add(key)
                 _index_atom(index, by_arg, atom, added)
                 changed = True
+                for si, bkey, binding in watch.pop(key, ()):
+                    watched.discard(bkey)
+                    retry[si].append((bkey, binding))
             else:
                 waiting.append((cond, key))
         pending = waiting

@@ -7,7 +7,7 @@ from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, And, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
 from gsr.plan.effects import EMPTY, EffectPart, Variant
 from gsr.plan.normalize import Conjunction, nnf, to_dnf
-from gsr.plan.precondition import AtomKey, FormulaCache, IdConjunction, fast_dnf, id_dnf
+from gsr.plan.precondition import AtomKey, FormulaCache, IdConjunction, expand_dnf, fast_dnf, id_dnf
 from gsr.plan.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task
 
@@ -115,6 +115,48 @@ def _cond_table(
     )
 
 
+def _choice_ids(
+    alternatives: tuple[tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]], ...], key_ids: dict[AtomKey, int]
+) -> list[IdConjunction] | None:
+    """A choice's alternatives over atom ids: one needing an unreached atom dropped, an unreached
+    atom's negation dropped from its alternative; None when an alternative is left empty (the
+    choice holds)."""
+    out: list[IdConjunction] = []
+    for pos, neg in alternatives:
+        lits: list[int] = []
+        for k in pos:
+            i = key_ids.get(k)
+            if i is None:
+                break
+            lits.append(i)
+        else:
+            for k in neg:
+                i = key_ids.get(k)
+                if i is not None:
+                    lits.append(~i)
+            if not lits:
+                return None
+            out.append(frozenset(lits))
+    return out
+
+
+def _piece_ids(
+    piece: tuple, key_ids: dict[AtomKey, int]
+) -> tuple[list[int], list[list[IdConjunction]]] | None:
+    """A memoised key-form conjunct's negative literals and choices over atom ids (its positive
+    keys are in the variant's own); None when one of its choices cannot hold."""
+    lits = [~i for k in piece[1] if (i := key_ids.get(k)) is not None]
+    choices: list[list[IdConjunction]] = []
+    for alternatives, _relax in piece[2]:
+        alts = _choice_ids(alternatives, key_ids)
+        if alts is None:
+            continue
+        if not alts:
+            return None
+        choices.append(alts)
+    return lits, choices
+
+
 def precondition_dnf(
     v: Variant, key_ids: dict[AtomKey, int], scanned: FormulaCache
 ) -> list[IdConjunction] | None:
@@ -132,6 +174,28 @@ def precondition_dnf(
         i = key_ids.get(k)
         if i is not None:
             lits.append(~i)
+    if v.choices or v.pieces:  # the compiled path (no compound conjuncts)
+        choices: list[list[IdConjunction]] = []
+        for piece in v.pieces:  # shared memoised conjuncts: converted once each
+            hit = scanned.get(id(piece))
+            if hit is None:
+                hit = scanned[id(piece)] = (piece, _piece_ids(piece, key_ids))
+            found = hit[1]
+            if found is None:
+                return []
+            lits += found[0]  # type: ignore[index]
+            choices += found[1]  # type: ignore[index]
+        for choice in v.choices:
+            hit = scanned.get(id(choice))
+            if hit is None:
+                hit = scanned[id(choice)] = (choice, _choice_ids(choice[0], key_ids))
+            alts = hit[1]
+            if alts is None:
+                continue  # holds: an alternative needs nothing (its unreached atoms are false)
+            if not alts:
+                return []
+            choices.append(alts)  # type: ignore[arg-type]
+        return expand_dnf(lits, choices)
     base = frozenset(lits)
     if any(~x in base for x in base):
         return []

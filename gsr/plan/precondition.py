@@ -204,6 +204,13 @@ def fast_dnf(formula: Formula, ids: dict[AtomKey, int], cache: FormulaCache) -> 
             return []
         literals += found[0]  # type: ignore[index]
         choices += found[1]  # type: ignore[index]
+    return expand_dnf(literals, choices)
+
+
+def expand_dnf(literals: list[int], choices: list[list[IdConjunction]]) -> list[IdConjunction] | None:
+    """The minimal DNF of a conjunction of id literals and of choices between id conjunctions:
+    every consistent pick of one alternative per choice with the literals, those containing
+    another dropped; None beyond DNF_LIMIT disjuncts (the general path reports it)."""
     base = frozenset(literals)
     if any(~x in base for x in base):
         return []
