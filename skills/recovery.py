@@ -3,7 +3,7 @@
 A pick the motion planner refuses (``blocked``) names what its candidates ran into
 (:func:`gsr.skills.grasping.in_the_way`: a mug packed beside a cube in a box, a box beside a cube on the
 desk; never a fixture or the object's own container). The executor then sets the most often named
-neighbour aside: two ordinary checked steps, ``(pick N S)`` and ``(place_on N table)``, the release
+neighbour aside (a neighbour that carries something, a box with a box on it, from the top down): two ordinary checked steps, ``(pick N S)`` and ``(place_on N table)``, the release
 spot a free one the arm reaches that keeps the hand's room round the object free
 (:data:`HAND_ROOM`); and tries the pick again. At most :data:`MAX_CLEARANCES` neighbours per step.
 The agent is told that the scene now differs from its plan (a neighbour moved) and replans from the
@@ -34,15 +34,35 @@ _NAMED = re.compile(r"\(in the way: ([^)]*)\)")
 def blockers(message: str, world: World, graph: SceneGraph) -> list[str]:
     """The movable neighbours a refused pick's diagnosis names as in the way, most often named first,
     that the observed graph shows resting on or in something with nothing on them (so a pick of them
-    is a valid step)."""
+    is a valid step). A neighbour something stands on (a box carrying a box) is taken apart from the
+    top: what stands highest on it comes in its place (set aside first; the pick is tried again, and
+    if the neighbour is still in the way it is named again, now with nothing on it)."""
     found = _NAMED.search(message)
     if not found:
         return []
     rests = {e.source for e in graph.edges if e.relation in ("on", "in")}
-    # something standing on it (a box on a box) must be taken off first: not a neighbour to set aside
-    loaded = {e.target for e in graph.edges if e.relation == "on"}
-    names = [n.strip() for n in found.group(1).split(",")]
-    return [n for n in names if n in world.objects and n in rests and n not in loaded]
+    on_it: dict[str, list[str]] = {}
+    for e in graph.edges:
+        if e.relation == "on":
+            on_it.setdefault(e.target, []).append(e.source)
+    out: list[str] = []
+    for name in (n.strip() for n in found.group(1).split(",")):
+        top = stack_top(on_it, name)
+        if top is not None and top in world.objects and top in rests and top not in out:
+            out.append(top)
+    return out
+
+
+def stack_top(on_it: dict[str, list[str]], node: str) -> str | None:
+    """What stands highest on ``node`` (``on_it``: what stands on each thing), following the first of
+    each level's objects; ``node`` itself when nothing stands on it; None on a cycle."""
+    seen = {node}
+    while on_it.get(node):
+        node = sorted(on_it[node])[0]
+        if node in seen:
+            return None
+        seen.add(node)
+    return node
 
 
 def support_step(graph: SceneGraph, node: str) -> Step | None:
