@@ -117,3 +117,15 @@ def test_lama_plans_the_tower() -> None:
     assert result.solved
     assert validate_plan(domain, problem, result.plan).valid
     assert len(result.plan.steps) == 4  # pick-up b, stack b c, pick-up a, stack a b
+
+
+def test_landmark_profile_reports_the_orders(tmp_path, capsys) -> None:
+    from gsr.benchmarks.landmark_profile import main
+
+    (tmp_path / "domain.pddl").write_text(DOMAIN)
+    (tmp_path / "tower.pddl").write_text(TOWER)
+    assert main([str(tmp_path / "domain.pddl"), str(tmp_path / "tower.pddl"), "--timeout", "20"]) == 0
+    fields = dict(item.split("=") for item in capsys.readouterr().out.split())
+    assert fields["status"] == "solved" and fields["plan_length"] == "4"
+    assert int(fields["reasonable"]) >= 1 and int(fields["mutex_groups"]) >= 3
+    assert main([str(tmp_path / "missing.pddl"), str(tmp_path / "tower.pddl")]) == 2
