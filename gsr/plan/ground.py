@@ -584,7 +584,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     shared: dict = {}
     variant_of = [
         bind(factory, simplify, _general(schema, si, parts[si], simplify, part_memo, cores), shared)
-        if COMPILED
+        if COMPILED and factory is not None
         else _general(schema, si, parts[si], simplify, part_memo, cores)
         for si, (schema, factory) in enumerate(zip(schemas, compiled.factories, strict=True))
     ]

@@ -162,14 +162,24 @@ def _term(x: str, slots: dict[str, str]) -> str:
     return slots[x] if is_variable(x) else repr(x)
 
 
-def compile_schema(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: set[str]) -> Callable:
-    """The factory of one schema's compiled precondition (see module docstring).
+def compile_schema(
+    schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: set[str]
+) -> Callable | None:
+    """The factory of one schema's compiled precondition (see module docstring); None when a
+    conjunct mentions a variable that is no parameter (the general path reports it per binding).
 
     ``parts`` are the schema's Parts (gsr.plan.ground._parts: conjunct, memo key or OrSplit, kind)
     and ``kinds`` the kind codes (generic, skip, fluent, not fluent, distinct, split) in that order.
-    The factory takes the per-problem (init keys, simplify, general) and returns
+    The factory takes the per-problem (init keys, simplify, general, shared memo tables) and returns
     ``variant(binding) -> Variant | None``.
     """
+    try:
+        return _compile(schema, parts, kinds, fluent_names)
+    except KeyError:  # an unknown variable in a conjunct's source
+        return None
+
+
+def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: set[str]) -> Callable:
     generic, skip, fluent, not_fluent, distinct, _split = kinds
     names = [p.name for p in schema.all_params]
     slots = {n: f"v{k}" for k, n in enumerate(names)}
