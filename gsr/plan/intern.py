@@ -265,6 +265,14 @@ def intern_task(
             if hit[1]:
                 blocks.append((b, hit))
         cost = _cost(v.schema.costs, v.binding, problem)
+        if not blocks:  # no conditional effect: the same adds and deletes for every disjunct
+            add_ids = set(plain_add)
+            adds, dels = tuple(sorted(add_ids)), tuple(sorted(set(plain_del) - add_ids))
+            for disjunct in disjuncts:
+                pre = tuple(sorted([x for x in disjunct if x >= 0]))
+                neg = tuple(sorted([~x for x in disjunct if x < 0]))
+                ops.add((v.name, v.args, pre, neg, adds, dels, (), cost))
+            continue
         for disjunct in disjuncts:
             pre = tuple(sorted(x for x in disjunct if x >= 0))
             neg = tuple(sorted(~x for x in disjunct if x < 0))
