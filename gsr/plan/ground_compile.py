@@ -187,6 +187,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
     body: list[str] = []
     memos: list[str] = []
     consts: dict[str, object] = {}
+    objects: dict[tuple[str, ...], str] = {}  # object lists by type, read once per problem
     uses_extra = False
 
     def const(obj: object) -> str:
@@ -244,9 +245,17 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
             uses_extra = True
             m, key = memo("cnf", part)
             body.append(f"    r = {m}.get({key})")
-            body.append(
-                f"    if r is None:\n        r = {m}[{key}] = key_cnf_or_false(simplify({const(part)}, b))"
-            )
+            keys = _forall_literal(part, fluent_names, slots, objects)
+            if keys is not None:  # one fluent literal per object: its keys directly
+                sign, expr = keys
+                value = f"({expr}, (), (), ())" if sign else f"((), {expr}, (), ())"
+                body.append(
+                    f"    if r is None:\n        q = {expr}\n        r = {m}[{key}] = {value.replace(expr, 'q')} if q else EMPTY"
+                )
+            else:
+                body.append(
+                    f"    if r is None:\n        r = {m}[{key}] = key_cnf_or_false(simplify({const(part)}, b))"
+                )
             body.append(_use_cnf("r", false_marker=True))
             continue
         # kind == split: groups over fewer variables memoised, the disjuncts over all per binding
@@ -257,9 +266,17 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
         for group, _gnames in groups:
             m, key = memo("alternatives", group)
             body.append(f"        g = {m}.get({key})")
-            body.append(
-                f"        if g is None:\n            g = {m}[{key}] = key_alternatives(simplify({const(group)}, b))"
-            )
+            keys = _forall_literal(group, fluent_names, slots, objects)
+            if keys is not None:
+                sign, expr = keys
+                value = "[(q, ())]" if sign else "[((), q)]"
+                body.append(
+                    f"        if g is None:\n            q = {expr}\n            g = {m}[{key}] = {value} if q else ALWAYS"
+                )
+            else:
+                body.append(
+                    f"        if g is None:\n            g = {m}[{key}] = key_alternatives(simplify({const(group)}, b))"
+                )
             body.append("        if g is ALWAYS:\n            break")
             body.append("        if g is GENERAL:\n            return general(b)")
             body.append("        alts += g")
@@ -294,6 +311,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
     factory_src = (
         "def factory(INIT, simplify, general, SHARED):\n"
         + "".join(f"    {m} = SHARED.setdefault({c}, {{}})\n" for m, c in memos)
+        + "".join(f"    {name} = simplify.objects({types!r})\n" for types, name in objects.items())
         + "\n".join("    " + line for line in source.splitlines())
         + "\n    return variant\n"
     )
@@ -336,6 +354,26 @@ def _use_cnf(var: str, false_marker: bool = False) -> str:
         f"        if {var}[0]:\n            pos += {var}[0]\n"
         f"        pieces.append({var})"
     )
+
+
+def _forall_literal(
+    part: Formula, fluent_names: set[str], slots: dict[str, str], objects: dict[tuple[str, ...], str]
+) -> tuple[bool, str] | None:
+    """``(forall (?z) (not (on ?z ?o)))`` (NNF of ``(not (exists ...))``) or ``(forall (?z) (p ?z))``:
+    (positive, source of the tuple of its literal keys, one per object of the variable's type);
+    None for any other shape. The Simplifier gives the same literals (fluent ones never fold)."""
+    if type(part) is not Forall or len(part.params) != 1:
+        return None
+    var = part.params[0]
+    body, positive = part.body, True
+    if type(body) is Not:
+        body, positive = body.formula, False
+    if type(body) is not Atom or body.predicate not in fluent_names:
+        return None
+    name = objects.setdefault(var.types, f"O{len(objects)}")
+    args = [("q_" if a == var.name else slots[a] if is_variable(a) else repr(a)) for a in body.args]
+    inner = "(" + ", ".join(args) + ("," if len(args) == 1 else "") + ")"
+    return positive, f"tuple([({body.predicate!r}, {inner}) for q_ in {name}])"
 
 
 def _fluent_alternatives(part: Formula, fluent_names: set[str], slots: dict[str, str]) -> list[str] | None:
