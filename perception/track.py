@@ -233,8 +233,125 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     fused = [_merge_group(g, params) for g in groups.values()]
     fused = [f for f in fused if f is not None]
     fused = absorb_fragments(merge_duplicates(fused, params), params)
+    fused = split_disjoint(fused, params)
     number_anonymous(fused)
     return fused
+
+
+#: Voxel edge (m) of the connectivity grid of :func:`split_disjoint`: points in voxels that touch (26
+#: neighbours) are connected, so gaps under 1 cm never split an object and gaps over 2 cm always do.
+SPLIT_VOXEL = 0.01
+#: A piece counts as an object of its own with at least this share of the instance's points ...
+SPLIT_SHARE = 0.15
+#: ... and this many points ...
+SPLIT_POINTS = 20
+#: ... and when it spans this share of the instance's height (what the detector merged stands side by side
+#: on one surface; a sliver of floor or wall seen between them does not).
+SPLIT_HEIGHT = 0.6
+
+
+def split_disjoint(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """Movable objects whose fused cloud falls apart into separate pieces are that many objects.
+
+    The detector can give two same-coloured objects a little apart one segment in every view (two blue
+    cubes side by side in a drawer, joined by the strip of floor between them); fusion cannot split what
+    every view merged. One object's surface, seen from several cameras, is connected; a cloud with gaps of
+    more than ~2 cm between object-high pieces is several objects. Pieces too small to stand for an object
+    (stray floor points) go to the nearest piece kept. A piece lying on another such object's cloud (a
+    neighbour's pixels that the segment took, the neighbour also fused on its own) joins that neighbour (a
+    drawer or box whose segment took its contents' pixels does not count). Only anonymous detections of
+    movable objects that are no containers are split (a container's walls may be seen apart across its
+    opening); when every piece lies on another object, the instance stays as it is."""
+    out = list(fused)
+    for inst in fused:
+        pieces = _disjoint_pieces(inst) if _splittable(inst) else None
+        if not pieces:
+            continue
+        others = [x for x in out if x is not inst and _splittable(x)]
+        on = [_on_another(p, others) for p in pieces]
+        kept = [p for p, o in zip(pieces, on, strict=True) if o is None]
+        if not kept:
+            continue
+        at = next(k for k, x in enumerate(out) if x is inst)
+        out[at : at + 1] = kept
+        for p, o in zip(pieces, on, strict=True):
+            if o is None:
+                continue
+            joined = _join(o, p, params=params, keep_label=True)
+            if joined is not None:
+                out[next(k for k, x in enumerate(out) if x is o)] = joined
+                others = [joined if x is o else x for x in others]
+    return out
+
+
+#: A piece with this share of its voxels in (one voxel around) another object's cloud is that object.
+SPLIT_ON_ANOTHER = 0.5
+
+
+def _on_another(piece: Instance, others: list[Instance]) -> Instance | None:
+    """The object of ``others`` whose cloud holds the piece (see :data:`SPLIT_ON_ANOTHER`), if any."""
+    mine = _voxel_keys(piece.points)
+    lo, hi = piece.aabb_min - OVERLAP_VOXEL, piece.aabb_max + OVERLAP_VOXEL
+    for x in others:
+        if np.any(x.aabb_min > hi) or np.any(x.aabb_max < lo):
+            continue
+        if _key_overlap(mine, _voxel_keys(x.points)) >= SPLIT_ON_ANOTHER:
+            return x
+    return None
+
+
+def _splittable(inst: Instance) -> bool:
+    cat = inst.label.category
+    aff = affordances(cat)
+    return (
+        inst.label.id is None
+        and not _no_object(inst, allow_unknown=True)
+        and "container" not in aff
+        and ("movable" in aff or cat == UNKNOWN)
+    )
+
+
+def _disjoint_pieces(inst: Instance) -> list[Instance] | None:
+    """The object-sized pieces of ``inst`` as instances (see :func:`split_disjoint`), or None for one piece."""
+    from scipy.ndimage import label as components
+
+    pts = inst.points
+    cells = np.floor((pts - pts.min(axis=0)) / SPLIT_VOXEL).astype(np.int64)
+    shape = cells.max(axis=0) + 1
+    if int(np.prod(shape)) > 200_000:
+        return None  # larger than any movable object: not worth a grid
+    grid = np.zeros(shape, dtype=bool)
+    grid[tuple(cells.T)] = True
+    labels, n = components(grid, structure=np.ones((3, 3, 3), dtype=bool))
+    if n < 2:
+        return None
+    of_point = labels[tuple(cells.T)] - 1
+    z = pts[:, 2]
+    z_lo, z_hi = float(np.percentile(z, 2.0)), float(np.percentile(z, 98.0))
+    span = max(z_hi - z_lo, 1e-3)
+    keep = []
+    for c in range(n):
+        mine = of_point == c
+        count = int(mine.sum())
+        if count < max(SPLIT_POINTS, SPLIT_SHARE * len(pts)):
+            continue
+        zc = z[mine]
+        if float(zc.max() - zc.min()) >= SPLIT_HEIGHT * span:
+            keep.append(c)
+    if len(keep) < 2:
+        return None
+    # every point to its piece, or (a small piece's) to the nearest kept piece's centre
+    centres = np.array([pts[of_point == c].mean(axis=0) for c in keep])
+    near = np.argmin(np.linalg.norm(pts[:, None, :] - centres[None, :, :], axis=2), axis=1)
+    assign = np.array([keep.index(c) if c in keep else -1 for c in range(n)])[of_point]
+    assign = np.where(assign >= 0, assign, near)
+    pieces = []
+    for k in range(len(keep)):
+        mine = assign == k
+        piece = Instance(f"{inst.key}#{k}", inst.label, pts[mine], inst.rgb[mine], views=inst.views)
+        fit_boxes(piece)
+        pieces.append(piece)
+    return pieces
 
 
 def _aabb_iou(a: Instance, b: Instance) -> float:

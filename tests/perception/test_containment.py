@@ -336,3 +336,32 @@ def test_a_drawer_pushed_shut_but_still_segmented_carries_its_contents_and_fragm
     # a drawer still closed (its measured opening only noise) moves nothing
     shut = earlier.model_copy(update={"nodes": (cabinet, front, cube)})
     assert with_flush_parts(now, shut)[1] == shut
+
+
+def test_one_segment_holding_two_cubes_apart_is_two_cubes_but_a_cube_and_a_floor_strip_is_one():
+    from gsr.perception.track import split_disjoint
+
+    # two 4 cm cubes 3 cm apart in a drawer, merged by the detector in every view, and a few stray floor
+    # points 2.5 cm beside the first
+    a = solid("x", "cube", [0.0, 0.0, 0.2], [0.04, 0.04, 0.23]).points
+    b = solid("x", "cube", [0.0, 0.07, 0.2], [0.04, 0.11, 0.23]).points
+    strip = np.column_stack([_grid(np.array([0.065, 0.0]), np.array([0.07, 0.01])).reshape(-1, 2)])
+    strip = np.column_stack([strip, np.full(len(strip), 0.2)])
+    merged = _inst("cube_f0m1", "cube", np.concatenate([a, b, strip]), views=3)
+    pieces = sorted(split_disjoint([merged], PARAMS), key=lambda p: float(p.center[1]))
+    assert len(pieces) == 2
+    assert np.allclose(pieces[0].aabb_max[:2], [0.07, 0.04]) and np.allclose(
+        pieces[1].aabb_min[:2], [0.0, 0.07]
+    )
+    assert all(p.label.category == "cube" and p.views == 3 for p in pieces)  # the strip joined the nearer
+    # one cube with a stray floor strip beside it, a box (container) with two walls, a labelled mask: kept
+    assert len(split_disjoint([_inst("c", "cube", np.concatenate([a, strip]))], PARAMS)) == 1
+    assert len(split_disjoint([_inst("b", "box", np.concatenate([a, b]))], PARAMS)) == 1
+    labelled = Instance(
+        "red_cube1", InstanceLabel(id="red_cube1", category="cube"), merged.points, merged.rgb
+    )
+    fit_boxes(labelled)
+    assert len(split_disjoint([labelled], PARAMS)) == 1
+    # an object whose two pieces touch (under 1 cm apart) stays one
+    c = solid("x", "cube", [0.0, 0.045, 0.2], [0.04, 0.085, 0.23]).points
+    assert len(split_disjoint([_inst("d", "cube", np.concatenate([a, c]))], PARAMS)) == 1
