@@ -53,6 +53,8 @@ class Motion:
         self.ignore: set[int] = set()  # bodies the arm may touch (the object being grasped or held)
         self.ignore_links: set[tuple[int, int]] = set()
         self.held: int | None = None
+        #: configurations :meth:`plan_base` checked with ``path`` (its first pose first), or None
+        self.planned_path: list[np.ndarray] | None = None
 
     # ------------------------------------------------------------ planning
 
@@ -284,7 +286,12 @@ class Motion:
         self.move_base(float(base[0]), float(base[1]))
 
     def plan_base(
-        self, target: np.ndarray, poses: list[Pose], standoff: float = STANDOFF, clear: bool = False
+        self,
+        target: np.ndarray,
+        poses: list[Pose],
+        standoff: float = STANDOFF,
+        clear: bool = False,
+        path: bool = False,
     ) -> tuple[np.ndarray, np.ndarray]:
         """``(base, start)``: the first base spot near ``standoff`` in front of ``target`` from which every
         pose has an IK solution and the straight moves through them stay continuous, and the arm
@@ -292,10 +299,16 @@ class Motion:
 
         With ``clear`` the arm at ``poses[0]`` must also touch nothing: a base spot whose arm links hit
         something (an elbow over a box) gives way to the next; a hand or wrist that hits something does
-        so from every spot (its pose is fixed), so that is BLOCKED at once.
+        so from every spot (its pose is fixed), so that is BLOCKED at once. With ``path`` too, every
+        configuration of the straight moves from ``start`` through the poses must touch nothing, and
+        they are kept in :attr:`planned_path` (``poses[0]`` first) for :meth:`descend_planned`: the
+        7-joint arm reaches a pose with many elbow and forearm positions, and a descent solved from
+        wherever the arm arrived above the target may swing its forearm into a fixture the checked
+        configuration cleared (an object beside a tall cabinet).
         """
         r = self.robot
         arm_hit = None
+        self.planned_path = None
         for dx in (0.0, -0.05, 0.05, -0.1, 0.1, -0.15, -0.2):
             for dy in (0.0, -0.08, 0.08, -0.16, 0.16, -0.25, 0.25):
                 base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
@@ -304,6 +317,13 @@ class Motion:
                     if start is None:
                         continue
                     hit = self.first_hit(start) if clear else None
+                    if hit is None and clear and path:
+                        qs = self.straight_path(poses, start)
+                        hit = next((h for q in qs or [] for h in [self.first_hit(q)] if h is not None), None)
+                        if qs is None or hit is not None:
+                            arm_hit = arm_hit or (hit[0] if hit else None)
+                            continue
+                        self.planned_path = qs
                     if hit is None:
                         return base, start
                     if hit[1] >= r.arm[-1]:
@@ -332,6 +352,51 @@ class Motion:
             return True
         finally:
             r.reset(saved)
+
+    def straight_path(self, poses: list[Pose], start: np.ndarray) -> list[np.ndarray] | None:
+        """The configurations of the straight moves through ``poses`` (1 cm apart, ``start`` at
+        ``poses[0]`` first, the base where ``start`` has it), or None where one needs an IK branch flip;
+        nothing is checked for collision and the robot is left as it was."""
+        saved = self.robot.q()
+        try:
+            q, out = start, [start]
+            for a, b in itertools.pairwise(poses):
+                self.robot.reset(q)
+                for nxt in self.line(a, b, q, check=False):
+                    if float(np.max(np.abs(nxt[2:] - q[2:]))) > MAX_JOINT_JUMP:
+                        return None
+                    q = nxt
+                    out.append(q)
+            return out
+        except SkillError:
+            return None
+        finally:
+            self.robot.reset(saved)
+
+    def descend_planned(self, poses: list[Pose]) -> None:
+        """From above a target, move down through ``poses`` (the reverse of what :meth:`plan_base` was
+        given with ``path``) along the configurations it checked: a joint-space move to the planned
+        configuration above (checked) where the arm arrived there with another elbow, then the checked
+        configurations down. Straight checked lines as before when there is no planned path for these
+        poses or the arm cannot take its top configuration."""
+        qs = self.planned_path
+        if qs is not None:
+            top = qs[-1].copy()
+            top[:2] = self.robot.q()[:2]
+            dp, da = self.robot.fk_error(top, np.asarray(poses[0][0]), poses[0][1])
+            if dp < POS_TOL and da < ANG_TOL:
+                try:
+                    if float(np.max(np.abs(self.robot.q()[2:] - top[2:]))) > 0.01:
+                        self.move_joint(top, check=True)
+                except SkillError as exc:
+                    if exc.failure is not Failure.BLOCKED:
+                        raise
+                else:
+                    base = self.robot.q()[:2]
+                    self.follow([np.array((*base, *q[2:])) for q in reversed(qs[:-1])])
+                    return
+        for pose in poses[1:]:
+            self.move_line(pose)
 
     def continuous_start(self, poses: list[Pose], base: np.ndarray) -> np.ndarray | None:
         """An arm configuration at ``poses[0]`` from which straight moves through the poses (in order)

@@ -55,7 +55,7 @@ def pickable(world: World, obj: SimObject) -> bool:
             above = (np.array([pos[0], pos[1], z]), quat)
             poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
             try:
-                m.plan_base(centre, poses, clear=True)
+                m.plan_base(centre, poses, clear=True, path=True)
                 return True
             except SkillError:
                 continue

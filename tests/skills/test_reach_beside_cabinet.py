@@ -1,0 +1,47 @@
+"""A pick beside the tall cabinet follows the arm configurations its plan checked (issue 20).
+
+The 7-joint arm reaches one grasp pose with many elbow and forearm positions. The pick checked one of
+them (the base planner's, at the grasp pose) and then descended along straight lines solved from
+wherever the arm arrived above the object, with another forearm position: beside the 32 cm cabinet,
+with two drawers open, that forearm (link 5) met the carcass on the way down, for every candidate
+(``gsrgen_gg_complex_06``, step 5: ``pick yellow_mug1 table`` blocked four times). Now the base planner
+checks every configuration of the way down and the pick follows exactly those.
+
+The simulator state is the one saved in that step, with the old pick, the moment the arm had arrived
+above the mug's first candidate (``data/``, ``p.saveBullet`` in ``gsrgen_gg_complex_06``, seed 0, after
+its steps 1-4: both drawers opened, a cube put in the top one): the pick starts from that arm.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from gsr.benchmarks.suites import get_suite
+from gsr.skills.build import build_world
+from gsr.skills.library import run_step
+from gsr.skills.sim_graph import support_of
+
+from gsr.step_grammar import parse_step_text
+
+pytestmark = pytest.mark.physics
+
+SNAPSHOT = Path(__file__).parent / "data" / "gcg_complex_06_above_mug.bullet"
+
+
+def test_a_mug_beside_the_cabinet_is_picked_along_the_checked_descent() -> None:
+    import pybullet as p
+
+    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_gg_complex_06")
+    with build_world(task, seed=0) as world:
+        p.restoreState(fileName=str(SNAPSHOT), physicsClientId=world.client)
+        world.robot.hold(world.robot.q())
+        cab = world.objects["short_cabinet"]
+        mug = world.body_aabb(world.objects["yellow_mug1"].body)
+        clo, chi = world.body_aabb(cab.body)
+        # the situation: the mug on the table beside the carcass, within its depth, both drawers open
+        assert clo[0] < (mug[0][0] + mug[1][0]) / 2 < chi[0] and mug[1][1] < clo[1]
+        assert support_of(world, "yellow_mug1") == ("on", "table")
+        result = run_step(world, parse_step_text("(pick yellow_mug1 table)"))
+        assert result.ok, result.message
+        assert support_of(world, "yellow_mug1") == ("held", "")
