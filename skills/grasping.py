@@ -317,12 +317,13 @@ def _approach(
         try:
             # plan the base and check the grasp pose before anything moves: blocked grasps cost no motion
             poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
-            base, _grasp_q = m.plan_base(centre, poses, clear=True)
+            # (the straight path down is checked too, and followed as checked: Motion.descend_planned)
+            base, _grasp_q = m.plan_base(centre, poses, clear=True, path=True)
             m.move_base(float(base[0]), float(base[1]))
             m.gripper(opening)
-            m.move_continuous(above, [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)])
-            m.move_line((pos + np.array([0, 0, APPROACH]), quat))
-            m.move_line((pos, quat))
+            down = [above, (pos + np.array([0, 0, APPROACH]), quat), (pos, quat)]
+            m.move_continuous(above, down)
+            m.descend_planned(down)
             return pos, quat
         except SkillError as exc:
             if exc.failure is Failure.TIMEOUT:
