@@ -118,17 +118,14 @@ def node_of_pixels(world: World, body: np.ndarray, link: np.ndarray) -> tuple[np
 
 
 def _pixel_node(world: World, body: int, link: int) -> str | None:
-    if body == world.table_body:
-        return world.table_id if world.graph.has_node(world.table_id) else None
-    for o in world.objects.values():
-        if o.body != body:
-            continue
-        if link >= 0:
-            for nid, (obj, part) in sorted(world.parts.items()):
-                if obj == o.id and part and world.part_link(obj, part) == link:
-                    return nid
-        return o.id if world.graph.has_node(o.id) else None
-    return None
+    """A pixel's node: any part whose link it shows (the first by id), else its object when in the graph."""
+    owner = world.link_owner(body, link)
+    if owner is None:
+        return None
+    obj, parts = owner
+    if parts:
+        return min(parts)
+    return obj if world.graph.has_node(obj) else None
 
 
 def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:

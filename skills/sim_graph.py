@@ -88,20 +88,20 @@ def _centre_inside(world: World, node_id: str, point: np.ndarray) -> bool:
 
 
 def _link_node(world: World, body: int, link: int) -> str | None:
-    """The graph node a contact on (body, link) belongs to: a part node if the link is one, else the object."""
-    if body == world.table_body:
-        return world.table_id if world.graph.has_node(world.table_id) else None
-    for o in world.objects.values():
-        if o.body != body:
-            continue
-        if link >= 0:
-            for nid, (obj, part) in world.parts.items():
-                if obj == o.id and part and world.part_link(obj, part) == link and world.graph.has_node(nid):
-                    node = world.graph.node(nid)
-                    if "supporter" in node_affordances(node) or "container" in node_affordances(node):
-                        return nid
-        return o.id
-    return None
+    """The graph node a contact on (body, link) belongs to: a supporter or container part node if the link
+    is one, else the object (the table only when the graph has it)."""
+    owner = world.link_owner(body, link)
+    if owner is None:
+        return None
+    obj, parts = owner
+    for nid in parts:
+        if world.graph.has_node(nid):
+            aff = node_affordances(world.graph.node(nid))
+            if "supporter" in aff or "container" in aff:
+                return nid
+    if body == world.table_body and not world.graph.has_node(obj):
+        return None
+    return obj
 
 
 def _region_of(world: World, pos: np.ndarray) -> str | None:

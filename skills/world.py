@@ -108,6 +108,27 @@ class World:
             return o.links[m.part_links[part]]
         return -1
 
+    def link_owner(self, body: int, link: int) -> tuple[str, list[str]] | None:
+        """Who a PyBullet (body, link) pair belongs to, the inverse of :meth:`locate`: the object's node id
+        and the part nodes whose link it is, in the order of ``parts`` (none for the base link, -1); the
+        table body is ``(table_id, [])``; None for any other body (the robot, the floor). Callers choose
+        among the parts: a mask takes any part (a handle's pixels are the handle), a contact only a
+        supporter or container part (a handle supports nothing)."""
+        if body == self.table_body:
+            return self.table_id, []
+        for o in self.objects.values():
+            if o.body != body:
+                continue
+            if link < 0:
+                return o.id, []
+            parts = [
+                nid
+                for nid, (obj, part) in self.parts.items()
+                if obj == o.id and part and self.part_link(obj, part) == link
+            ]
+            return o.id, parts
+        return None
+
     def articulation(self, node_id: str, role: str) -> tuple[SimObject, str, Articulation] | None:
         """The articulation a node's ``open`` (role ``open``) or ``turn on`` (role ``switch``) acts on."""
         loc = self.locate(node_id)

@@ -32,6 +32,20 @@ def test_parts_map_to_links(bowl_world) -> None:
     assert bowl_world.locate("wooden_cabinet_1/top_side").part == "top_side"
 
 
+def test_link_owner_inverts_locate(bowl_world) -> None:
+    """The one (body, link) -> node walk that masks and contacts share leads every node back to itself."""
+    for oid in bowl_world.objects:
+        loc = bowl_world.locate(oid)
+        assert bowl_world.link_owner(loc.body, loc.link) == (oid, [])
+    for nid in bowl_world.parts:
+        loc = bowl_world.locate(nid)
+        owner, parts = bowl_world.link_owner(loc.body, loc.link)
+        assert owner == loc.object_id
+        assert (nid in parts) is (loc.link >= 0), nid
+    assert bowl_world.link_owner(bowl_world.table_body, -1) == (bowl_world.table_id, [])
+    assert bowl_world.link_owner(bowl_world.robot.body, 3) is None
+
+
 def test_build_is_deterministic_per_seed(bowl_task) -> None:
     def positions(seed: int) -> dict[str, tuple]:
         with build_world(bowl_task, seed=seed) as w:
