@@ -339,7 +339,14 @@ def _drag_inward(world: World, m: Motion, obj: SimObject, z_transit: float, erro
     the way; the object itself is what the fingertips press on."""
     from gsr.skills.hand_clearance import plan_drag
 
-    drags = plan_drag(world, obj)
+    on_the_way: list[str] = []
+    drags = plan_drag(world, obj, on_the_way)
+    # what stands on the way towards the middle is named when no drag got the object where a grasp
+    # fits (the executor's recovery may set it aside and pick again)
+    errors += [
+        SkillError(Failure.BLOCKED, f"dragging {obj.id} inwards: its way collides with {name} (base)")
+        for name in on_the_way
+    ]
     if not drags:
         return False
     before = world.body_aabb(obj.body)[0].copy()

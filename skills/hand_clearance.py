@@ -222,14 +222,16 @@ REACHABLE = 0.03
 PRESS = 0.004  # m the lowest fingertip is set below the object's top: it holds the object by friction
 
 
-def plan_drag(world: World, obj: SimObject) -> list[Drag]:
+def plan_drag(world: World, obj: SimObject, in_the_way: list[str] | None = None) -> list[Drag]:
     """Drags along a container's floor that bring a small solid to where a grasp fits: the closed
     fingertips press on its top and the hand, lying along the container and tilted so its end over a
     wall stays above it, moves it. Towards the middle when it lies near an end wall (a hand along the
     container fits there), otherwise 2 or 4 cm along either axis of the container to where
     :func:`clear_grasps` finds a grasp (away from a packed neighbour). Only moves whose way is free of
     other objects and whose hand proxy clears walls and neighbours, best first; none when the object
-    is in no container."""
+    is in no container. ``in_the_way`` (when given) collects the objects that stand on the way towards
+    the middle, the one drag after which a grasp is known to fit (a mug packed by an end wall with
+    another in the box's middle): moved, they would let the drag happen."""
     import pybullet as p
 
     frame = container_frame(world, obj)
@@ -257,15 +259,24 @@ def plan_drag(world: World, obj: SimObject) -> list[Drag]:
         # the object's way: its footprint swept, 3 mm apart from everything else in the container,
         # and inside the container's interior
         a, b = here, here + shift
-        if (
-            abs(float((b - centre) @ axis)) > max(half) - half_xy.max()
-            or abs(float((b - centre) @ across)) > min(half) - half_xy.max()
+        # inside the interior (its floor's half sizes, not its height), or no farther out than now (a
+        # mug's box, its handle in it, may stand out: a drag along the box keeps its place across)
+        if abs(float((b - centre) @ axis)) > max(
+            max(half[:2]) - half_xy.max(), abs(float((a - centre) @ axis))
+        ) or abs(float((b - centre) @ across)) > max(
+            min(half[:2]) - half_xy.max(), abs(float((a - centre) @ across))
         ):
             continue
         sweep_lo = [min(a[0], b[0]) - half_xy[0], min(a[1], b[1]) - half_xy[1], float(lo[2]) + 0.002]
         sweep_hi = [max(a[0], b[0]) + half_xy[0], max(a[1], b[1]) + half_xy[1], float(hi[2])]
         found = p.getOverlappingObjects(sweep_lo, sweep_hi, physicsClientId=world.client) or ()
-        if any(bd in others for bd, _ in found):
+        # the swept boxes overlap (a broad test: a mug's box holds its handle): the object's own shape
+        # moved along the way says which really stand on it
+        blocking = _on_the_way(world, obj, shift, sorted({bd for bd, _ in found if bd in others}))
+        if blocking:
+            if known and in_the_way is not None:
+                by_body = {o.body: o.id for o in world.objects.values()}
+                in_the_way += sorted({by_body[bd] for bd in blocking} - set(in_the_way))
             continue
         if not known and not clear_grasps(world, obj, site + shift, site_def.width, limit=1):
             continue
@@ -283,6 +294,41 @@ def plan_drag(world: World, obj: SimObject) -> list[Drag]:
         if len(out) >= 4:
             break
     return out
+
+
+#: Steps (m) along a drag's way at which the object's own shape is checked against its neighbours.
+WAY_STEP = 0.01
+
+
+def _on_the_way(world: World, obj: SimObject, shift: np.ndarray, bodies: list[int]) -> set[int]:
+    """Those of ``bodies`` that ``obj``, moved by ``shift`` along the floor (checked every
+    :data:`WAY_STEP`), would come within 1 mm of, nearer than it stands now (a neighbour it touches
+    and moves away from is not on its way). The object is put back exactly; nothing else moves."""
+    import pybullet as p
+
+    if not bodies:
+        return set()
+    cid = world.client
+
+    def gaps() -> dict[int, float]:
+        out = {}
+        for b in bodies:
+            pts = p.getClosestPoints(obj.body, b, 0.01, physicsClientId=cid)
+            out[b] = min((q[8] for q in pts), default=0.01)
+        return out
+
+    pos, quat = p.getBasePositionAndOrientation(obj.body, physicsClientId=cid)
+    start = gaps()
+    hit: set[int] = set()
+    n = max(1, math.ceil(float(np.linalg.norm(shift)) / WAY_STEP))
+    try:
+        for i in range(1, n + 1):
+            at = np.asarray(pos) + np.asarray(shift) * i / n
+            p.resetBasePositionAndOrientation(obj.body, at.tolist(), quat, physicsClientId=cid)
+            hit |= {b for b, d in gaps().items() if d < 0.001 and d < start[b] - 0.0005}
+    finally:
+        p.resetBasePositionAndOrientation(obj.body, pos, quat, physicsClientId=cid)
+    return hit
 
 
 def _closing_yaws(obj: SimObject, body_yaw: float, walls: float | None) -> list[tuple[float, float]]:

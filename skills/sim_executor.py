@@ -132,9 +132,14 @@ class SimExecutor:
             return None
         target = step.args[0]
         moved: list[str] = []
+        refused: list[str] = []  # neighbours whose own pick the motion planner refused (nothing moved)
         notes: list[str] = []
-        for _ in range(MAX_CLEARANCES):
-            names = [n for n in blockers(out.diagnosis, ex.world, ex.graph) if n not in moved and n != target]
+        while len(moved) < MAX_CLEARANCES:
+            names = [
+                n
+                for n in blockers(out.diagnosis, ex.world, ex.graph)
+                if n not in moved and n not in refused and n != target
+            ]
             if not names or self.clearances >= self.max_episode_clearances:
                 break
             node = names[0]
@@ -146,6 +151,11 @@ class SimExecutor:
             self.outcomes.append(taken)
             if taken.skill is None:  # the checker rejected the pick: nothing moved
                 break
+            if not taken.ok and taken.skill.failure in REFUSALS:
+                # packed in as the object is (a mug by a box's end wall): the next one named, if any
+                refused.append(node)
+                notes.append(f"{node} could not be taken: {taken.skill.message}")
+                continue
             moved.append(node)
             if not taken.ok:
                 notes.append(f"setting {node} aside failed: {taken.diagnosis}")
@@ -169,7 +179,7 @@ class SimExecutor:
             if out.skill is None or out.skill.failure is not Failure.BLOCKED:
                 break
         if not moved:
-            return None
+            return None  # (refused neighbours: the scene is as it was, the step's own failure stands)
         self.recoveries.append({"step": str(step), "moved": moved, "picked": out.ok, "notes": notes})
         return Diagnosis(
             ok=False,

@@ -147,3 +147,47 @@ def test_a_neighbour_with_something_on_it_is_taken_apart_from_the_top() -> None:
         assert ("yellow_box", "blue_box") in {(e.source, e.target) for e in graph.edges if e.relation == "on"}
         said = "cannot reach a grasp on red_mug1: grasp pose collides with blue_box (base) ... (in the way: blue_box)"
         assert blockers(said, world, graph) == ["yellow_box"]
+
+
+def _gcg11(clear_blockers: bool):
+    from gsr.skills.sim_executor import SimExecutor
+
+    ex = SimExecutor(seed=0, frame_camera=None, clear_blockers=clear_blockers)
+    ex.reset(_task("gsrgen_gg_complex_11"), load_builtin_domain("tabletop"))
+    return ex
+
+
+def test_a_mug_packed_by_a_box_end_wall_is_freed_by_setting_aside_what_stands_on_its_way(monkeypatch) -> None:
+    from gsr.skills import recovery
+    from gsr.skills.sim_graph import support_of
+
+    # GCG Complex 11: three 4.4 cm mugs in one box; yellow_mug1 stands 7 cm from its middle by an end
+    # wall, where no grasp's hand clears the walls (a mug is held across its body, never on its
+    # handle); the drag towards the middle would run into red_mug1, which the refusal now names
+    # (before: it named nothing, the box being the mug's host, and the pick stayed refused)
+    step = parse_step_text("(pick yellow_mug1 yellow_box)")
+    ex = _gcg11(clear_blockers=False)
+    try:
+        said = ex.execute(step)
+        assert not said.ok
+        assert "(in the way: red_mug1)" in said.message
+        assert ex.outcomes[-1].skill.failure is Failure.BLOCKED
+    finally:
+        ex.close()
+    # with the recovery: red_mug1 is set aside on the table, then the drag and the pick succeed; a
+    # neighbour named first whose own pick is refused (blue_mug1, packed by the same wall) is skipped
+    real = recovery.blockers
+    monkeypatch.setattr(
+        recovery, "blockers", lambda msg, world, graph: ["blue_mug1", *real(msg, world, graph)]
+    )
+    ex = _gcg11(clear_blockers=True)
+    try:
+        ex.execute(step)
+        world = ex.ex.world
+        assert support_of(world, "yellow_mug1") == ("held", "")
+        assert support_of(world, "red_mug1") == ("on", "table")
+        assert support_of(world, "blue_mug1") == ("in", "yellow_box")
+        assert ex.recoveries[0]["moved"] == ["red_mug1"] and ex.recoveries[0]["picked"]
+        assert "blue_mug1 could not be taken" in ex.recoveries[0]["notes"][0]
+    finally:
+        ex.close()
