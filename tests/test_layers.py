@@ -327,6 +327,152 @@ def test_the_function_level_import_count_sees_only_function_level_project_import
     assert function_level_project_imports([f]) == {str(f): 2}
 
 
+#: The import names of the optional extras in pyproject.toml (sim, vision, llm, serve, dist, bench, fast):
+#: the heavy libraries a function-level import of a project module may defer.
+OPTIONAL_LIBRARIES = frozenset(
+    {
+        *("pybullet", "pybullet_data", "gymnasium", "PIL", "open3d"),
+        *("torch", "transformers", "tokenizers", "peft", "datasets", "accelerate"),
+        *("fastapi", "starlette", "uvicorn", "httpx", "httptools", "uvloop", "psutil"),
+        *("ray", "matplotlib", "numba"),
+    }
+)
+#: CLI command modules: each command body imports its implementation when the command runs, so ``gsr
+#: --help`` and every command start without all the others' modules (docs/architecture.md, "Imports").
+COMMAND_MODULES = frozenset(
+    {"gsr/cli.py", "perception/commands.py", "benchmarks/commands.py", "benchmarks/delivery/commands.py"}
+)
+#: The ratchet: function-level imports of project modules that pull no optional library and are no CLI
+#: command's. It may only go down (lower it when you move some); 463 function-level imports in all when
+#: issue 15's round began.
+MAX_UNJUSTIFIED_FUNCTION_LEVEL_IMPORTS = 239
+
+
+def _module_level_imports(path: Path) -> list[ast.Import | ast.ImportFrom]:
+    """The import statements a module runs when it is imported: outside functions and ``TYPE_CHECKING``."""
+    out: list[ast.Import | ast.ImportFrom] = []
+
+    def visit(statements: list[ast.stmt]) -> None:
+        for s in statements:
+            if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            if isinstance(s, ast.If) and "TYPE_CHECKING" in ast.unparse(s.test):
+                visit(s.orelse)
+            elif isinstance(s, (ast.Import, ast.ImportFrom)):
+                out.append(s)
+            else:
+                for block in ("body", "orelse", "finalbody", "handlers"):
+                    visit(getattr(s, block, None) or [])
+
+    visit(ast.parse(path.read_text(encoding="utf-8"), filename=str(path)).body)
+    return out
+
+
+def optional_libraries_at_import(paths: list[Path]) -> dict[str, set[str]]:
+    """Per project module, the optional libraries importing it loads: its own module-level imports, its
+    parent packages' and, transitively, those of the project modules it imports at module level."""
+    edges: dict[str, set[str]] = {}
+    libraries: dict[str, set[str]] = {}
+    for path in paths:
+        module = _module_name(path)
+        parts = module.split(".")
+        edges[module] = {".".join(parts[:i]) for i in range(1, len(parts))}
+        libraries[module] = set()
+        for node in _module_level_imports(path):
+            names = (
+                [a.name for a in node.names]
+                if isinstance(node, ast.Import)
+                else [_absolute(path, node)] + [f"{_absolute(path, node)}.{a.name}" for a in node.names]
+            )
+            for name in names:
+                if _module_path(name) is not None:
+                    edges[module].add(name)
+                elif name.split(".")[0] in OPTIONAL_LIBRARIES:
+                    libraries[module].add(name.split(".")[0])
+    graph = nx.DiGraph((m, t) for m, ts in edges.items() for t in ts if t in edges)
+    graph.add_nodes_from(edges)
+    return {m: set().union(libraries[m], *(libraries[d] for d in nx.descendants(graph, m))) for m in edges}
+
+
+def unjustified_function_level_imports(paths: list[Path]) -> list[str]:
+    """``file:line: module`` for each function-level import of a project module (a statement once) whose
+    modules load no optional library, outside the CLI command modules."""
+    pulls = optional_libraries_at_import(paths)
+    found = []
+    for path in paths:
+        where = str(path.relative_to(REPO) if path.is_relative_to(REPO) else path)
+        if where in COMMAND_MODULES:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        inner = {
+            id(n): n
+            for fn in ast.walk(tree)
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef))
+            for n in ast.walk(fn)
+            if isinstance(n, (ast.Import, ast.ImportFrom))
+        }
+        for node in inner.values():
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names if _rank(a.name) is not None]
+            else:
+                module = _absolute(path, node)
+                targets = (
+                    [
+                        f"{module}.{a.name}" if _module_path(f"{module}.{a.name}") else module
+                        for a in node.names
+                    ]
+                    if _rank(module) is not None
+                    else []
+                )
+            known = [t for t in targets if _module_path(t) is not None]
+            if targets and not any(pulls.get(_module_name(_module_path(t)), ()) for t in known):
+                found.append(f"{where}:{node.lineno}: {', '.join(targets)}")
+    return sorted(found)
+
+
+def test_function_level_project_imports_only_defer_optional_libraries() -> None:
+    """A project module imported inside a function hides the dependency from a reader and from the
+    module's import time; it is worth it only when the module loads a heavy optional library (PyBullet,
+    torch, FastAPI, ...) or in a CLI command body. The rest may not grow."""
+    paths = [p for layer in LAYERS for p in sorted((REPO / layer).rglob("*.py"))]
+    found = unjustified_function_level_imports(paths)
+    assert len(found) <= MAX_UNJUSTIFIED_FUNCTION_LEVEL_IMPORTS, (
+        f"{len(found)} function-level project imports load no optional library "
+        f"(at most {MAX_UNJUSTIFIED_FUNCTION_LEVEL_IMPORTS}): import at module level instead. "
+        "`python tests/test_layers.py --unjustified` lists them."
+    )
+
+
+def test_the_ratchet_sees_which_function_level_imports_defer_an_optional_library(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    root = tmp_path / "repo"
+    (root / "gsr" / "sim").mkdir(parents=True)
+    (root / "gsr" / "__init__.py").write_text("")
+    (root / "gsr" / "sim" / "__init__.py").write_text("")
+    (root / "gsr" / "sim" / "world.py").write_text("import pybullet\n")
+    (root / "gsr" / "sim" / "build.py").write_text("from gsr.sim import world\n")  # pulls it one step on
+    (root / "gsr" / "light.py").write_text(
+        "import json\nfrom typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n    import torch\n"
+        "def f():\n    import torch\n"
+    )
+    (root / "gsr" / "user.py").write_text(
+        "def a():\n    from gsr.sim.build import x\n"
+        "def b():\n    from gsr.light import f\n"
+        "def c():\n    from gsr import light\n"
+        "    def d():\n        import gsr.sim.world\n"
+    )
+    monkeypatch.setattr(sys.modules[__name__], "REPO", root)
+    paths = sorted((root / "gsr").rglob("*.py"))
+    assert optional_libraries_at_import(paths)["gsr.sim.build"] == {"pybullet"}
+    assert optional_libraries_at_import(paths)["gsr.light"] == set()
+    assert unjustified_function_level_imports(paths) == [
+        "gsr/user.py:4: gsr.light",
+        "gsr/user.py:6: gsr.light",
+    ]
+
+
 def test_no_generic_top_level_import_names() -> None:
     """The upper layers are ``gsr.perception``, ``gsr.skills`` and ``gsr.benchmarks`` (setup.py maps the
     folders); importing the bare folder names would load a second copy of each module."""
@@ -357,10 +503,16 @@ def test_setup_maps_every_layer_folder_under_gsr() -> None:
 
 
 if __name__ == "__main__":
-    found = function_level_project_imports(
-        [p for layer in LAYERS for p in sorted((REPO / layer).rglob("*.py"))]
-    )
+    all_paths = [p for layer in LAYERS for p in sorted((REPO / layer).rglob("*.py"))]
+    if "--unjustified" in sys.argv:
+        print("\n".join(unjustified_function_level_imports(all_paths)))
+        raise SystemExit(0)
+    found = function_level_project_imports(all_paths)
     by_layer = {layer: sum(n for f, n in found.items() if f.split("/")[0] == layer) for layer in LAYERS}
     print(f"function-level project imports: {sum(found.values())} {by_layer}")
+    print(
+        f"of which load no optional library, outside the CLI command modules: "
+        f"{len(unjustified_function_level_imports(all_paths))}"
+    )
     for name, n in sorted(found.items(), key=lambda kv: -kv[1])[:15]:
         print(f"{n:4d} {name}")
