@@ -419,13 +419,16 @@ def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Inst
     An object standing in a box touches the box at its bottom only, rests on the floor and stays below
     the rim; a wall piece lies along the container's surfaces, from the table (outside) or the rim down.
     Pieces must sit inside the container's rim, so a neighbour whose pixels leaked into the container's
-    segment (lower than the walls, outside the rim) is no piece of it."""
+    segment (lower than the walls, outside the rim) is no piece of it. A container whose rim is not
+    measured (too few wall tops seen, or on one side only) stands for its rim with its own box, as a
+    drawer does in :func:`absorb_part_fragments`: its rim's pieces (a wall top split off by one camera)
+    are still pieces of it."""
     from gsr.perception.relations import rim_box  # geometry of the container's walls
 
     containers = [c for c in fused if not _no_object(c) and "container" in affordances(c.label.category)]
     if not containers:
         return fused
-    pieces = _wall_pieces(fused, containers, lambda c: rim_box(c))
+    pieces = _wall_pieces(fused, containers, lambda c: c if (r := rim_box(c)) is None else r)
     if not pieces:
         return fused
     grown = _grown_by_pieces(fused, containers, pieces, params)

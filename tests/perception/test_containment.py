@@ -365,3 +365,20 @@ def test_one_segment_holding_two_cubes_apart_is_two_cubes_but_a_cube_and_a_floor
     # an object whose two pieces touch (under 1 cm apart) stays one
     c = solid("x", "cube", [0.0, 0.045, 0.2], [0.04, 0.085, 0.23]).points
     assert len(split_disjoint([_inst("d", "cube", np.concatenate([a, c]))], PARAMS)) == 1
+
+
+def test_a_wall_top_piece_joins_a_box_whose_rim_is_not_measured():
+    # a box seen on one side only: its far wall (full height) and its floor; the rim band is that wall's
+    # top alone, too partial to stand for the footprint (rim_box None)
+    wall = np.array(
+        [(0.0, y, z) for y in np.arange(0.0, 0.2001, 0.005) for z in np.arange(0.0, 0.0801, 0.005)]
+    )
+    floor_xy = _grid(np.array([0.005, 0.005]), np.array([0.145, 0.195])).reshape(-1, 2)
+    floor = np.column_stack([floor_xy, np.full(len(floor_xy), 0.008)])
+    box = _inst("box_f0m1", "box", np.concatenate([wall, floor]), views=3)
+    assert rim_box(box) is None
+    # one camera's piece of that wall's upper part, named a cube
+    piece = _inst("cube_f1m2", "cube", wall[wall[:, 2] >= 0.05], views=1)
+    cube = solid("cube_f2m3", "cube", [0.05, 0.08, 0.008], [0.09, 0.12, 0.038], views=1)  # in the box
+    out = absorb_fragments([box, piece, cube, table()], PARAMS)
+    assert sorted(i.key for i in out) == ["box_f0m1", "cube_f2m3", "table"]
