@@ -614,12 +614,58 @@ def _rest_on(
             row, col = k // 4 % 2, k % 4
             gx = -sx / 2 + DRAWER_SLOT_X + row * DRAWER_ROW_PITCH
             gy = (col - 1.5) * sy / 4.5
+        elif not part:
+            # a box: side by side across it, rows round its middle, where a later pick's hand fits
+            slot = _box_slot(world, placed, model, host, link, (sx, sy, sz))
+            if slot is not None:
+                gx, gy = slot
         floor = world.to_world(host.body, link, (cx + gx, cy + gy, cz - sz / 2))
         return float(floor[0]), float(floor[1]), float(floor[2]) + 0.012 + 0.05 * (k // 9)
     link = host.links.get(host.model.part_links.get(part, ""), -1) if part else -1
     lo, hi = world.body_aabb(host.body) if link < 0 else world.aabb(host.body, link)
     cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2
     return float(cx), float(cy), float(hi[2]) + 0.003 + 0.06 * k
+
+
+def _box_slot(
+    world: World,
+    placed: PlacedObject,
+    model: AssetModel,
+    host: SimObject,
+    link: int,
+    size: tuple[float, float, float],
+) -> tuple[float, float] | None:
+    """Where ``placed``'s origin starts in a box's interior (offset from its middle, in the interior's
+    frame): its slot of :func:`gsr.skills.box_slots.box_slots` among everything the layout puts in the
+    same box; None when they do not all fit on the floor that way, or when one of them stands tall
+    enough for a hand gripping its top to clear the walls (a mug: it is not taken from inside the box)."""
+    from gsr.skills.box_slots import HAND_OVER_TOP, INSIDE_MARGIN, box_slots, turned_footprint
+    from gsr.skills.packing import footprint
+
+    box_yaw = world.yaw_of(host.body, link)
+    interior = host.model.interiors[""]
+    floor = world.to_world(host.body, link, (*interior.center[:2], interior.center[2] - size[2] / 2))[2]
+    depth = float(world.aabb(host.body, link)[1][2]) - float(floor)  # floor to rim
+    mine = None
+    feet = []
+    for o in world.layout.objects:
+        if o.on != placed.on or not world.graph.has_node(o.id):
+            continue
+        if not any(e.relation == "in" for e in world.graph.edges_from(o.id)):
+            continue
+        m = model if o.id == placed.id else make_asset(o.asset, o.size, o.color)
+        if m.extent[2] + HAND_OVER_TOP > depth - INSIDE_MARGIN:
+            return None
+        if o.id == placed.id:
+            mine = len(feet)
+        feet.append(turned_footprint(*footprint(m), o.yaw - box_yaw))
+    if mine is None:
+        return None
+    slots = box_slots([h for _c, h in feet], np.array(size[:2]) / 2)
+    if slots is None:
+        return None
+    origin = slots[mine] - feet[mine][0]
+    return float(origin[0]), float(origin[1])
 
 
 def _initial_joints(world: World, layout: Layout) -> None:
