@@ -20,6 +20,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from gsr.datagen.runner import RunConfig, generate_dataset
+
 TARGET_ROWS = 1_600_000
 TARGET_SECONDS = 30 * 60
 
@@ -33,7 +35,6 @@ def _cpu() -> float:
 def run(samples: int, workers: int, seed: int, out: Path | None, shard_size: int) -> dict:
     """Generate ``samples`` rows with ``workers`` processes; the measured figures."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from gsr.datagen.runner import RunConfig, generate_dataset
 
     tmp = None
     if out is None:

@@ -30,17 +30,17 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from gsr.benchmarks.scoring import score_task
 from gsr.benchmarks.suites.gsr_bench import load_configs, task_from_config
+from gsr.benchmarks.suites.gsr_bench_gen import generate_configs
 
 from gsr.errors import GSRError
 from gsr.facts import state_from_graph
 from gsr.gsr_bench_format import graph_from_gsr_bench
 from gsr.gsr_bench_rules import replay
+from gsr.reason.cli import solve_command
 from gsr.resources import load_builtin_domain, shared_data_dir
 
 
 def _solve_in_process(scene: Path, query: str) -> tuple[int, str, str]:
-    from gsr.reason.cli import solve_command
-
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
@@ -98,8 +98,6 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", type=Path, help="write the per-config records here")
     args = parser.parse_args(argv)
     if args.generated:
-        from gsr.benchmarks.suites.gsr_bench_gen import generate_configs
-
         configs = generate_configs(seed=args.seed, per_cell=args.generated)
         name = f"generated ({args.generated} per cell, seed {args.seed})"
     else:

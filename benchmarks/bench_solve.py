@@ -16,14 +16,17 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from unittest import mock
 
+from gsr.benchmarks.suites import get_suite
+
+import gsr.plan.api as plan_api
+import gsr.reason.loop as loop
+from gsr.reason.reasoner import solve
+
 
 @contextmanager
 def counting_planner_and_prompts() -> Iterator[dict[str, int]]:
     """Counts ``plan_graph`` calls and steps-mode prompts built while it is open (the dict it yields;
     the real functions still run). Used here and by the tests of the one-plan solve."""
-    import gsr.plan.api as plan_api
-    import gsr.reason.loop as loop
-
     calls = {"plan": 0, "prompt": 0}
     real_plan, real_prompt = plan_api.plan_graph, loop.build_prompt
 
@@ -43,10 +46,6 @@ def counting_planner_and_prompts() -> Iterator[dict[str, int]]:
 
 
 def main() -> None:
-    from gsr.benchmarks.suites import get_suite
-
-    from gsr.reason.reasoner import solve
-
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tasks", type=int, default=5)
     ap.add_argument("--repeat", type=int, default=3)

@@ -37,6 +37,8 @@ from typing import Any
 from gsr.benchmarks.checker_ablation import CONDITIONS, DEFAULT_CONDITIONS, markdown, run_condition
 from gsr.benchmarks.training_recipe import run_recipe
 
+from gsr.io import write_text_atomic
+
 
 def main(argv: list[str] | None = None) -> int:
     """Parse options, run every condition on every task set, write JSON, print the table."""
@@ -100,8 +102,6 @@ def main(argv: list[str] | None = None) -> int:
             table[s].append(row)
             print(json.dumps({"set": s, **row}), file=sys.stderr, flush=True)
     if args.out:
-        from gsr.io import write_text_atomic
-
         info = {"model": str(args.model), "max_steps": args.max_steps, "repairs": args.repairs}
         write_text_atomic(args.out, json.dumps({**info, "sets": table}, indent=1))
     if args.markdown:

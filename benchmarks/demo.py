@@ -19,8 +19,23 @@ from typing import Any, TypeVar
 
 import typer
 from gsr.benchmarks.demo_report import DemoRecord, write_report
+from gsr.benchmarks.suites.libero_suite import task_from_bddl
+from gsr.perception.detect import load_detector
+from gsr.skills import build_world, default_views, render, run_step, scene_graph_from_sim
+from gsr.skills.perceived_scene import PerceivedScene, contradicted_effects
+from gsr.skills.result import Failure, SkillResult
 
+from gsr.demo import default_task_path
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
+from gsr.graph_svg import scene_graph_svg
+from gsr.language import ground
+from gsr.pddl.writer import write_formula
+from gsr.reason import solve
+from gsr.resources import load_builtin_domain
+from gsr.semantics import goal_holds
+from gsr.step import Step
+from gsr.transition import StepRejected, apply_step
 
 T = TypeVar("T")
 
@@ -46,22 +61,6 @@ def run_demo(
     oracle_masks: bool = False,
 ) -> int:
     """Run the physical demo; writes ``out`` and returns the exit code (0 only when the goal is verified)."""
-    from gsr.benchmarks.suites.libero_suite import task_from_bddl
-    from gsr.skills import build_world, default_views, render, run_step, scene_graph_from_sim
-    from gsr.skills.perceived_scene import PerceivedScene, contradicted_effects
-    from gsr.skills.result import Failure, SkillResult
-
-    from gsr.demo import default_task_path
-    from gsr.facts import state_from_graph
-    from gsr.graph_svg import scene_graph_svg
-    from gsr.language import ground
-    from gsr.pddl.writer import write_formula
-    from gsr.reason import solve
-    from gsr.resources import load_builtin_domain
-    from gsr.semantics import goal_holds
-    from gsr.step import Step
-    from gsr.transition import StepRejected, apply_step
-
     path = task_path or default_task_path()
     if not path.is_file():
         raise GSRError(f"{path}: task file not found (pass --task FILE)")
@@ -76,8 +75,6 @@ def run_demo(
         views = default_views(world)
         detector = None
         if use_perception and not oracle_masks:
-            from gsr.perception.detect import load_detector
-
             detector = load_detector()
             if getattr(detector, "model", True) is None:
                 # torch is not part of the demo's install, so no model can be trained here in seconds, and
@@ -208,7 +205,6 @@ def run_demo(
 def _finish(
     rec: DemoRecord, out: Path, before: Any, after: Any, svg: Callable[..., str] | None = None
 ) -> int:
-    from gsr.graph_svg import scene_graph_svg
 
     svg = svg or scene_graph_svg
     moved = sorted({a for s in rec.steps for a in s["step"].strip("()").split()[1:2]})

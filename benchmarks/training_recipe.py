@@ -22,6 +22,27 @@ from pathlib import Path
 from typing import Any
 
 from gsr.benchmarks.checker_ablation import DEFAULT_CONDITIONS, markdown, run_condition
+from gsr.benchmarks.cli import load_suite_tasks
+
+from gsr.datagen.runner import RunConfig, generate_dataset
+from gsr.datagen.tasks import generated_tasks
+from gsr.errors import GSRError
+from gsr.io import write_bytes_atomic, write_text_atomic
+from gsr.reason.compact import build_tokenizer
+from gsr.resources import load_builtin_domain
+from gsr.task_spec import task_json
+from gsr.train.compact import (
+    CompactSpec,
+    accuracy,
+    cosine,
+    dataset_samples,
+    fit,
+    new_model,
+    recovery_samples,
+    rollout_samples,
+    save,
+    spec_dict,
+)
 
 
 @dataclass(frozen=True)
@@ -79,8 +100,6 @@ def log(msg: str) -> None:
 
 def start_tasks(data: Path, split: str, count: int, seed: int) -> list[tuple[Any, Any]]:
     """(start graph, goal) of ``count`` random tasks of ``split`` (for the on-policy rounds)."""
-    from gsr.train.compact import dataset_samples
-
     starts = [s for s in dataset_samples(data, split) if not s.history]
     random.Random(seed).shuffle(starts)
     return [(s.graph, s.goal) for s in starts[:count]]
@@ -89,10 +108,6 @@ def start_tasks(data: Path, split: str, count: int, seed: int) -> list[tuple[Any
 def export_heldout(data: Path, out: Path, count: int) -> dict[str, int]:
     """Write ``count`` held-out test tasks: up to count/3 of each kind (pair, colour, horizon), the rest
     filled from the kinds that have more (pair scenes yield few tasks); returns the count per kind."""
-    from gsr.datagen.tasks import generated_tasks
-    from gsr.io import write_bytes_atomic
-    from gsr.task_spec import task_json
-
     by_kind = {k: generated_tasks(data, "test", k) for k in HELDOUT_KINDS}
     chosen = {k: v[: count // len(HELDOUT_KINDS)] for k, v in by_kind.items()}
     rest = [t for k in HELDOUT_KINDS for t in by_kind[k][len(chosen[k]) :]]
@@ -107,12 +122,6 @@ def export_heldout(data: Path, out: Path, count: int) -> dict[str, int]:
 
 def gsr_bench_dev(out: Path, per_category: int) -> int:
     """Export the ``per_category`` lowest-numbered GSR-Bench dev tasks of each category; 0 without the data."""
-    from gsr.benchmarks.cli import load_suite_tasks
-
-    from gsr.errors import GSRError
-    from gsr.io import write_text_atomic
-    from gsr.task_spec import task_json
-
     try:
         tasks = load_suite_tasks("gsr-bench", None, None, 0, None)
     except (GSRError, OSError) as exc:
@@ -133,21 +142,6 @@ def gsr_bench_dev(out: Path, per_category: int) -> int:
 def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str, Any]:
     """Trajectory + recovery rows, first training round, DAgger round, save; the training figures."""
     import torch
-
-    from gsr.reason.compact import build_tokenizer
-    from gsr.resources import load_builtin_domain
-    from gsr.train.compact import (
-        CompactSpec,
-        accuracy,
-        cosine,
-        dataset_samples,
-        fit,
-        new_model,
-        recovery_samples,
-        rollout_samples,
-        save,
-        spec_dict,
-    )
 
     torch.set_num_threads(cfg.threads)
     domain = load_builtin_domain()
@@ -251,9 +245,6 @@ def run_recipe(
     """Data, training, task export and the ablation; prints the table and the summary line.
 
     ``train_budget`` (CPU seconds) replaces the recipe's training time, split 2:1 between the rounds."""
-    from gsr.datagen.runner import RunConfig, generate_dataset
-    from gsr.io import write_text_atomic
-
     cfg = RECIPES[name]
     if os.environ.get("GSR_RECIPE_SCALE"):  # tests: a tiny version of the same pipeline
         scale = float(os.environ["GSR_RECIPE_SCALE"])

@@ -30,7 +30,6 @@ DYNAMIC_STATES = frozenset({"open", "closed", "on", "off", "held"})
 
 
 def default_domain() -> Domain:
-
     return load_builtin_domain("tabletop")
 
 

@@ -131,7 +131,6 @@ def load_domain_and_problem(
 
 
 def _builtin_domain() -> Domain:
-
     return load_builtin_domain("tabletop")
 
 

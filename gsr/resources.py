@@ -77,7 +77,6 @@ def domain_path(name: str = "tabletop") -> Path:
 
 @lru_cache(maxsize=8)
 def _load(path: str, mtime: float) -> Domain:
-
     return load_domain(path)
 
 

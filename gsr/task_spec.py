@@ -101,7 +101,6 @@ class TaskSpec(BaseModel):
     @field_validator("goal", "goal_alternatives")
     @classmethod
     def _parses(cls, v: str | tuple[str, ...]) -> str | tuple[str, ...]:
-
         for text in (v,) if isinstance(v, str) else v:
             try:
                 parse_formula(text, source="goal")

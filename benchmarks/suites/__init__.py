@@ -15,6 +15,11 @@ from importlib import import_module
 from pathlib import Path
 from typing import Any
 
+from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
+from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench
+from gsr.benchmarks.suites.libero_suite import load_libero
+from gsr.benchmarks.suites.rlbench import generate_rlbench
+
 from gsr.data_sets import locate
 from gsr.errors import GSRError
 from gsr.resources import shared_data_dir
@@ -63,28 +68,20 @@ class Suite:
 
 
 def _gsr_bench(path: Path | None, seed: int) -> list[TaskSpec]:
-    from gsr.benchmarks.suites.gsr_bench import load_gsr_bench
-
     assert path is not None
     return load_gsr_bench(path)
 
 
 def _gsr_bench_gen(path: Path | None, seed: int) -> list[TaskSpec]:
-    from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench
-
     return generate_gsr_bench(seed)
 
 
 def _libero(path: Path | None, seed: int) -> list[TaskSpec]:
-    from gsr.benchmarks.suites.libero_suite import load_libero
-
     assert path is not None
     return load_libero(path)
 
 
 def _rlbench(path: Path | None, seed: int) -> list[TaskSpec]:
-    from gsr.benchmarks.suites.rlbench import generate_rlbench
-
     return generate_rlbench(seed)
 
 

@@ -22,7 +22,6 @@ BackendFactory = Callable[..., Backend]
 
 
 def _grounder(arg: str, **options: object) -> Backend:
-
     if arg:
         raise GSRError(f"the grounder backend takes no argument (got 'grounder:{arg}')")
     return GrounderBackend(**options)  # type: ignore[arg-type]
@@ -32,7 +31,6 @@ _LOADED: dict[tuple, Backend] = {}
 
 
 def _transformers(arg: str, **options: object) -> Backend:
-
     if not arg:
         raise GSRError("the transformers backend needs a model: transformers:PATH")
     # loading weights is slow: reuse a loaded model for the same path and options (service, benchmarks)
@@ -43,7 +41,6 @@ def _transformers(arg: str, **options: object) -> Backend:
 
 
 def _openai(arg: str, **options: object) -> Backend:
-
     if not arg:
         raise GSRError("the openai backend needs a model name: openai:MODEL")
     return OpenAIBackend(arg, **options)  # type: ignore[arg-type]

@@ -34,7 +34,6 @@ FORMATS = ("text", "json", "pddl", "gsr-bench")
 
 
 def _domain(path: Path | None) -> Domain:
-
     return load_domain(path) if path is not None else load_builtin_domain()
 
 

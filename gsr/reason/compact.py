@@ -100,7 +100,6 @@ def scene_objects(state: State, domain: Domain) -> list[str]:
 
 
 def _fluents(domain: Domain) -> frozenset[str]:
-
     return frozenset(compile_domain(domain).fluents)
 
 

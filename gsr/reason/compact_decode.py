@@ -24,7 +24,6 @@ MAX_UNKNOWN = 3  # distinct unknown context words tolerated (as <unk>)
 
 
 def _text(step: Step | None) -> str:
-
     return DONE if step is None else format_step(step)
 
 

@@ -152,7 +152,6 @@ class Scene:
 
     @classmethod
     def from_data(cls, data: dict[str, Any], settings: ServiceSettings, field: str = "scene_graph") -> Scene:
-
         check_scene_size(data, settings, field)
         return cls(scene_from_data(data, source=field))
 
