@@ -7,7 +7,12 @@ The landmark count then does not accept on(a,b) reached first.
 
 from __future__ import annotations
 
-from gsr.pddl.parser import parse_domain, parse_problem
+import random
+from pathlib import Path
+
+import pytest
+
+from gsr.pddl.parser import load_domain, load_problem, parse_domain, parse_problem
 from gsr.plan import plan
 from gsr.plan.ground import ground_task
 from gsr.plan.landmarks import Landmarks
@@ -129,3 +134,35 @@ def test_landmark_profile_reports_the_orders(tmp_path, capsys) -> None:
     assert fields["status"] == "solved" and fields["plan_length"] == "4"
     assert int(fields["reasonable"]) >= 1 and int(fields["mutex_groups"]) >= 3
     assert main([str(tmp_path / "missing.pddl"), str(tmp_path / "tower.pddl")]) == 2
+
+
+FIXTURES = Path(__file__).resolve().parents[1] / "fixtures" / "pddl"
+
+
+@pytest.mark.parametrize(
+    "folder,problem",
+    [("blocks", "probBLOCKS-9-2.pddl"), ("gripper", "prob06.pddl"), ("miconic-simpleadl", "s4-0.pddl")],
+)
+def test_mutex_groups_hold_on_random_walks(folder: str, problem: str) -> None:
+    """No state reached by random walks has two atoms of one group; exactly-one groups have one."""
+    domain = load_domain(FIXTURES / folder / "domain.pddl")
+    task = ground_task(domain, load_problem(FIXTURES / folder / problem, domain))
+    groups = MutexGroups(task)
+    assert groups.groups
+    masks = [
+        (sum(1 << a for a in g), exact) for g, exact in zip(groups.groups, groups.exactly_one, strict=True)
+    ]
+    checked = 0
+    for seed in range(5):
+        rng = random.Random(seed)
+        state = task.init
+        for _ in range(60):
+            for mask, exact in masks:
+                count = (state & mask).bit_count()
+                assert count <= 1 and (count == 1 or not exact)
+            checked += 1
+            ops = task.applicable(state)
+            if not ops:
+                break
+            state = task.apply(state, rng.choice(ops))
+    assert checked > 100
