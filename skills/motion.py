@@ -156,7 +156,12 @@ class Motion:
     def move_continuous(self, goal: Pose, poses: list[Pose], check: bool = True) -> None:
         """A straight move to ``goal``; if it needs an IK branch flip, a collision-checked joint-space
         move to the configuration at ``goal`` from which the straight moves through ``poses`` (which
-        start at ``goal``) stay continuous instead."""
+        start at ``goal``) stay continuous instead.
+
+        Also where the straight move arrives with an arm from which those moves would need a flip (the
+        wrist near its stop: a descent into a drawer solved from the transit configuration), the arm
+        re-branches there in joint space (checked) before they start; if that move is blocked the arm
+        stays as it arrived."""
         try:
             self.move_line(goal, check=check)
         except SkillError as exc:
@@ -166,6 +171,17 @@ class Motion:
             if start is None:
                 raise
             self.move_joint(start, check=check)
+            return
+        if len(poses) < 2 or self.straight_path(poses, self.robot.q()) is not None:
+            return
+        start = self.continuous_start(poses, self.robot.q()[:2])
+        if start is None:
+            return
+        try:
+            self.move_joint(start, check=True)
+        except SkillError as exc:
+            if exc.failure is not Failure.BLOCKED:
+                raise
 
     def move_rebranch(self, goal: Pose, check: bool = True) -> None:
         """A straight move to ``goal``; if it needs an IK branch flip (the arm sits against a joint limit

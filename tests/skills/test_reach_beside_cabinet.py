@@ -45,3 +45,34 @@ def test_a_mug_beside_the_cabinet_is_picked_along_the_checked_descent() -> None:
         result = run_step(world, parse_step_text("(pick yellow_mug1 table)"))
         assert result.ok, result.message
         assert support_of(world, "yellow_mug1") == ("held", "")
+
+
+FLIP_SNAPSHOT = Path(__file__).parent / "data" / "sas_complex_16_above_drawer_low.bullet"
+
+
+def test_a_descent_that_would_flip_the_wrist_rebranches_above_the_drawer() -> None:
+    """``gsrgen_ss_complex_16`` step 11, ``place_in yellow_cube5 short_cabinet/drawer_low``: the straight
+    move over the drawer arrived with the wrist where the way down needs an IK branch flip (joint 5
+    jumps 0.5 rad), ``ik_flip`` four times. The state is saved at that arrival (old motion), the cube
+    in the hand; ``move_continuous`` now re-branches in joint space above the spot, and the straight
+    way down (the place's descent, ``move_line`` as ``move_until_contact`` makes it) needs no flip."""
+    import numpy as np
+    import pybullet as p
+    from gsr.skills.motion import Motion
+    from gsr.skills.robot import GRIPPER
+
+    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_ss_complex_16")
+    with build_world(task, seed=0) as world:
+        p.restoreState(fileName=str(FLIP_SNAPSHOT), physicsClientId=world.client)
+        world.robot.hold(world.robot.q())
+        world.robot.command_gripper(0.0, GRIPPER.grasp_force)
+        m = Motion(world)
+        m.ignore = {world.objects["yellow_cube5"].body}
+        above = m.pose()
+        down = [above, (above[0] + np.array([0.0, 0.0, -0.28]), above[1])]
+        # the situation: from the arm as it arrived, the way down flips the wrist
+        assert m.straight_path(down, world.robot.q()) is None
+        m.move_continuous(above, down)
+        assert m.straight_path(down, world.robot.q()) is not None
+        m.move_line(down[1], check=False)  # raises ik_flip without the re-branch
+        assert float(np.linalg.norm(m.pose()[0] - down[1][0])) < 0.01
