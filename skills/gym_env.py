@@ -12,7 +12,14 @@ import string
 from typing import Any, ClassVar
 
 import numpy as np
+from gsr.skills.build import build_world
+from gsr.skills.camera import default_views, render
+from gsr.skills.executor import PhysicalExecutor
 
+from gsr.errors import GSRError
+from gsr.facts import state_from_graph
+from gsr.plan_format import parse_plan
+from gsr.semantics import goal_holds
 from gsr.step import Step
 from gsr.task_spec import TaskSpec
 
@@ -30,12 +37,9 @@ def parse_action(action: str | Step) -> Step:
     """A step from an action: a ``Step`` as is, or text such as ``(pick cube_1 table)``."""
     if isinstance(action, Step):
         return action
-    from gsr.plan_format import parse_plan
 
     plan = parse_plan(str(action), source="action")
     if len(plan) != 1:
-        from gsr.errors import GSRError
-
         raise GSRError(f"action {action!r}: expected exactly one step, got {len(plan)}")
     return plan.steps[0]
 
@@ -83,28 +87,19 @@ def _env_class() -> type:
         def _spec(self):
             from dataclasses import replace
 
-            from gsr.skills.camera import default_views
-
             return replace(default_views(self.world)[self.camera], width=self.width, height=self.height)
 
         def _obs(self) -> dict[str, Any]:
-            from gsr.skills.camera import render
-
             img = render(self.world, self._spec())
             return {"rgb": img.rgb, "depth": img.depth, "graph": self.executor.graph.to_json(indent=None)}
 
         def _goal_met(self) -> bool:
-            from gsr.facts import state_from_graph
-            from gsr.semantics import goal_holds
-
             state = state_from_graph(self.executor.graph, self.executor.domain)
             return any(goal_holds(self.executor.domain, g, state) for g in self.task.goal_formulas())
 
         def reset(self, *, seed: int | None = None, options: dict | None = None):
             """Build the task's world (deterministic per seed) and observe it."""
             super().reset(seed=seed)
-            from gsr.skills.build import build_world
-            from gsr.skills.executor import PhysicalExecutor
 
             if self.world is not None:
                 self.world.close()
@@ -115,8 +110,6 @@ def _env_class() -> type:
 
         def step(self, action: str | Step):
             """Check and execute one step; reward 1 and terminate when the goal holds."""
-            from gsr.errors import GSRError
-
             if self.executor is None:
                 raise GSRError("call reset() before step()")
             self.steps += 1
@@ -133,8 +126,6 @@ def _env_class() -> type:
 
         def render(self) -> np.ndarray:
             """The current RGB image from the env's camera."""
-            from gsr.skills.camera import render
-
             return render(self.world, self._spec()).rgb
 
         def close(self) -> None:

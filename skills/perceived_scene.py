@@ -26,8 +26,18 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from gsr.perception import perceive, update_belief
+from gsr.perception.detect import load_detector
+from gsr.perception.frame import Frame, InstanceLabel
+from gsr.perception.match import match_nodes
+from gsr.perception.rgbd import View, detect_frames
+from gsr.perception.track import Tracker, rename_graph
+from gsr.skills.camera import default_views, labelled_masks, render
+from gsr.skills.executor import symbolic_view
+from gsr.skills.sim_graph import scene_graph_from_sim, support_of
 
 from gsr.errors import GSRError
+from gsr.facts import state_from_graph
 from gsr.scene_graph import Edge, Node, SceneGraph
 
 if TYPE_CHECKING:
@@ -62,7 +72,6 @@ class PerceivedScene:
         oracle_masks: bool = False,
         detector: Any = None,
     ) -> None:
-        from gsr.skills.camera import default_views
 
         specs = default_views(world)
         unknown = [v for v in views if v not in specs]
@@ -74,8 +83,6 @@ class PerceivedScene:
         self.oracle_masks = oracle_masks
         self.detector = detector
         if not oracle_masks and detector is None:
-            from gsr.perception.detect import load_detector
-
             self.detector = load_detector()
         self.tracker = None if oracle_masks else _tracker()
         #: perceived node id -> the world's node id of the body it is (identity with oracle masks)
@@ -88,7 +95,6 @@ class PerceivedScene:
         """Render every camera now: the detector's frames (no ids), or the simulator's labelled masks."""
         if self.oracle_masks:
             return [frame_with_doors(self.world, spec) for spec in self.specs]
-        from gsr.perception.rgbd import detect_frames
 
         return detect_frames([self_filtered_view(self.world, spec) for spec in self.specs], self.detector)
 
@@ -98,8 +104,6 @@ class PerceivedScene:
         ``expected`` (the graph the robot's last step should have produced) is the prior for what no
         sensor sees: states in ``UNSENSED_STATES``, and where a remembered object the robot just let go
         of is (:func:`with_remembered_support`); without it the previous belief is."""
-        from gsr.perception import perceive, update_belief
-
         frames = self.frames()
         self.last_rgb = frames[0].rgb
         observed = perceive(frames, self.params)
@@ -143,7 +147,6 @@ class PerceivedScene:
         (new,), (old,) = held, grasped
         if old in ids or new not in ids:
             return observed, held
-        from gsr.perception.track import rename_graph
 
         self.binding[old] = self.binding.pop(new)
         renamed = rename_graph(observed, {new: old})
@@ -175,7 +178,6 @@ class PerceivedScene:
         """A perceived graph in the world's ids (for scoring against the task's goal)."""
         if self.oracle_masks:
             return graph
-        from gsr.perception.track import rename_graph
 
         mapping = {
             n.id: self.binding.get(n.id, f"unbound_{n.id}")
@@ -188,7 +190,6 @@ class PerceivedScene:
         """A world graph (the simulator's truth) in the perceived ids (to check a perceived goal on it)."""
         if self.oracle_masks:
             return graph
-        from gsr.perception.track import rename_graph
 
         back = {w: p for p, w in self.binding.items()}
         regions = set(self.world.regions)
@@ -197,8 +198,6 @@ class PerceivedScene:
 
 
 def _tracker() -> Any:
-    from gsr.perception.track import Tracker
-
     return Tracker()
 
 
@@ -206,9 +205,6 @@ def self_filtered_view(world: World, spec: CameraSpec) -> Any:
     """One camera's RGB-D with the robot's own body removed (depth 0 there), as a robot filters itself
     out of its sensor data with its own model at its joint state; nothing else of the simulator's
     segmentation is used."""
-    from gsr.perception.rgbd import View
-    from gsr.skills.camera import render
-
     img = render(world, spec)
     depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
     return View(img.rgb, depth, img.camera)
@@ -222,9 +218,6 @@ def bind_to_world(graph: SceneGraph, world: World) -> dict[str, str]:
     bodies' boxes only, after perception, and never feeds anything back into the perceived graph.
     Among overlapping pairs the same category wins (a perceived drawer is the drawer it overlaps, not a
     cabinet-top part that spans the drawer's body: the skills would open what the node names)."""
-    from gsr.perception.match import match_nodes
-    from gsr.skills.sim_graph import scene_graph_from_sim
-
     return match_nodes(graph, scene_graph_from_sim(world), same_category=1.0)
 
 
@@ -237,9 +230,6 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
     category ``door``, parent the object), so perception measures the door angle and the object takes
     the door's open/closed state; :func:`without_helper_parts` drops the door node afterwards.
     """
-    from gsr.perception.frame import Frame, InstanceLabel
-    from gsr.skills.camera import labelled_masks, render
-
     img = render(world, spec)
     masks, labels = labelled_masks(world, img)
     parts = {(obj, part) for obj, part in world.parts.values()}
@@ -274,7 +264,6 @@ def without_helper_parts(graph: SceneGraph, world: World) -> SceneGraph:
 
 def held_objects(world: World) -> set[str]:
     """Objects both fingers touch now (the gripper's grasp state, not vision)."""
-    from gsr.skills.sim_graph import support_of
 
     # boxes=[]: skip the containment test, only the finger contacts matter here
     return {
@@ -496,8 +485,6 @@ def observed_ids(graph: SceneGraph) -> set[str]:
 
 def observable_view(graph: SceneGraph, confirmed: set[str]) -> SceneGraph:
     """The symbolic part a sensor can confirm: confirmed nodes' open/on/held states and support edges."""
-    from gsr.skills.executor import symbolic_view
-
     sym = symbolic_view(graph)
     sym = sym.model_copy(
         update={
@@ -527,8 +514,6 @@ OBSERVABLE_PREDICATES = frozenset({"on", "in", "open", "holding"})
 
 def contradicted_effects(diagnosis: Any, graph: SceneGraph, domain: Any) -> list[str]:
     """A checked step's true effects on observable predicates that the observed graph contradicts."""
-    from gsr.facts import state_from_graph
-
     atoms = state_from_graph(graph, domain).atoms
     wrong = [f"{a}" for a in diagnosis.add if a.predicate in OBSERVABLE_PREDICATES and a not in atoms]
     wrong += [f"(not {a})" for a in diagnosis.delete if a.predicate in OBSERVABLE_PREDICATES and a in atoms]
