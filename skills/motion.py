@@ -293,12 +293,20 @@ class Motion:
         """Move the base so ``target`` lies about ``standoff`` in front of it (the arm's sweet spot).
 
         With ``poses``, the first base spot near there from which every pose has an IK solution wins
-        (tried before anything moves); UNREACHABLE if none does.
+        (tried before anything moves); UNREACHABLE if none does. A spot where the arm at ``poses[0]``
+        also touches nothing comes first (``plan_base(clear=True)``): beside a tall cabinet the first
+        reachable spot may put the upper arm into the carcass, and the joint move to the stroke's start
+        is then ``blocked`` where it begins; the first reachable spot when no spot is clear.
         """
         if not poses:
             self.move_base(float(target[0]) - standoff, float(target[1]))
             return
-        base, _start = self.plan_base(target, poses, standoff)
+        try:
+            base, _start = self.plan_base(target, poses, standoff, clear=True)
+        except SkillError as exc:
+            if exc.failure is Failure.TIMEOUT:
+                raise
+            base, _start = self.plan_base(target, poses, standoff)
         self.move_base(float(base[0]), float(base[1]))
 
     def plan_base(

@@ -76,3 +76,22 @@ def test_a_descent_that_would_flip_the_wrist_rebranches_above_the_drawer() -> No
         assert m.straight_path(down, world.robot.q()) is not None
         m.move_line(down[1], check=False)  # raises ik_flip without the re-branch
         assert float(np.linalg.norm(m.pose()[0] - down[1][0])) < 0.01
+
+
+LID_SNAPSHOT = Path(__file__).parent / "data" / "gcg_general_09_before_lid_open.bullet"
+
+
+def test_a_lid_behind_the_cabinet_opens_from_a_base_spot_where_the_arm_is_clear() -> None:
+    """``gsrgen_gg_general_09`` step 5, ``open red_lid_box``: the box stands 17 cm behind the cabinet's
+    back face, beside it. The base went to the first spot the stroke's poses reach, where the upper arm
+    (link 2) already lay in the carcass: the joint move to the stroke's start was ``blocked`` at its
+    first waypoint, four times. ``park_for`` now prefers a spot where the arm at the first pose touches
+    nothing. State saved before that step (seed 0, after steps 1-4)."""
+    import pybullet as p
+
+    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_gg_general_09")
+    with build_world(task, seed=0) as world:
+        p.restoreState(fileName=str(LID_SNAPSHOT), physicsClientId=world.client)
+        world.robot.hold(world.robot.q())
+        result = run_step(world, parse_step_text("(open red_lid_box)"))
+        assert result.ok, result.message
