@@ -20,8 +20,12 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from gsr.perception.camera import Camera
-from gsr.perception.frame import Frame, InstanceLabel
+from gsr.perception.belief import update_belief
+from gsr.perception.camera import Camera, load_camera
+from gsr.perception.detect import load_detector
+from gsr.perception.frame import Frame, InstanceLabel, load_depth, load_rgb
+from gsr.perception.pipeline import perceive
+from gsr.perception.track import Tracker
 
 from gsr.errors import GSRError
 from gsr.scene_graph import NODE_NAME, SceneGraph
@@ -132,8 +136,6 @@ def perceive_rgbd(
     timing: Timing | None = None,
 ) -> tuple[SceneGraph, list[Frame]]:
     """Perceive views (RGB-D + camera, no masks) with ``detector``: the graph and the detected frames."""
-    from gsr.perception.pipeline import perceive
-
     if not views:
         raise GSRError("perceive: no views given")
     frames = detect_frames(views, detector, timing)
@@ -157,12 +159,6 @@ def perceive_view_files(
 
     With ``previous`` (an earlier graph of the same scene), node ids follow it (:class:`~gsr.perception.track.Tracker`)
     and objects it explains as hidden stay in the graph (:func:`~gsr.perception.belief.update_belief`)."""
-    from gsr.perception.belief import update_belief
-    from gsr.perception.camera import load_camera
-    from gsr.perception.detect import load_detector
-    from gsr.perception.frame import load_depth, load_rgb
-    from gsr.perception.track import Tracker
-
     if not rgbs:
         raise GSRError("perceive: no view given (pass --rgb, --depth and --camera)")
     if len(depths) != len(rgbs):
