@@ -315,7 +315,7 @@ def or_split(part: Formula, params: set[str]) -> OrSplit | None:
 
 
 def _part_kind(part: Formula, join: bool, fluent: set[str]) -> int:
-    """How ``_variant`` grounds one conjunct (see Part)."""
+    """How ``general_variant`` grounds one conjunct (see Part)."""
     if isinstance(part, Atom):
         if part.predicate in fluent:
             return _FLUENT
@@ -371,7 +371,7 @@ def _split_disjunction(
     return alts[0] if len(alts) == 1 else Or(tuple(alts))
 
 
-def _variant(
+def general_variant(
     schema: Schema,
     si: int,
     parts: list[Part],
@@ -445,7 +445,7 @@ def _general(
     """The general path as a function of the binding alone."""
 
     def general(binding: dict[str, str]) -> Variant | None:
-        return _variant(schema, si, parts, binding, simplify, memo, cores)
+        return general_variant(schema, si, parts, binding, simplify, memo, cores)
 
     return general
 
@@ -580,7 +580,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     deferred: list[Deferred] = []
     effect_memo: EffectMemo = {}
     join_sizes: list[tuple[int, ...] | None] = [None] * len(schemas)
-    # Each schema's compiled precondition, handing a binding it cannot hold to _variant.
+    # Each schema's compiled precondition, handing a binding it cannot hold to general_variant.
     shared: dict = {}
     variant_of = [
         bind(factory, simplify, _general(schema, si, parts[si], simplify, part_memo, cores), shared)

@@ -1,7 +1,7 @@
 """Compiled per-schema precondition grounding: one generated Python function per action schema.
 
-``_variant`` in gsr.plan.ground interprets a schema's precondition conjuncts for every binding (a
-kind dispatch per conjunct, Formula objects for every simplified part, their relaxed cores, and
+``general_variant`` in gsr.plan.ground interprets a schema's precondition conjuncts for every
+binding (a kind dispatch per conjunct, Formula objects for every simplified part, their relaxed cores, and
 at interning a DNF scan of each). Here each schema's conjunct list is compiled once per domain
 into the source of a function (``compile``/``exec``) that, for one binding, builds the fluent
 literals as ``(predicate, args)`` keys inline, tests static atoms and (in)equalities inline, and
@@ -15,7 +15,7 @@ and inequalities, and any other conjunct whose simplified ground form (by the gr
 Simplifier, memoised per value of the conjunct's own variables) is a conjunction of literals and
 of disjunctions of conjunctions of literals. What is not: a binding under which some conjunct
 simplifies to anything deeper (a disjunction inside a conjunction inside a disjunction) is handed
-to the general ``_variant`` whole; the results are identical either way (tests compare both).
+to ``general_variant`` whole; the results are identical either way (tests compare both).
 """
 
 from __future__ import annotations

@@ -78,13 +78,13 @@ def test_a_deeper_conjunct_goes_to_the_general_path_with_the_same_result(monkeyp
     domain = parse_domain(_NESTED)
     problem = parse_problem(_NESTED_PROBLEM, domain=domain)
     calls = []
-    real = ground._variant
+    real = ground.general_variant
 
     def counting(*args, **kwargs):
         calls.append(args[0].name)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(ground, "_variant", counting)
+    monkeypatch.setattr(ground, "general_variant", counting)
     monkeypatch.setattr(ground, "COMPILED", True)
     compiled = ground.ground_task(domain, problem)
     assert "go" in calls  # the (or (p ?y) (and (q ?x ?y) (or ...))) instances are too deep
