@@ -25,6 +25,8 @@ STANDOFF = 0.5
 POS_TOL, ANG_TOL = 0.008, 0.08
 MAX_JOINT_JUMP = 0.5  # rad between consecutive 1 cm waypoints: more is an IK branch flip, not a motion
 JOINT_STEP = 0.03  # rad per waypoint of a joint-space move
+#: How far back (m) a base route is looked for with the arm's clearance checked on every leg.
+ROUTE_BACK_ARM = 0.2
 
 
 def _link_name(robot, link: int) -> str:
@@ -274,18 +276,38 @@ class Motion:
         off along x until the slide along y is clear, slide, come forward again; none when the straight
         slide is clear (or no backed-off slide is)."""
         r = self.robot
+        q = r.q()
 
-        def clear(a: np.ndarray, b: np.ndarray) -> bool:
+        def clear(a: np.ndarray, b: np.ndarray, arm: bool = False) -> bool:
             n = max(1, int(np.max(np.abs(b - a)) / 0.02))
-            return all(self._base_clear(a + (b - a) * i / n, margin=0.005) for i in range(1, n + 1))
+            for i in range(1, n + 1):
+                base = a + (b - a) * i / n
+                if not self._base_clear(base, margin=0.005):
+                    return False
+                if arm and self.first_hit(np.array((*base, *q[2:]))) is not None:
+                    return False
+            return True
 
         if clear(start, goal):
             return []
+        # a route whose every leg also keeps the arm, held as it is, off everything (the leg forward
+        # beside a cabinet's open drawer carried the shoulder into it and pushed the drawer shut),
+        # coming forward up to 10 cm to the side of the goal and sliding in at the end; the first route
+        # whose base alone is clear when there is none
+        fallback: list[np.ndarray] = []
         for back in np.arange(min(start[0], goal[0]) - 0.05, r.lower[0] - 1e-9, -0.05):
             a, b = np.array([back, start[1]]), np.array([back, goal[1]])
-            if clear(a, b):
-                return [a, b]
-        return []
+            if not clear(a, b):
+                continue
+            fallback = fallback or [a, b]
+            if back < min(start[0], goal[0]) - ROUTE_BACK_ARM:
+                break
+            for dy in (0.0, 0.05, -0.05, 0.1, -0.1):
+                side = [np.array([back, goal[1] + dy]), np.array([goal[0], goal[1] + dy])] if dy else [b]
+                legs = [start, a, *side, goal]
+                if all(clear(u, v, arm=True) for u, v in itertools.pairwise(legs)):
+                    return legs[1:-1]
+        return fallback
 
     def park_for(
         self, target: np.ndarray, standoff: float = STANDOFF, poses: list[Pose] | None = None

@@ -95,3 +95,25 @@ def test_a_lid_behind_the_cabinet_opens_from_a_base_spot_where_the_arm_is_clear(
         world.robot.hold(world.robot.q())
         result = run_step(world, parse_step_text("(open red_lid_box)"))
         assert result.ok, result.message
+
+
+DRAWER_SNAPSHOT = Path(__file__).parent / "data" / "sod_general_18_before_mug_pick.bullet"
+
+
+def test_a_base_slide_past_an_open_drawer_keeps_the_arm_off_it() -> None:
+    """``gsrgen_sod_general_18`` step 4, ``pick blue_mug2 table`` (the mug behind the cabinet, by its
+    side), with the top drawer open: the base backed off, slid sideways and came forward beside the
+    drawer with the arm held as it was; only the base and the arm's foot were checked, the shoulder
+    (link 1) met the open drawer and pushed it shut (``drawer_high: open -> -``, a divergence). The
+    route's legs now keep the whole arm clear. State saved before that step (seed 0, steps 1-3)."""
+    import pybullet as p
+
+    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_sod_general_18")
+    with build_world(task, seed=0) as world:
+        p.restoreState(fileName=str(DRAWER_SNAPSHOT), physicsClientId=world.client)
+        world.robot.hold(world.robot.q())
+        cab = world.objects["short_cabinet"]
+        assert world.joint_position(cab, "drawer_2") > 0.2  # the top drawer open
+        result = run_step(world, parse_step_text("(pick blue_mug2 table)"))
+        assert result.ok, result.message
+        assert world.joint_position(cab, "drawer_2") > 0.2
