@@ -242,9 +242,13 @@ def pick(world: World, m: Motion, obj: SimObject) -> None:
     while closes < MAX_CLOSES:
         tried = _approach(world, m, obj, z_transit, errors)
         if tried is None and not dragged:
-            # a small solid by a deep box's end wall: drag it towards the middle with the fingertips
+            # a small solid by a deep box's end wall: drag it towards the middle with the fingertips;
+            # only when no movable neighbour was in the candidates' way (the executor sets those aside
+            # first: a drag beside one left a cube in a drawer where every close slipped, SAS Complex 13)
             dragged = True
-            if _drag_inward(world, m, obj, z_transit, errors):
+            if not in_the_way(world, obj, [e.message for e in errors]) and _drag_inward(
+                world, m, obj, z_transit, errors
+            ):
                 tried = _approach(world, m, obj, z_transit, errors)
         if tried is None:
             break
