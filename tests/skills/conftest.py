@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -36,3 +37,26 @@ def bowl_world(bowl_task: TaskSpec):
     world = build_world(bowl_task, seed=0)
     yield world
     world.close()
+
+
+#: PyBullet states saved mid-episode (``p.saveBullet``) by the tests that replay a failure from there
+SNAPSHOTS = Path(__file__).parent / "data"
+
+
+@pytest.fixture
+def snapshot_world():
+    """Open the world of a generated GSR-Bench task (seed 0) at a saved mid-episode state, the arm held
+    where the state has it: ``with snapshot_world(task_id, "name.bullet") as world: ...``."""
+    import pybullet as p
+    from gsr.benchmarks.suites import get_suite
+    from gsr.skills.build import build_world
+
+    @contextmanager
+    def open_world(task_id: str, snapshot: str):
+        task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == task_id)
+        with build_world(task, seed=0) as world:
+            p.restoreState(fileName=str(SNAPSHOTS / snapshot), physicsClientId=world.client)
+            world.robot.hold(world.robot.q())
+            yield world
+
+    return open_world

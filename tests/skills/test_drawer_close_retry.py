@@ -13,11 +13,7 @@ first stroke), so the test does not depend on how the earlier steps' grasps went
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from gsr.benchmarks.suites import get_suite
-from gsr.skills.build import build_world
 from gsr.skills.library import run_step
 from gsr.skills.motion import Motion
 
@@ -25,16 +21,9 @@ from gsr.step_grammar import parse_step_text
 
 pytestmark = pytest.mark.physics
 
-SNAPSHOT = Path(__file__).parent / "data" / "gcg_general_14_after_short_push.bullet"
 
-
-def test_a_second_push_starts_clear_of_the_drawer_it_closes() -> None:
-    import pybullet as p
-
-    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_gg_general_14")
-    with build_world(task, seed=0) as world:
-        p.restoreState(fileName=str(SNAPSHOT), physicsClientId=world.client)
-        world.robot.hold(world.robot.q())
+def test_a_second_push_starts_clear_of_the_drawer_it_closes(snapshot_world) -> None:
+    with snapshot_world("gsrgen_gg_general_14", "gcg_general_14_after_short_push.bullet") as world:
         world.robot.command_gripper(0.0)  # a push is made with closed fingers
         cab = world.objects["short_cabinet"]
         # the situation: the drawer 9 cm out, a finger of the hand resting on it, the milk inside

@@ -14,11 +14,7 @@ its steps 1-4: both drawers opened, a cube put in the top one): the pick starts 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
-from gsr.benchmarks.suites import get_suite
-from gsr.skills.build import build_world
 from gsr.skills.library import run_step
 from gsr.skills.sim_graph import support_of
 
@@ -26,16 +22,9 @@ from gsr.step_grammar import parse_step_text
 
 pytestmark = pytest.mark.physics
 
-SNAPSHOT = Path(__file__).parent / "data" / "gcg_complex_06_above_mug.bullet"
 
-
-def test_a_mug_beside_the_cabinet_is_picked_along_the_checked_descent() -> None:
-    import pybullet as p
-
-    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_gg_complex_06")
-    with build_world(task, seed=0) as world:
-        p.restoreState(fileName=str(SNAPSHOT), physicsClientId=world.client)
-        world.robot.hold(world.robot.q())
+def test_a_mug_beside_the_cabinet_is_picked_along_the_checked_descent(snapshot_world) -> None:
+    with snapshot_world("gsrgen_gg_complex_06", "gcg_complex_06_above_mug.bullet") as world:
         cab = world.objects["short_cabinet"]
         mug = world.body_aabb(world.objects["yellow_mug1"].body)
         clo, chi = world.body_aabb(cab.body)
@@ -47,24 +36,17 @@ def test_a_mug_beside_the_cabinet_is_picked_along_the_checked_descent() -> None:
         assert support_of(world, "yellow_mug1") == ("held", "")
 
 
-FLIP_SNAPSHOT = Path(__file__).parent / "data" / "sas_complex_16_above_drawer_low.bullet"
-
-
-def test_a_descent_that_would_flip_the_wrist_rebranches_above_the_drawer() -> None:
+def test_a_descent_that_would_flip_the_wrist_rebranches_above_the_drawer(snapshot_world) -> None:
     """``gsrgen_ss_complex_16`` step 11, ``place_in yellow_cube5 short_cabinet/drawer_low``: the straight
     move over the drawer arrived with the wrist where the way down needs an IK branch flip (joint 5
     jumps 0.5 rad), ``ik_flip`` four times. The state is saved at that arrival (old motion), the cube
     in the hand; ``move_continuous`` now re-branches in joint space above the spot, and the straight
     way down (the place's descent, ``move_line`` as ``move_until_contact`` makes it) needs no flip."""
     import numpy as np
-    import pybullet as p
     from gsr.skills.motion import Motion
     from gsr.skills.robot import GRIPPER
 
-    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_ss_complex_16")
-    with build_world(task, seed=0) as world:
-        p.restoreState(fileName=str(FLIP_SNAPSHOT), physicsClientId=world.client)
-        world.robot.hold(world.robot.q())
+    with snapshot_world("gsrgen_ss_complex_16", "sas_complex_16_above_drawer_low.bullet") as world:
         world.robot.command_gripper(0.0, GRIPPER.grasp_force)
         m = Motion(world)
         m.ignore = {world.objects["yellow_cube5"].body}
@@ -78,40 +60,26 @@ def test_a_descent_that_would_flip_the_wrist_rebranches_above_the_drawer() -> No
         assert float(np.linalg.norm(m.pose()[0] - down[1][0])) < 0.01
 
 
-LID_SNAPSHOT = Path(__file__).parent / "data" / "gcg_general_09_before_lid_open.bullet"
-
-
-def test_a_lid_behind_the_cabinet_opens_from_a_base_spot_where_the_arm_is_clear() -> None:
+def test_a_lid_behind_the_cabinet_opens_from_a_base_spot_where_the_arm_is_clear(snapshot_world) -> None:
     """``gsrgen_gg_general_09`` step 5, ``open red_lid_box``: the box stands 17 cm behind the cabinet's
     back face, beside it. The base went to the first spot the stroke's poses reach, where the upper arm
     (link 2) already lay in the carcass: the joint move to the stroke's start was ``blocked`` at its
     first waypoint, four times. ``park_for`` now prefers a spot where the arm at the first pose touches
     nothing. State saved before that step (seed 0, after steps 1-4)."""
-    import pybullet as p
 
-    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_gg_general_09")
-    with build_world(task, seed=0) as world:
-        p.restoreState(fileName=str(LID_SNAPSHOT), physicsClientId=world.client)
-        world.robot.hold(world.robot.q())
+    with snapshot_world("gsrgen_gg_general_09", "gcg_general_09_before_lid_open.bullet") as world:
         result = run_step(world, parse_step_text("(open red_lid_box)"))
         assert result.ok, result.message
 
 
-DRAWER_SNAPSHOT = Path(__file__).parent / "data" / "sod_general_18_before_mug_pick.bullet"
-
-
-def test_a_base_slide_past_an_open_drawer_keeps_the_arm_off_it() -> None:
+def test_a_base_slide_past_an_open_drawer_keeps_the_arm_off_it(snapshot_world) -> None:
     """``gsrgen_sod_general_18`` step 4, ``pick blue_mug2 table`` (the mug behind the cabinet, by its
     side), with the top drawer open: the base backed off, slid sideways and came forward beside the
     drawer with the arm held as it was; only the base and the arm's foot were checked, the shoulder
     (link 1) met the open drawer and pushed it shut (``drawer_high: open -> -``, a divergence). The
     route's legs now keep the whole arm clear. State saved before that step (seed 0, steps 1-3)."""
-    import pybullet as p
 
-    task = next(t for t in get_suite("gsr-bench-gen").tasks(None, 0) if t.id == "gsrgen_sod_general_18")
-    with build_world(task, seed=0) as world:
-        p.restoreState(fileName=str(DRAWER_SNAPSHOT), physicsClientId=world.client)
-        world.robot.hold(world.robot.q())
+    with snapshot_world("gsrgen_sod_general_18", "sod_general_18_before_mug_pick.bullet") as world:
         cab = world.objects["short_cabinet"]
         assert world.joint_position(cab, "drawer_2") > 0.2  # the top drawer open
         result = run_step(world, parse_step_text("(pick blue_mug2 table)"))
