@@ -87,7 +87,7 @@ class Motion:
         import pybullet as p
 
         w, r = self.world, self.robot
-        saved = r.q()
+        saved = r.snapshot()
         r.reset(q)
         try:
             for o in w.objects.values():
@@ -101,7 +101,7 @@ class Motion:
                 return f"table at the {_link_name(r, pt[3])}", int(pt[3])
             return None
         finally:
-            r.reset(saved)
+            r.restore(saved)
 
     def line(
         self, start: Pose, goal: Pose, seed: np.ndarray, check: bool = True, until_contact: bool = False
@@ -386,8 +386,8 @@ class Motion:
         import pybullet as p
 
         r, w = self.robot, self.world
-        saved = r.q()
-        q = saved.copy()
+        saved = r.snapshot()
+        q = saved[0].copy()
         q[:2] = base
         r.reset(q)
         try:
@@ -397,13 +397,13 @@ class Motion:
                         return False
             return True
         finally:
-            r.reset(saved)
+            r.restore(saved)
 
     def straight_path(self, poses: list[Pose], start: np.ndarray) -> list[np.ndarray] | None:
         """The configurations of the straight moves through ``poses`` (1 cm apart, ``start`` at
         ``poses[0]`` first, the base where ``start`` has it), or None where one needs an IK branch flip;
         nothing is checked for collision and the robot is left as it was."""
-        saved = self.robot.q()
+        saved = self.robot.snapshot()
         try:
             q, out = start, [start]
             for a, b in itertools.pairwise(poses):
@@ -417,7 +417,7 @@ class Motion:
         except SkillError:
             return None
         finally:
-            self.robot.reset(saved)
+            self.robot.restore(saved)
 
     def descend_planned(self, poses: list[Pose]) -> None:
         """From above a target, move down through ``poses`` (the reverse of what :meth:`plan_base` was
@@ -447,7 +447,7 @@ class Motion:
     def continuous_start(self, poses: list[Pose], base: np.ndarray) -> np.ndarray | None:
         """An arm configuration at ``poses[0]`` from which straight moves through the poses (in order)
         need no IK branch flip (which position control cannot track), with the base at ``base``; or None."""
-        saved = self.robot.q()
+        saved = self.robot.snapshot()
         try:
             for seed in (ARM_HOME, ARM_FRONT):
                 start = self.robot.ik(
@@ -473,7 +473,7 @@ class Motion:
                     return start
             return None
         finally:
-            self.robot.reset(saved)
+            self.robot.restore(saved)
 
     def move_joint(self, goal: np.ndarray, check: bool = True) -> None:
         """Move the arm in joint space to ``goal`` (base fixed), every waypoint collision-checked."""

@@ -91,6 +91,8 @@ class Robot:
     ee: int = 13
     lower: list[float] = field(default_factory=list)
     upper: list[float] = field(default_factory=list)
+    # the rail and arm motors' position targets as last commanded (:meth:`hold`)
+    held: np.ndarray | None = field(default=None, repr=False)
 
     @classmethod
     def load(
@@ -160,6 +162,26 @@ class Robot:
         s = p.getLinkState(self.body, self.ee, computeForwardKinematics=True, physicsClientId=self.client)
         return np.array(s[4]), np.array(s[5])
 
+    def snapshot(self) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """Rail and arm positions, velocities and motor targets, for :meth:`restore` after a probe."""
+        import pybullet as p
+
+        states = p.getJointStates(self.body, self.joints, physicsClientId=self.client)
+        held = None if self.held is None else self.held.copy()
+        return np.array([s[0] for s in states]), np.array([s[1] for s in states]), held
+
+    def restore(self, snap: tuple[np.ndarray, np.ndarray, np.ndarray | None]) -> None:
+        """Put back what :meth:`snapshot` saved: a probe that set joints (IK, collision checks) leaves
+        the moving arm as it was. Restoring by :meth:`reset` to the measured positions would zero the
+        joints' velocities and re-target the motors where the arm sagged under its load, so every probe
+        let a loaded arm drift a little further (measured: LIBERO KITCHEN_SCENE6's mug release)."""
+        import pybullet as p
+
+        q, dq, held = snap
+        for j, v, w in zip(self.joints, q, dq, strict=True):
+            p.resetJointState(self.body, j, float(v), float(w), physicsClientId=self.client)
+        self.hold(q if held is None else held)
+
     def reset(self, q: tuple[float, ...] | np.ndarray, fingers: float | None = None) -> None:
         """Set joint positions directly (world setup and collision checking only, never during a skill)."""
         import pybullet as p
@@ -175,6 +197,7 @@ class Robot:
         """Command the rail and arm to hold positions ``q``."""
         import pybullet as p
 
+        self.held = np.array(q, dtype=float)
         forces = [2000.0, 2000.0] + [87.0] * 4 + [12.0] * 3
         p.setJointMotorControlArray(
             self.body,
@@ -211,7 +234,7 @@ class Robot:
         """Base + arm positions putting the grasp point at ``pos`` with orientation ``quat``, base fixed at ``base``."""
         import pybullet as p
 
-        saved = self.q()
+        saved = self.snapshot()
         q = np.array(seed if seed is not None else (*base, *ARM_HOME), dtype=float)
         q[:2] = base
         # a huge damping on the rails keeps the solver from using them: the skill positions the base
@@ -234,7 +257,7 @@ class Robot:
             got = self.ee_pose()[0]
             if float(np.linalg.norm(got - np.asarray(pos))) < 1e-3:
                 break
-        self.reset(saved)
+        self.restore(saved)
         dp, da = self.fk_error(q, np.asarray(pos), quat)
         if (dp > 1e-3 or da > 1e-2) and dp < 0.05:  # PyBullet's solver stalls near some orientations
             q = self.refine(q, np.asarray(pos), quat, iters=60)
@@ -246,7 +269,7 @@ class Robot:
         """Damped-least-squares IK on the 7 arm joints (base fixed) from ``q0``; pulls towards mid-range."""
         import pybullet as p
 
-        saved = self.q()
+        saved = self.snapshot()
         q = np.array(q0, dtype=float)
         lo, hi = np.array(self.lower[2:9]), np.array(self.upper[2:9])
         mid = (lo + hi) / 2
@@ -288,7 +311,7 @@ class Robot:
             step += null @ (0.05 * (mid - q[2:9]))
             scale = max(1.0, float(np.max(np.abs(step))) / 0.2)
             q[2:9] = np.clip(q[2:9] + step / scale, lo + 1e-3, hi - 1e-3)
-        self.reset(saved)
+        self.restore(saved)
         return q
 
     def fk_error(
@@ -297,10 +320,10 @@ class Robot:
         """Position (m) and orientation (rad) error of configuration ``q`` against a target pose."""
         import pybullet as p
 
-        saved = self.q()
+        saved = self.snapshot()
         self.reset(q)
         got_p, got_q = self.ee_pose()
-        self.reset(saved)
+        self.restore(saved)
         dq = p.getDifferenceQuaternion(list(got_q), list(quat))
         angle = 2 * math.acos(min(1.0, abs(dq[3])))
         return float(np.linalg.norm(got_p - np.asarray(pos))), angle

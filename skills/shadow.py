@@ -47,7 +47,7 @@ def pickable(world: World, obj: SimObject) -> bool:
 
     m = Motion(world)
     m.ignore = {obj.body}
-    saved = world.robot.q()
+    saved = world.robot.snapshot()
     centre = (world.body_aabb(obj.body)[0] + world.body_aabb(obj.body)[1]) / 2
     z = transit_height(world)
     try:
@@ -61,7 +61,7 @@ def pickable(world: World, obj: SimObject) -> bool:
                 continue
         return False
     finally:
-        world.robot.reset(saved)
+        world.robot.restore(saved)
 
 
 def _free(world: World, obj: SimObject) -> bool:
