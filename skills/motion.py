@@ -288,8 +288,15 @@ class Motion:
                     return False
             return True
 
-        if clear(start, goal):
-            return []
+        if not clear(start, goal):
+            straight = False
+        elif self.first_hit(np.array((*start, *q[2:]))) is not None or clear(start, goal, arm=True):
+            return []  # (an arm that touches something where it starts: the arm check cannot help)
+        else:
+            # the base slides clear but the arm, held as it is, would sweep through something: a pick's
+            # straight slide along the cabinet's front carried the arm into the open top drawer and
+            # pushed it 8 cm shut (gsrgen_sod_general_09), so the packing found no floor spot left
+            straight = True
         # a route whose every leg also keeps the arm, held as it is, off everything (the leg forward
         # beside a cabinet's open drawer carried the shoulder into it and pushed the drawer shut),
         # coming forward up to 10 cm to the side of the goal and sliding in at the end; the first route
@@ -307,7 +314,7 @@ class Motion:
                 legs = [start, a, *side, goal]
                 if all(clear(u, v, arm=True) for u, v in itertools.pairwise(legs)):
                     return legs[1:-1]
-        return fallback
+        return [] if straight else fallback
 
     def park_for(
         self, target: np.ndarray, standoff: float = STANDOFF, poses: list[Pose] | None = None
