@@ -85,3 +85,17 @@ def test_a_base_slide_past_an_open_drawer_keeps_the_arm_off_it(snapshot_world) -
         result = run_step(world, parse_step_text("(pick blue_mug2 table)"))
         assert result.ok, result.message
         assert world.joint_position(cab, "drawer_2") > 0.2
+
+
+def test_a_straight_base_slide_keeps_the_held_arm_off_an_open_drawer(snapshot_world) -> None:
+    """``gsrgen_sod_general_09``, ``pick yellow_mug2 table`` with the top drawer open: the pick's checked path
+    chose a base spot along the cabinet's front, and the straight slide there was checked for the base only;
+    the arm, held as it was, swept into the open drawer and pushed it 0.234 -> 0.153 m shut (still "open" for
+    the graph), so later mugs lost their floor spots. The straight slide now keeps the arm clear too
+    (``Motion._base_route``). State saved before that step (seed 0, after its earlier steps)."""
+    with snapshot_world("gsrgen_sod_general_09", "sod_general_09_before_mug2_pick.bullet") as world:
+        cab = world.objects["short_cabinet"]
+        assert world.joint_position(cab, "drawer_2") > 0.23  # the top drawer open
+        result = run_step(world, parse_step_text("(pick yellow_mug2 table)"))
+        assert result.ok, result.message
+        assert world.joint_position(cab, "drawer_2") > 0.22
