@@ -366,15 +366,15 @@ class Motion:
             for dy in (0.0, -0.08, 0.08, -0.16, 0.16, -0.25, 0.25):
                 base = np.clip([target[0] - standoff + dx, target[1] + dy], r.lower[:2], r.upper[:2])
                 if self._base_clear(base) and all(self._reachable(pose, base) for pose in poses):
-                    start = self.continuous_start(poses, base)
-                    if start is None:
+                    found = self.continuous_path(poses, base)
+                    if found is None:
                         continue
+                    start, qs = found
                     hit = self.first_hit(start) if clear else None
                     if hit is None and clear and path:
-                        qs = self.straight_path(poses, start)
-                        hit = next((h for q in qs or [] for h in [self.first_hit(q)] if h is not None), None)
-                        if qs is None or hit is not None:
-                            arm_hit = arm_hit or (hit[0] if hit else None)
+                        hit = next((h for q in qs for h in [self.first_hit(q)] if h is not None), None)
+                        if hit is not None:
+                            arm_hit = arm_hit or hit[0]
                             continue
                         self.planned_path = qs
                     if hit is None:
@@ -454,33 +454,23 @@ class Motion:
     def continuous_start(self, poses: list[Pose], base: np.ndarray) -> np.ndarray | None:
         """An arm configuration at ``poses[0]`` from which straight moves through the poses (in order)
         need no IK branch flip (which position control cannot track), with the base at ``base``; or None."""
-        saved = self.robot.snapshot()
-        try:
-            for seed in (ARM_HOME, ARM_FRONT):
-                start = self.robot.ik(
-                    np.asarray(poses[0][0]), poses[0][1], base, seed=np.array((*base, *seed))
-                )
-                dp, da = self.robot.fk_error(start, np.asarray(poses[0][0]), poses[0][1])
-                if dp >= POS_TOL or da >= ANG_TOL:
-                    continue
-                q, smooth = start, True
-                try:
-                    for a, b in itertools.pairwise(poses):
-                        self.robot.reset(q)
-                        for nxt in self.line(a, b, q, check=False):
-                            if float(np.max(np.abs(nxt[2:] - q[2:]))) > MAX_JOINT_JUMP:
-                                smooth = False
-                                break
-                            q = nxt
-                        if not smooth:
-                            break
-                except SkillError:
-                    continue
-                if smooth:
-                    return start
-            return None
-        finally:
-            self.robot.restore(saved)
+        found = self.continuous_path(poses, base)
+        return None if found is None else found[0]
+
+    def continuous_path(
+        self, poses: list[Pose], base: np.ndarray
+    ) -> tuple[np.ndarray, list[np.ndarray]] | None:
+        """:meth:`continuous_start` with the configurations of its straight moves (:meth:`straight_path`);
+        the robot is left as it was (each probe restores it)."""
+        for seed in (ARM_HOME, ARM_FRONT):
+            start = self.robot.ik(np.asarray(poses[0][0]), poses[0][1], base, seed=np.array((*base, *seed)))
+            dp, da = self.robot.fk_error(start, np.asarray(poses[0][0]), poses[0][1])
+            if dp >= POS_TOL or da >= ANG_TOL:
+                continue
+            qs = self.straight_path(poses, start)
+            if qs is not None:
+                return start, qs
+        return None
 
     def move_joint(self, goal: np.ndarray, check: bool = True) -> None:
         """Move the arm in joint space to ``goal`` (base fixed), every waypoint collision-checked."""
