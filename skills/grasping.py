@@ -203,7 +203,7 @@ def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tupl
     (:func:`gsr.skills.hand_clearance.clear_grasps`). Inside a container (a deep box) the cleared ones
     come first: there the model's poses put the hand into the walls.
     """
-    from gsr.skills.hand_clearance import clear_grasps, hand_clear
+    from gsr.skills.hand_clearance import clear_grasps, hand_clear, rim_pinches
 
     model = [(pos, quat, min(GRIPPER.open_width, w + 0.035)) for pos, quat, w in grasp_candidates(world, obj)]
     whole = [g for g in obj.model.grasps if math.hypot(*g.xyz[:2]) < 1e-6]
@@ -212,6 +212,9 @@ def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tupl
         return model[:12]
     site, _ = site_pose(world, obj, whole[0])
     cleared = [(g.pos, g.quat, g.opening) for g in clear_grasps(world, obj, site, whole[0].width)]
+    # a small mug's rim pinched (one finger inside it) after the whole-body grasps: it needs a finger's
+    # room on one side only
+    cleared += [(g.pos, g.quat, g.opening) for g in rim_pinches(world, obj)]
     if (support_of(world, obj.id) or ("", ""))[0] == "in":
         return (cleared + model)[:MAX_CANDIDATES]
     # beside tall neighbours the model's grasps keep their order (the leaning ones hold a package the
