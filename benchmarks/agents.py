@@ -24,7 +24,7 @@ from gsr.errors import GSRError
 from gsr.facts import problem_from_graph
 from gsr.pddl.model import TRUE, Domain, Formula
 from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.reason import Reasoner, SolveOptions
 from gsr.scene_graph import SceneGraph
 from gsr.step import Step

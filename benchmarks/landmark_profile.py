@@ -20,7 +20,7 @@ from pathlib import Path
 
 from gsr.errors import GSRError
 from gsr.pddl.parser import load_domain, load_problem
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import lazy_lama

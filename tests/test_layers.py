@@ -199,6 +199,51 @@ def test_the_private_name_check_sees_every_kind(tmp_path: Path, source: str, bad
     assert bool(private_crossings(f)) is bad
 
 
+#: Packages whose ``__init__`` is their whole API: project modules outside one import it, never its
+#: modules (tests may, for white-box checks). Grounding's stages (issue 15) change shape freely inside.
+SEALED_PACKAGES = ("gsr.plan.grounding",)
+
+
+def sealed_package_reaches(path: Path, sealed: tuple[str, ...] = SEALED_PACKAGES) -> list[str]:
+    """``file:line: module`` for each import by ``path`` of a module inside a sealed package it is not in."""
+    own = _module_name(path) if path.is_relative_to(REPO) else ""
+    found = []
+    for line, module in _imports(path):
+        for package in sealed:
+            inside_module = module.startswith(package + ".") and _module_path(module) is not None
+            if inside_module and not (own == package or own.startswith(package + ".")):
+                found.append(
+                    f"{path.relative_to(REPO) if path.is_relative_to(REPO) else path}:{line}: {module}"
+                )
+    return found
+
+
+def test_sealed_packages_are_imported_through_their_init() -> None:
+    problems = [
+        line
+        for layer in LAYERS
+        for path in sorted((REPO / layer).rglob("*.py"))
+        for line in sealed_package_reaches(path)
+    ]
+    assert not problems, "import these names from the package, not its modules:\n" + "\n".join(problems)
+
+
+@pytest.mark.parametrize(
+    ("source", "bad"),
+    [
+        ("from gsr.plan.grounding.fixpoint import ground_task\n", True),
+        ("def f():\n    import gsr.plan.grounding.intern\n", True),
+        ("from gsr.plan.grounding import intern\n", True),
+        ("from gsr.plan.grounding import ground_task\n", False),
+        ("import gsr.plan.grounding\n", False),
+    ],
+)
+def test_the_sealed_package_check_sees_every_kind(tmp_path: Path, source: str, bad: bool) -> None:
+    f = tmp_path / "m.py"
+    f.write_text(source)
+    assert bool(sealed_package_reaches(f)) is bad
+
+
 def _registered_commands() -> dict[str, str]:
     """The ``gsr.cli`` entry points pyproject.toml declares: name -> ``module:function``."""
     data = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))

@@ -19,9 +19,8 @@ from gsr.datagen.scene import Scene
 from gsr.datagen.serialize import graph_dict
 from gsr.facts import DYNAMIC_PREDICATES, problem_from_graph, state_from_graph
 from gsr.pddl.model import TRUE, Atom, Domain
-from gsr.plan.ground import ground_goal, ground_task
+from gsr.plan.grounding import ground_goal, ground_task, normalize_action
 from gsr.plan.heuristics import Relaxation
-from gsr.plan.normalize import normalize_action
 from gsr.plan.search import lazy_gbfs
 from gsr.plan.task import Task, mask
 from gsr.scene_graph import SceneGraph

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula, Problem
-from gsr.plan.ground import GroundingTimeout, ground_task
+from gsr.plan.grounding import GroundingTimeout, ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama

@@ -8,7 +8,7 @@ import math
 from gsr.check import check_step
 from gsr.facts import problem_from_graph, state_from_graph
 from gsr.pddl.model import TRUE, Domain
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.reason.examples import claimed_effects
 from gsr.scene_graph import SceneGraph
 from gsr.semantics import compile_domain

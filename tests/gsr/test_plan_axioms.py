@@ -143,7 +143,7 @@ def test_validating_a_plan_never_grounds_the_task() -> None:
 
 def test_landmarks_of_a_logistics_like_task_and_the_lama_planner() -> None:
     """Goal facts are landmarks, and preconditions shared by all first achievers precede them."""
-    from gsr.plan.ground import ground_task
+    from gsr.plan.grounding import ground_task
     from gsr.plan.landmarks import Landmarks
 
     domain = parse_domain(

@@ -1,5 +1,5 @@
 """Case-analysis preconditions (a top-level disjunction of conjunctions with equalities) are split
-into one schema per case with the equalities joined (gsr.plan.normalize.split_cases)."""
+into one schema per case with the equalities joined (gsr.plan.grounding.normalize.split_cases)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import itertools
 import pytest
 
 from gsr.pddl.parser import parse_domain, parse_problem
-from gsr.plan import ground as ground_module
 from gsr.plan import ground_task, plan
-from gsr.plan.normalize import EQUALS, normalize_action, split_cases
+from gsr.plan.grounding import fixpoint as ground_module
+from gsr.plan.grounding.normalize import EQUALS, normalize_action, split_cases
 from gsr.validate import validate_plan
 
 GRID = """

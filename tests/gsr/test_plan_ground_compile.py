@@ -1,4 +1,4 @@
-"""The compiled per-schema preconditions (gsr.plan.ground_compile) ground exactly what the general
+"""The compiled per-schema preconditions (gsr.plan.grounding.compiled) ground exactly what the general
 path grounds, share memo tables between alpha-equivalent conjuncts, and hand the shapes they do not
 hold to the general path."""
 
@@ -11,9 +11,10 @@ from gsr.facts import problem_from_graph
 from gsr.pddl.files import find_domain_file
 from gsr.pddl.model import And, Atom, Exists, Forall, Not, Or, TypedVar
 from gsr.pddl.parser import load_domain, load_problem, parse_domain, parse_problem
-from gsr.plan import ground, plan
-from gsr.plan.ground import grounding_tables
-from gsr.plan.ground_compile import GENERAL, canonical, key_cnf
+from gsr.plan import plan
+from gsr.plan.grounding import fixpoint as ground
+from gsr.plan.grounding import grounding_tables
+from gsr.plan.grounding.compiled import GENERAL, canonical, key_cnf
 from gsr.resources import load_builtin_domain
 
 

@@ -8,7 +8,7 @@ import pytest
 
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan
-from gsr.plan.ground import GroundingTimeout, ground_task
+from gsr.plan.grounding import GroundingTimeout, ground_task
 from tests.data_paths import PDDL
 
 BLOCKS = PDDL / "blocks"

@@ -11,12 +11,12 @@ from gsr.benchmarks.bench_planner import long_tabletop_task
 from gsr.facts import problem_from_graph
 from gsr.pddl.model import TRUE, And, Atom, Not, Or
 from gsr.plan import plan
-from gsr.plan.effects import Variant
-from gsr.plan.ground import ObjectsByType, ground_task, grounding_tables, schema_bindings
+from gsr.plan.grounding import ObjectsByType, ground_task, grounding_tables, schema_bindings
+from gsr.plan.grounding.effects import Variant
+from gsr.plan.grounding.intern import precondition_dnf
+from gsr.plan.grounding.precondition import fast_dnf, id_dnf, relaxed, relaxed_core
+from gsr.plan.grounding.simplify import Simplifier
 from gsr.plan.heuristics import Relaxation
-from gsr.plan.intern import precondition_dnf
-from gsr.plan.precondition import fast_dnf, id_dnf, relaxed, relaxed_core
-from gsr.plan.simplify import Simplifier
 from gsr.resources import load_builtin_domain
 from gsr.validate import validate_plan
 
@@ -181,7 +181,7 @@ def test_split_disjunctions_ground_the_same_task(monkeypatch) -> None:
     # Disjunctions over all of an action's variables are split into groups over fewer variables
     # (pick's (imply (in ?o ?from) ...)); grounding without the split gives the very same task.
     # (A copy of the domain is a new identity, so its grounding tables are compiled afresh.)
-    import gsr.plan.ground as ground
+    import gsr.plan.grounding.fixpoint as ground
 
     domain = copy.copy(_tabletop())
     tables = ground.grounding_tables(domain)

@@ -11,7 +11,7 @@ from gsr.benchmarks.bench_planner import long_tabletop_task
 from gsr.facts import problem_from_graph
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan, relax_jit
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.resources import load_builtin_domain
 from gsr.validate import validate_plan

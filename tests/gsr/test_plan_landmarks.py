@@ -11,7 +11,7 @@ import pytest
 
 from gsr.pddl.parser import parse_domain, parse_problem
 from gsr.plan import plan
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.landmarks import Landmarks
 from gsr.validate import validate_plan
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import gsr.plan.relax_c
 import gsr.plan.relax_jit
 from gsr.pddl.parser import load_domain, load_problem
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import Relaxation
 from gsr.plan.relax_arrays import UnaryRelaxation
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from gsr.pddl.parser import load_domain, load_problem
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import OP_IDS, take_next
 

@@ -15,7 +15,7 @@ from gsr.pddl.model import And, Atom, Not
 from gsr.pddl.parser import parse_domain, parse_problem
 from gsr.plan import plan, plan_graph
 from gsr.plan.fast_downward import find_fast_downward, run_fast_downward
-from gsr.plan.ground import ground_task
+from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import Relaxation
 from gsr.resources import load_builtin_domain
 from gsr.step import Goal
@@ -158,7 +158,7 @@ def test_incremental_hadd_equals_counting_from_scratch_and_the_heap_version(
 def test_domain_tables_are_reused_per_domain_object_and_match_a_fresh_parse() -> None:
     # ground_task compiles the domain-only tables (normalised schemas, effect groups) once per
     # domain object; a freshly parsed copy of the domain must ground to the very same task.
-    from gsr.plan.ground import grounding_tables
+    from gsr.plan.grounding import grounding_tables
     from gsr.resources import domain_path
 
     domain = _tabletop()
@@ -249,9 +249,9 @@ def test_negative_preconditions_optimal_cost_matches_fast_downward_lmcut(n: int,
 
 
 def test_fast_simplifier_equals_reference_ground_simplify(libero_dir: Path) -> None:
-    from gsr.plan.ground import ObjectsByType
-    from gsr.plan.normalize import ground_simplify, normalize_action, to_dnf
-    from gsr.plan.simplify import Simplifier
+    from gsr.plan.grounding import ObjectsByType
+    from gsr.plan.grounding.normalize import ground_simplify, normalize_action, to_dnf
+    from gsr.plan.grounding.simplify import Simplifier
 
     domain = _tabletop()
     _, graph, goal, _ = long_tabletop_task(3)

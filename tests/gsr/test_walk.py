@@ -7,7 +7,7 @@ import itertools
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import gsr.plan.simplify as simplify
+import gsr.plan.grounding.simplify as simplify
 import gsr.semantics as semantics
 from gsr.pddl.model import (
     And,

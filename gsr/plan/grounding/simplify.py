@@ -32,7 +32,7 @@ from gsr.pddl.model import (
     TypedVar,
 )
 from gsr.pddl.walk import free_variables  # the one copy; the grounder imports it from here
-from gsr.plan.normalize import nnf
+from gsr.plan.grounding.normalize import nnf
 
 
 class TypedObjects(Protocol):

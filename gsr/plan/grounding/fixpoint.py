@@ -1,7 +1,7 @@
-"""Grounding: relaxed-reachability fixpoint with static-predicate pruning, then interning into a Task.
+"""The grounding fixpoint: relaxed reachability with static-predicate pruning, then interning into a Task.
 
 The fixpoint lists bindings, grounds preconditions and fires actions here; effect grounding is in
-gsr.plan.effects, interning into a Task in gsr.plan.intern.
+gsr.plan.grounding.effects, interning into a Task in gsr.plan.grounding.intern.
 """
 
 from __future__ import annotations
@@ -26,7 +26,8 @@ from gsr.pddl.model import (
     Problem,
     is_variable,
 )
-from gsr.plan.effects import (
+from gsr.plan.grounding.compiled import bind, compile_schema
+from gsr.plan.grounding.effects import (
     Deferred,
     EffectGroup,
     EffectMemo,
@@ -36,26 +37,24 @@ from gsr.plan.effects import (
     ground_group,
     new_adds,
 )
-from gsr.plan.ground_compile import bind, compile_schema
-from gsr.plan.intern import axiom_action, ground_goal, intern_task
-from gsr.plan.normalize import (
+from gsr.plan.grounding.intern import axiom_action, intern_task
+from gsr.plan.grounding.normalize import (
     EQUALS,
     Schema,
     normalize_action,
     split_cases,
 )
-from gsr.plan.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
-from gsr.plan.simplify import ObjectsByType, Simplifier, free_variables
+from gsr.plan.grounding.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
+from gsr.plan.grounding.simplify import ObjectsByType, Simplifier, free_variables
 from gsr.plan.task import Task
 
 __all__ = [
     "GroundingTables",
     "GroundingTimeout",
-    "ground_goal",
     "ground_task",
     "grounding_tables",
     "schema_bindings",
-]  # ground_goal lives in gsr.plan.intern; re-exported here
+]
 
 
 class GroundingTimeout(GSRError):
@@ -450,7 +449,7 @@ def _general(
     return general
 
 
-# The compiled preconditions (gsr.plan.ground_compile) on or off (tests compare both paths).
+# The compiled preconditions (gsr.plan.grounding.compiled) on or off (tests compare both paths).
 COMPILED = os.environ.get("GSR_GROUND_COMPILED", "1") != "0"
 
 
@@ -466,7 +465,7 @@ class GroundingTables:
     parts: list[list[Part]]
     disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see schema_bindings)
     triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
-    factories: list  # compiled preconditions (gsr.plan.ground_compile), one per schema
+    factories: list  # compiled preconditions (gsr.plan.grounding.compiled), one per schema
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a

@@ -1,14 +1,14 @@
 """Effect grounding: a schema's effect groups, a fired action's ground effect blocks, and the add
-effects they queue for the reachability fixpoint (see gsr.plan.ground)."""
+effects they queue for the reachability fixpoint (see gsr.plan.grounding.fixpoint)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from gsr.pddl.model import Atom, Formula, Not, TypedVar, is_variable
-from gsr.plan.normalize import Conjunction, Schema, to_dnf
-from gsr.plan.precondition import AtomKey
-from gsr.plan.simplify import Simplifier
+from gsr.plan.grounding.normalize import Conjunction, Schema, to_dnf
+from gsr.plan.grounding.precondition import AtomKey
+from gsr.plan.grounding.simplify import Simplifier
 
 # Ground effects come in blocks (base, parts), each part (inner, atoms): every (atom, is_delete) of
 # a part takes effect under the union of base and inner. The parts list of a memoised effect group
@@ -42,11 +42,11 @@ class Variant:
     core: tuple[Formula, ...]  # what the delete relaxation tests of ``compound`` (see relaxed_core)
     effects: list[EffectBlock] | None = None
     fired: bool = False
-    # Disjunctive conjuncts in key form (the compiled path, gsr.plan.ground_compile): per choice,
+    # Disjunctive conjuncts in key form (the compiled path, gsr.plan.grounding.compiled): per choice,
     # (its alternatives as (positive keys, negative keys), the positive keys of each alternative
     # or None when one has none: what the delete relaxation tests).
     choices: tuple = ()
-    # Memoised conjuncts in key form (gsr.plan.ground_compile.KeyCnf), shared by many actions;
+    # Memoised conjuncts in key form (gsr.plan.grounding.compiled.KeyCnf), shared by many actions;
     # their positive keys are in ``pos`` too.
     pieces: tuple = ()
 

@@ -1,6 +1,6 @@
 """Compiled per-schema precondition grounding: one generated Python function per action schema.
 
-``general_variant`` in gsr.plan.ground interprets a schema's precondition conjuncts for every
+``general_variant`` in gsr.plan.grounding.fixpoint interprets a schema's precondition conjuncts for every
 binding (a kind dispatch per conjunct, Formula objects for every simplified part, their relaxed cores, and
 at interning a DNF scan of each). Here each schema's conjunct list is compiled once per domain
 into the source of a function (``compile``/``exec``) that, for one binding, builds the fluent
@@ -8,7 +8,7 @@ literals as ``(predicate, args)`` keys inline, tests static atoms and (in)equali
 takes every other conjunct from a memo over the values of its own variables, in *key form*: a
 conjunction of key literals and *choices* (disjunctions whose alternatives are conjunctions of
 key literals), with each choice's delete-relaxed test precomputed. The search task then needs no
-per-binding Formula, relaxed core or DNF scan (gsr.plan.intern converts choices once per object).
+per-binding Formula, relaxed core or DNF scan (gsr.plan.grounding.intern converts choices once per object).
 
 What is compiled: atoms and negated atoms (fluent: keys; static: membership tests), equalities
 and inequalities, and any other conjunct whose simplified ground form (by the grounding's
@@ -38,10 +38,10 @@ from gsr.pddl.model import (
     TypedVar,
     is_variable,
 )
-from gsr.plan.effects import Variant
-from gsr.plan.normalize import Schema
-from gsr.plan.precondition import AtomKey
-from gsr.plan.simplify import Simplifier
+from gsr.plan.grounding.effects import Variant
+from gsr.plan.grounding.normalize import Schema
+from gsr.plan.grounding.precondition import AtomKey
+from gsr.plan.grounding.simplify import Simplifier
 
 # A ground literal in key form, and a conjunction of them: (positive keys, negative keys).
 KeyConj = tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]]
@@ -50,7 +50,7 @@ KeyConj = tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]]
 Choice = tuple[tuple[KeyConj, ...], "tuple[tuple[AtomKey, ...], ...] | None"]
 # A conjunct in key form: (positive keys, negative keys, choices, the relaxed tests of those
 # choices that do not always hold). A memoised one is shared by every binding with the same values
-# of its variables, so interning converts its keys once (gsr.plan.intern.precondition_dnf).
+# of its variables, so interning converts its keys once (gsr.plan.grounding.intern.precondition_dnf).
 KeyCnf = tuple[
     tuple[AtomKey, ...], tuple[AtomKey, ...], tuple[Choice, ...], tuple[tuple[tuple[AtomKey, ...], ...], ...]
 ]
@@ -168,7 +168,7 @@ def compile_schema(
     """The factory of one schema's compiled precondition (see module docstring); None when a
     conjunct mentions a variable that is no parameter (the general path reports it per binding).
 
-    ``parts`` are the schema's Parts (gsr.plan.ground._parts: conjunct, memo key or OrSplit, kind)
+    ``parts`` are the schema's Parts (gsr.plan.grounding.fixpoint._parts: conjunct, memo key or OrSplit, kind)
     and ``kinds`` the kind codes (generic, skip, fluent, not fluent, distinct, split) in that order.
     The factory takes the per-problem (init keys, simplify, general, shared memo tables) and returns
     ``variant(binding) -> Variant | None``.

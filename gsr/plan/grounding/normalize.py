@@ -224,7 +224,7 @@ def split_cases(schema: Schema) -> list[Schema]:
     On IPC folding's second pass (seven parameters over 23
     coordinates) this lists a few thousand bindings instead of millions. Only disjunctions in
     which every case is a conjunction holding an equality are split: other disjunctions (pick's
-    ``(or (on ?o ?from) (in ?o ?from))``) keep their own join (see gsr.plan.ground).
+    ``(or (on ?o ?from) (in ?o ?from))``) keep their own join (see gsr.plan.grounding.fixpoint).
     """
     parts = _flatten_and(schema.residual)
     if any(isinstance(q, Equals) for q in parts):
