@@ -7,17 +7,20 @@ from pathlib import Path
 
 from gsr.errors import GSRError
 from gsr.io import write_text_atomic
+from gsr.pddl.bddl import load_bddl
+from gsr.pddl.files import find_domain_file
 from gsr.pddl.model import Domain, Problem
+from gsr.pddl.parser import load_domain, load_problem
+from gsr.plan.api import plan
+from gsr.plan_format import write_plan
+from gsr.resources import load_builtin_domain
 
 EXIT_SOLVED, EXIT_ERROR, EXIT_UNSOLVABLE, EXIT_TIMEOUT = 0, 1, 2, 3
 
 
 def load_libero(problem: Path, domain: Path | None) -> tuple[Domain, Problem]:
     """Domain and problem of a LIBERO ``.bddl`` task (the tabletop domain unless ``domain`` is given)."""
-    from gsr.libero import libero_task
-    from gsr.pddl.bddl import load_bddl
-    from gsr.pddl.parser import load_domain
-    from gsr.resources import load_builtin_domain
+    from gsr.libero import libero_task  # builds a scene graph (pydantic): only for .bddl problems
 
     bddl = load_bddl(problem)
     if domain is not None and not domain.is_file():
@@ -28,15 +31,11 @@ def load_libero(problem: Path, domain: Path | None) -> tuple[Domain, Problem]:
 
 def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
     """Parse the domain and problem files (a ``.bddl`` problem plans against the tabletop domain)."""
-    from gsr.pddl.parser import load_domain, load_problem
-
     if not problem.is_file():
         raise GSRError(f"{problem}: no such file")
     if problem.suffix.lower() == ".bddl":
         return load_libero(problem, domain)
     if domain is None:
-        from gsr.pddl.files import find_domain_file
-
         domain = find_domain_file(problem)
         if domain is None:
             raise GSRError(
@@ -51,9 +50,6 @@ def load_task(domain: Path | None, problem: Path) -> tuple[Domain, Problem]:
 
 def plan_command(domain: Path | None, problem: Path, planner: str, timeout: float, out: Path | None) -> int:
     """Plan and print the IPC plan (or write it to ``out``); stats on stderr; returns the exit code."""
-    from gsr.plan.api import plan
-    from gsr.plan_format import write_plan
-
     if not timeout >= 0:  # negative or NaN
         print(f"error: --timeout must be a number of seconds >= 0, not {timeout:g}", file=sys.stderr)
         return EXIT_ERROR
