@@ -179,12 +179,12 @@ def test_problem_alone_finds_its_domain_file(tmp_path: Path, capsys) -> None:
 
 
 def test_an_unexpected_planner_failure_is_one_line(blocks: tuple[Path, Path], monkeypatch, capsys) -> None:
-    import gsr.plan.api
+    import gsr.plan.cli
 
     def broken(*args, **kwargs):
         raise TypeError("unsupported format string passed to NoneType.__format__")
 
-    monkeypatch.setattr(gsr.plan.api, "plan", broken)
+    monkeypatch.setattr(gsr.plan.cli, "plan", broken)  # the command's own binding of gsr.plan.api.plan
     assert plan_command(blocks[0], blocks[1], "lazy-ff", 5.0, None) == 1
     err = capsys.readouterr().err
     assert err.startswith("error: internal planner error (TypeError") and err.count("\n") == 1
