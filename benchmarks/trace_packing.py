@@ -15,6 +15,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -34,7 +35,8 @@ def tilt_deg(world: World, body: int) -> float:
 
 def container_contents(world: World, target: str, skip: str = "") -> list[dict]:
     """Every movable object over ``target``'s interior (5 cm round it), in the container's frame:
-    ``{"id", "uv", "bottom" (above the floor), "height", "tilt", "support"}``."""
+    ``{"id", "uv", "yaw" (degrees off the container's axes, -45..45), "bottom" (above the floor),
+    "height", "tilt", "support"}``."""
     from gsr.skills.packing import container_of
     from gsr.skills.sim_graph import support_of
 
@@ -58,6 +60,9 @@ def container_contents(world: World, target: str, skip: str = "") -> list[dict]:
             {
                 "id": o.id,
                 "uv": [round(float(x), 3) for x in uv],
+                "yaw": round(
+                    math.degrees((world.yaw_of(o.body) - yaw + math.pi / 4) % (math.pi / 2) - math.pi / 4), 1
+                ),
                 "bottom": round(float(lo[2] - floor), 3),
                 "height": round(float(hi[2] - lo[2]), 3),
                 "tilt": round(tilt_deg(world, o.body), 1),
@@ -79,8 +84,10 @@ def spot_in_frame(world: World, target: str, spot: np.ndarray) -> tuple[list[flo
     return [round(float(x), 3) for x in uv], round(float(spot[2] - (centre[2] - interior.size[2] / 2)), 3)
 
 
-def trace(task_id: str, out=sys.stdout) -> dict:
-    """Run ``task_id`` with the packing and every finger release traced to ``out``; the episode record."""
+def trace(task_id: str, out=sys.stdout, snapshots: Path | None = None) -> dict:
+    """Run ``task_id`` with the packing and every finger release traced to ``out``; the episode record.
+    ``snapshots``: a folder to save the PyBullet state in (``p.saveBullet``) each time a spot is
+    packed, as ``<object>_<n>.bullet`` (n counts the spots packed so far), before the spot is chosen."""
     from gsr.benchmarks.bench_skills import EPISODE_CPU_S, RETRIES, run_suite_task
     from gsr.benchmarks.suites import get_suite
     from gsr.skills import motion, packing
@@ -89,13 +96,28 @@ def trace(task_id: str, out=sys.stdout) -> dict:
     if task_id not in tasks:
         raise SystemExit(f"error: no generated task {task_id!r}")
     packed, gripper = packing.packed_spot, motion.Motion.gripper
+    spots: dict[str, list[float]] = {}  # the latest packed spot of each object, in its container's frame
+    calls = [0]
 
     def traced_spot(world, obj, target, closing_yaw):
+        if snapshots is not None:
+            import pybullet as p
+
+            snapshots.mkdir(parents=True, exist_ok=True)
+            name = snapshots / f"{obj.id}_{calls[0]}.bullet"
+            p.saveBullet(str(name), physicsClientId=world.client)
+            print(f"SAVED {name} (closing yaw {closing_yaw:.4f})", file=out)
+        calls[0] += 1
         res = packed(world, obj, target, closing_yaw)
         if res is not None:
             uv, z = spot_in_frame(world, target, res[0])
+            spots[obj.id] = uv
             print(f"PACK {obj.id} -> {target}: uv {uv} above floor {z} turn {res[1]:.2f}", file=out)
             for row in container_contents(world, target, skip=obj.id):
+                if row["id"] in spots:  # where it ended against where it was packed (mm)
+                    row["off_mm"] = [
+                        round(1000 * (a - b)) for a, b in zip(row["uv"], spots[row["id"]], strict=True)
+                    ]
                 print(f"    {json.dumps(row)}", file=out)
         return res
 
@@ -123,8 +145,9 @@ def trace(task_id: str, out=sys.stdout) -> dict:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("task", help="a gsr-bench-gen task id, e.g. gsrgen_sod_general_14")
+    ap.add_argument("--snapshots", type=Path, help="save the PyBullet state at every packed spot here")
     args = ap.parse_args(argv)
-    r = trace(args.task)
+    r = trace(args.task, snapshots=args.snapshots)
     print(json.dumps({k: r[k] for k in ("id", "success", "steps", "wall_s", "cpu_s", "reason")}))
     return 0 if r["success"] else 1
 

@@ -186,7 +186,11 @@ class _Held:
     hand: np.ndarray  # half size of the hand's footprint round the grasp point
 
 
-def _held(world: World, obj: SimObject, yaw: float, closing_yaw: float, delta: float) -> _Held:
+def _held(
+    world: World, obj: SimObject, yaw: float, closing_yaw: float, delta: float, width: float | None = None
+) -> _Held:
+    """The held object and the hand for the wrist turn ``delta``; ``width``: the fingers' opening to
+    assume (a fresh grasp of a later object) instead of the one they have now."""
     size = 2 * footprint(obj.model)[1]
     body = _half(size, world.yaw_of(obj.body) - yaw + delta)
     lo, hi = world.body_aabb(obj.body)
@@ -197,11 +201,21 @@ def _held(world: World, obj: SimObject, yaw: float, closing_yaw: float, delta: f
     grasp = np.array([c * off[0] - s * off[1], s * off[0] + c * off[1]])
     e1 = closing_yaw + delta - yaw  # closing axis in the container frame
     ce, se = abs(math.cos(e1)), abs(math.sin(e1))
-    reach = finger_reach(world) + RELEASE_OPEN / 2
+    reach = (finger_reach(world) if width is None else width / 2 + FINGER_OUTER) + RELEASE_OPEN / 2
     fingers = np.array([ce * reach + se * FINGER_HALF, se * reach + ce * FINGER_HALF])
     closed = fingers - RELEASE_OPEN / 2 * np.array([ce, se])
     hand = np.array([ce * HAND_HALF[0] + se * HAND_HALF[1], se * HAND_HALF[0] + ce * HAND_HALF[1]])
     return _Held(delta, body, grasp, fingers, closed, hand)
+
+
+def _fresh_grasp(world: World, obj: SimObject, closing_yaw: float) -> tuple[float, float]:
+    """``(closing yaw, finger opening)`` of a square grasp like the current one: the closing axis turned to
+    the nearest of the object's own axes, the fingers on the footprint's size along it (its body's for
+    a mug held across it: the handle sticks out along the other axis)."""
+    own = world.yaw_of(obj.body)
+    k = round((closing_yaw - own) / (math.pi / 2))
+    size = 2 * footprint(obj.model)[1]
+    return own + k * math.pi / 2, float(size[k % 2])
 
 
 def _overlaps(points: np.ndarray, half: np.ndarray, rects: list[Rect]) -> np.ndarray:
@@ -302,7 +316,12 @@ def packed_spot(
     # point out of the drawer goes in the front row, so the back row still takes the others), then
     # the row that fills first, then (outside drawers) the turn that fits first, then the smallest turn
     top = floor + float(world.body_aabb(obj.body)[1][2] - world.body_aabb(obj.body)[0][2])
-    future = [_held(world, obj, yaw, closing_yaw, first + k * math.pi / 2) for k in range(4)]
+    # the further objects like this one as a fresh grasp holds them: the fingers closed square across
+    # the object's body on its width, not aslant or opened wider as this one may happen to be held (a
+    # mug taken 30 deg off its axis needs 4 cm more room for the fingers; one gripped 5 mm wider, 2.5
+    # mm more on each side: the look-ahead then counted the room of a layout it could not keep)
+    fresh_closing, fresh_width = _fresh_grasp(world, obj, closing_yaw)
+    future = [_held(world, obj, yaw, fresh_closing, first + k * math.pi / 2, fresh_width) for k in range(4)]
     best: tuple[tuple, np.ndarray, float] | None = None
     for d in deltas:
         h = _held(world, obj, yaw, closing_yaw, d)

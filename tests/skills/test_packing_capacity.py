@@ -39,8 +39,9 @@ def _drawer_world(level: str, cell: str, index: int, part: str):
     return world, cab
 
 
-def _set_down(world, obj, spot: np.ndarray, delta: float) -> None:
-    """Put ``obj`` turned by ``delta`` with its footprint centre at ``spot`` (as the place skill does)."""
+def _set_down(world, obj, spot: np.ndarray, delta: float, settle: int = 60) -> None:
+    """Put ``obj`` turned by ``delta`` with its footprint centre at ``spot`` (as the place skill does),
+    then let it settle for ``settle`` simulation steps."""
     import pybullet as p
 
     c = world.client
@@ -52,7 +53,8 @@ def _set_down(world, obj, spot: np.ndarray, delta: float) -> None:
         [spot[0] - (lo[0] + hi[0]) / 2, spot[1] - (lo[1] + hi[1]) / 2, 2 + spot[2] + 0.003 - lo[2]]
     )
     p.resetBasePositionAndOrientation(obj.body, base.tolist(), q2, physicsClientId=c)
-    world.step(60)
+    if settle:
+        world.step(settle)
 
 
 @pytest.mark.physics
@@ -122,5 +124,46 @@ def test_cubes_fill_a_gsr_bench_box_in_rows_from_the_near_wall() -> None:
             assert support_of(world, cube.id) == ("in", box.id), cube.id
         # the first cube went to the near side (towards the robot, which stands at -x)
         assert first[0] < (box_lo[0] + box_hi[0]) / 2
+    finally:
+        world.close()
+
+
+@pytest.mark.physics
+def test_six_mugs_held_as_an_episode_held_them_all_go_on_the_drawer_floor() -> None:
+    """SOD General 10's six mugs into ``drawer_middle``, each held as the episode held it (arm, fingers
+    and mug saved at each packing, seed 0: the second taken 30 deg aslant, the fifth gripped 5 mm wider),
+    every earlier mug put exactly at its packed spot (not settled). The look-ahead counted the room left for
+    further mugs held like the current one, so the aslant and the wide grip each spent it on a layout
+    no later mug could use: the sixth had no floor spot and went on a mug (not ``in``)."""
+    import json
+
+    import pybullet as p
+    from gsr.skills.packing import packed_spot
+
+    from tests.skills.conftest import SNAPSHOTS
+
+    saved = json.loads((SNAPSHOTS / "sod_general_10_mug_grasps.json").read_text())
+    target = saved["target"]
+    world, cab = _drawer_world("General", "Semantic Object Disambiguation", 10, target)
+    try:
+        c = world.client
+        # the drawer as far out as the episode opened it (1 cm past its nominal open position)
+        art = cab.model.articulations[world.parts[target][1]]
+        p.resetJointState(cab.body, cab.links[art.link], saved["drawer_joint"], physicsClientId=c)
+        interior = cab.model.interiors["drawer_1"]
+        floor = world.to_world(cab.body, cab.links["drawer_1"], interior.center)[2] - interior.size[2] / 2
+        placed: dict[str, tuple] = {}
+        for g in saved["grasps"]:
+            world.robot.reset(g["arm"])
+            for finger, width in zip(world.robot.fingers, g["fingers"], strict=True):
+                p.resetJointState(world.robot.body, finger, width, physicsClientId=c)
+            for oid, (pos, q) in placed.items():  # the earlier mugs where they were set down
+                p.resetBasePositionAndOrientation(world.objects[oid].body, pos, q, physicsClientId=c)
+            mug = world.objects[g["object"]]
+            p.resetBasePositionAndOrientation(mug.body, g["position"], g["orientation"], physicsClientId=c)
+            spot, delta = packed_spot(world, mug, target, g["closing_yaw"])
+            assert spot[2] == pytest.approx(floor, abs=1e-6), f"{mug.id} set on a second layer"
+            _set_down(world, mug, spot, delta, settle=0)
+            placed[mug.id] = p.getBasePositionAndOrientation(mug.body, physicsClientId=c)
     finally:
         world.close()
