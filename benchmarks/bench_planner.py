@@ -50,18 +50,21 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from gsr.errors import GSRError
+from gsr.pddl.bddl import load_bddl
+from gsr.pddl.files import find_domain_file
+from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem
+from gsr.pddl.parser import load_domain, load_problem
+from gsr.pddl.writer import write_domain, write_problem
+from gsr.plan import plan, relax_c
+from gsr.resources import data_dir, load_builtin_domain, shared_data_dir
+
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
 
-from gsr.errors import GSRError  # noqa: E402
-from gsr.pddl.files import find_domain_file  # noqa: E402
-from gsr.pddl.model import And, Atom, Domain, Formula, Not, Problem  # noqa: E402
-from gsr.pddl.parser import load_domain, load_problem  # noqa: E402
-from gsr.plan import plan  # noqa: E402
-from gsr.resources import data_dir, shared_data_dir  # noqa: E402
-
-if TYPE_CHECKING:  # an isolated GSR run imports only what planning needs before its clock stops
+# An isolated GSR run imports only what planning needs before its clock stops: the scene-graph modules
+# (gsr.facts, gsr.libero, gsr.gsr_bench_format: pydantic, 0.2 s CPU) load inside the tabletop functions,
+# the validator and the FD driver inside the functions that check plans and run FD.
+if TYPE_CHECKING:
     from gsr.scene_graph import SceneGraph
 
 # the IPC sets: the reference folder's pddl/ when present, else the same three sets shipped as test fixtures
@@ -432,8 +435,6 @@ def tabletop_tasks(domain_set: str, count: int, seed: int) -> Iterator[tuple[str
     """(name, domain, problem) of the LIBERO tasks or of the generated long tabletop tasks."""
     from gsr.facts import problem_from_graph
     from gsr.libero import libero_task
-    from gsr.pddl.bddl import load_bddl
-    from gsr.resources import load_builtin_domain
 
     domain = load_builtin_domain("tabletop")
     if domain_set == "libero":
@@ -461,8 +462,6 @@ def bench_set(
     """Run every system on every task of one set; per-task rows and per-system summaries. ``clock``
     "cpu" (IPC sets, isolated runs only) limits CPU seconds instead of wall seconds; ``on_row``
     receives the set's result so far after every task (for saving partial runs)."""
-    from gsr.pddl.writer import write_domain, write_problem
-
     rows = []
     if planner == "auto":  # FD runs lama-first on every set; GSR's tabletop planner is its default
         planner = "lama" if domain_set in IPC_SETS else "lazy-ff"
@@ -714,13 +713,9 @@ def main(argv: list[str] | None = None) -> int:
         for folder in ("gsr", "skills", "perception", "benchmarks"):
             if (REPO / folder).is_dir():
                 compileall.compile_dir(REPO / folder, quiet=1)
-    if "gsr" in systems:  # the planner's C kernels are built once per installation (first use), not per task
-        from gsr.plan import relax_c
-
-        if relax_c.library() is None and relax_c.allowed():
-            print(
-                f"note: planner C kernels unavailable ({relax_c.why_not}); numba or Python", file=sys.stderr
-            )
+    # the planner's C kernels are built once per installation (first use), not per task
+    if "gsr" in systems and relax_c.library() is None and relax_c.allowed():
+        print(f"note: planner C kernels unavailable ({relax_c.why_not}); numba or Python", file=sys.stderr)
     skip = [float(f) for f in args.skip_pick.split(",") if f] if args.skip_pick else None
     results: list[dict] = []
 

@@ -12,14 +12,12 @@ from typing import TYPE_CHECKING
 from gsr.errors import GSRError
 from gsr.pddl.model import Domain, Formula, Problem
 from gsr.pddl.writer import write_domain, write_problem
-from gsr.plan.fast_downward import run_fast_downward
 from gsr.plan.grounding import GroundingTimeout, ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
 from gsr.plan.task import Task
 from gsr.step import Goal, Plan
-from gsr.validate import validate_plan
 
 if TYPE_CHECKING:  # the scene graph (and pydantic) only for plan_graph's callers, not for PDDL files:
     # plan_graph imports gsr.facts when called (0.2 s CPU of imports a PDDL run does not need)
@@ -81,6 +79,11 @@ def _search(task: Task, relax: Relaxation, planner: str, deadline: float) -> tup
 
 
 def _plan_fd(domain: Domain, problem: Problem, timeout: float) -> PlanResult:
+    # Deferred: a run of our own planner loads neither the FD driver (8 ms) nor the validator (24 ms,
+    # tests/gsr/test_plan_bench_isolated.py: an isolated benchmark run pays only for planning's imports).
+    from gsr.plan.fast_downward import run_fast_downward
+    from gsr.validate import validate_plan
+
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="gsr-plan-") as tmp:
         dom, prob = Path(tmp) / "domain.pddl", Path(tmp) / "problem.pddl"
