@@ -32,13 +32,21 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
+from gsr.benchmarks import runner
+from gsr.benchmarks.agents import make_agent
+from gsr.benchmarks.suites import get_suite
+from gsr.skills.build import build_world
+from gsr.skills.camera import default_views, render, save_png
+from gsr.skills.executor import execute_plan
+from gsr.skills.library import run_step
+from gsr.skills.sim_executor import SimExecutor
 
-from gsr.scene_graph import Edge, Node, SceneGraph  # noqa: E402
-from gsr.step import Step  # noqa: E402
-from gsr.task_spec import TaskSpec  # noqa: E402
+from gsr.diagnosis import Diagnosis
+from gsr.errors import GSRError
+from gsr.resources import load_builtin_domain
+from gsr.scene_graph import Edge, Node, SceneGraph
+from gsr.step import Step
+from gsr.task_spec import TaskSpec, task_from_dict
 
 PICKABLE = (
     "cube",
@@ -254,9 +262,6 @@ TRIALS: dict[str, Callable[[random.Random], tuple[SceneGraph, list[Step], Step]]
 
 def run_trial(job: tuple[str, int]) -> dict:
     """One seeded trial of one skill: build, run setup, run the skill; a JSON-ready record."""
-    from gsr.skills.build import build_world
-    from gsr.skills.library import run_step
-
     skill, seed = job
     rng = random.Random(f"{skill}-{seed}")
     graph, setup, step = TRIALS[skill](rng)
@@ -304,9 +309,6 @@ EPISODE = [
 
 def run_episode(seed: int) -> dict:
     """The 10-step episode (drawer, stove, three pick-and-places) closed loop; wall time with and without build."""
-    from gsr.skills.build import build_world
-    from gsr.skills.executor import execute_plan
-
     rng = random.Random(f"episode-{seed}")
     graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
     t0, c0 = time.perf_counter(), time.process_time()
@@ -335,8 +337,6 @@ def cpu_bounded(executor: Any, cpu_budget: float) -> Any:
     """The executor with an episode CPU-time bound: once spent, every step is refused (no skill runs),
     so the runner's retry count ends the episode; a step already running finishes (skills are bounded
     by their own simulation-step budgets)."""
-    from gsr.diagnosis import Diagnosis
-
     start = time.process_time()
     execute = executor.execute
 
@@ -358,19 +358,12 @@ def cpu_bounded(executor: Any, cpu_budget: float) -> Any:
 
 def run_suite_task(job: tuple[dict, int, int, float]) -> dict:
     """One suite task, planner agent, physical execution with bounded recovery; a JSON-ready record."""
-    from gsr.benchmarks.agents import make_agent
-    from gsr.benchmarks.runner import run_episode
-    from gsr.skills.sim_executor import SimExecutor
-
-    from gsr.resources import load_builtin_domain
-    from gsr.task_spec import task_from_dict
-
     data, seed, retries, cpu_budget = job
     task = task_from_dict(data)
     ex = cpu_bounded(SimExecutor(seed=seed, frame_camera=None), cpu_budget)
     t0, c0 = time.perf_counter(), time.process_time()
     try:
-        r = run_episode(
+        r = runner.run_episode(
             task,
             make_agent("planner", {}),
             load_builtin_domain("tabletop"),
@@ -574,10 +567,6 @@ def render_figures(out: Path) -> list[Path]:
     """PNG figures for docs/skills.md: a 10-step episode's scene before and after, from two cameras."""
     from dataclasses import replace
 
-    from gsr.skills.build import build_world
-    from gsr.skills.camera import default_views, render, save_png
-    from gsr.skills.executor import execute_plan
-
     out.mkdir(parents=True, exist_ok=True)
     rng = random.Random("episode-0")
     graph = scene(rng, [("cube_1", "cube"), ("bowl_1", "bowl"), ("plate_1", "plate"), ("milk_1", "milk")])
@@ -594,10 +583,6 @@ def render_figures(out: Path) -> list[Path]:
 
 
 def _main_suite(args: argparse.Namespace) -> int:
-    from gsr.benchmarks.suites import get_suite
-
-    from gsr.errors import GSRError
-
     name, _, source = args.suite.partition(":")
     try:
         tasks = get_suite(name).tasks(source or None, args.seed)
