@@ -18,19 +18,16 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
+from gsr.benchmarks.runner import RunConfig, run_tasks
+from gsr.benchmarks.scoring import relations
+from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench
 
-from gsr.benchmarks.scoring import relations  # noqa: E402
-from gsr.benchmarks.suites.gsr_bench_gen import generate_gsr_bench  # noqa: E402
-
-from gsr.facts import node_affordances, state_from_graph  # noqa: E402
-from gsr.pddl.model import Atom, Domain, Formula  # noqa: E402
-from gsr.resources import load_builtin_domain  # noqa: E402
-from gsr.semantics import holds  # noqa: E402
-from gsr.state import State  # noqa: E402
-from gsr.task_spec import TaskSpec  # noqa: E402
+from gsr.facts import node_affordances, state_from_graph
+from gsr.pddl.model import Atom, Domain, Formula
+from gsr.resources import load_builtin_domain
+from gsr.semantics import holds
+from gsr.state import State
+from gsr.task_spec import TaskSpec
 
 
 def lower_bound(domain: Domain, task: TaskSpec, goal: Formula, state: State) -> int:
@@ -74,8 +71,6 @@ def main() -> int:
     if args.results:
         lengths = {r["id"]: r["steps"] for r in json.loads(args.results.read_text())["tasks"] if r["success"]}
     else:
-        from gsr.benchmarks.runner import RunConfig, run_tasks
-
         results = run_tasks(tasks, RunConfig(agent="planner", agent_options={"planner": args.planner}))
         lengths = {r.id: r.steps for r in results if r.success}
     cells: dict[tuple[str, str], list[tuple[int, int]]] = defaultdict(list)

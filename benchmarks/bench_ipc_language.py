@@ -35,11 +35,11 @@ import tempfile
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
-if str(REPO) not in sys.path:
-    sys.path.insert(0, str(REPO))
-
-from gsr.pddl.files import find_domain_file  # noqa: E402
+from gsr.errors import GSRError
+from gsr.pddl.files import find_domain_file
+from gsr.pddl.parser import load_domain, load_problem
+from gsr.plan import api
+from gsr.validate import validate_plan
 
 
 def pick_problem(folder: Path, pick: int) -> tuple[Path, Path] | None:
@@ -95,11 +95,6 @@ def run_one(
 
 def _run_into(row: dict, domain_file: Path, problem_file: Path, timeout: float, planner: str) -> None:
     """Fill ``row`` step by step, so that what was done survives a CPU-limit interruption."""
-    import gsr.plan.api as api
-    from gsr.errors import GSRError
-    from gsr.pddl.parser import load_domain, load_problem
-    from gsr.validate import validate_plan
-
     try:
         domain = load_domain(domain_file)
         problem = load_problem(problem_file, domain)
@@ -136,8 +131,7 @@ def run_fd(domain_file: Path, problem_file: Path, timeout: float, cpu: bool = Fa
     """Fast Downward lama-first on the files: status ('n/a' when it is not installed), wall and CPU
     time (FD's own processes: the driver, translator and search), plan length; with ``cpu`` the
     limit is FD's --overall-time-limit (CPU time) and the wall limit is far out."""
-    from gsr.errors import GSRError
-    from gsr.plan.fast_downward import run_fast_downward
+    from gsr.plan.fast_downward import run_fast_downward  # not in the GSR child, whose CPU is measured
 
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
