@@ -31,6 +31,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 from gsr.perception.geometry import GeometryParams, Instance, clean_points, fit_boxes, number_anonymous
+from gsr.perception.relations import is_container, rim_box
 
 from gsr.categories import affordances, is_part_category
 from gsr.scene_graph import Edge, Node, SceneGraph
@@ -411,6 +412,13 @@ FRAGMENT_ON_SURFACE = 0.95
 #: The piece's centre may lie this far outside the rim's box: a slab of an outer wall is centred on the
 #: wall, half a wall's thickness (and the rim band's noise) outside the wall tops' box.
 FRAGMENT_RIM_MARGIN = 0.015
+#: ... or, whatever its overlap with the container's cloud (a wall face only this camera saw), it stands
+#: from the container's base (its bottom at most this far above the container's) up into the rim band ...
+FRAGMENT_BASE = 0.004
+#: ... and this share of its points lies along the walls: within ``FRAGMENT_WALL_BAND`` inside the rim's
+#: edges (or outside them). An object in a container stands on its floor, higher than the walls' base.
+FRAGMENT_ALONG_WALLS = 0.9
+FRAGMENT_WALL_BAND = 0.02
 
 
 def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Instance]:
@@ -423,8 +431,6 @@ def absorb_fragments(fused: list[Instance], params: GeometryParams) -> list[Inst
     measured (too few wall tops seen, or on one side only) stands for its rim with its own box, as a
     drawer does in :func:`absorb_part_fragments`: its rim's pieces (a wall top split off by one camera)
     are still pieces of it."""
-    from gsr.perception.relations import rim_box  # geometry of the container's walls
-
     containers = [c for c in fused if not _no_object(c) and "container" in affordances(c.label.category)]
     if not containers:
         return fused
@@ -470,12 +476,28 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
             c_bottom = float(np.percentile(c.points[:, 2], 2.0))
             # up into the rim band (a measured rim's lower edge) or to within 1 cm of the top
             reach = rim.aabb_max[2] - 0.01 if rim is c else min(rim.aabb_min[2], rim.aabb_max[2] - 0.01)
-            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or x.aabb_max[2] >= reach
+            to_rim = x.aabb_max[2] >= reach
+            if (
+                to_rim
+                and x.aabb_max[2] <= rim.aabb_max[2] + 0.01  # a wall does not rise above its rim
+                and x_bottom <= c_bottom + FRAGMENT_BASE
+                and along_walls(x, rim) >= FRAGMENT_ALONG_WALLS
+            ):
+                pieces[id(x)] = c  # a wall from the container's base to its rim
+                break
+            wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or to_rim
             overlap = cloud_overlap(x, c)
             if (wall_like and overlap >= FRAGMENT_OVERLAP) or overlap >= FRAGMENT_ON_SURFACE:
                 pieces[id(x)] = c
                 break
     return pieces
+
+
+def along_walls(x: Instance, rim: Instance) -> float:
+    """Share of x's points lying along the walls of a container whose rim (or own) box is ``rim``: within
+    :data:`FRAGMENT_WALL_BAND` inside the nearest edge of its footprint, or outside it."""
+    local = np.abs((x.points[:, :2] - rim.center[:2]) @ rim.axes.T) - rim.size[:2] / 2.0
+    return float(np.mean(np.max(local, axis=1) >= -FRAGMENT_WALL_BAND))
 
 
 def absorb_part_fragments(
@@ -485,8 +507,6 @@ def absorb_part_fragments(
     ``cabinet``), into the drawer (in place; the same test as :func:`absorb_fragments`, the drawer's box
     standing for its rim where the rim is not measured: a drawer seen from the front shows none); the
     parts after the merge."""
-    from gsr.perception.relations import is_container, rim_box
-
     present = {id(i) for i in instances}
     live = [p for p in parts if id(p) in present]
     # a "drawer" lying inside another part is no drawer (drawers do not nest; objects in a drawer read

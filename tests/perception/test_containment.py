@@ -382,3 +382,22 @@ def test_a_wall_top_piece_joins_a_box_whose_rim_is_not_measured():
     cube = solid("cube_f2m3", "cube", [0.05, 0.08, 0.008], [0.09, 0.12, 0.038], views=1)  # in the box
     out = absorb_fragments([box, piece, cube, table()], PARAMS)
     assert sorted(i.key for i in out) == ["box_f0m1", "cube_f2m3", "table"]
+
+
+def test_a_wall_face_only_one_camera_saw_joins_its_box_but_a_cube_against_the_wall_does_not(monkeypatch):
+    # the other cameras saw the box without its -y wall's outer face; one camera segmented a strip of that
+    # face from the table up to the rim on its own (named a box): few of its voxels lie on the box's cloud,
+    # but it stands from the box's base to its rim along a wall, which nothing standing in a box does
+    whole = open_box("box_f0m1", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085), views=3)
+    face = np.abs(whole.points[:, 1] + 0.1) < 1e-6
+    box = _inst("box_f0m1", "box", whole.points[~face], 3)
+    strip = whole.points[face & (whole.points[:, 0] > 0.38) & (whole.points[:, 0] < 0.42)]
+    piece = _inst("box_f2m4", "box", strip + np.array([0.0, -0.004, 0.0]))
+    # a cube standing on the floor against the +y wall, as high as the rim, also seen by one camera
+    cube = solid("cube_f2m5", "cube", (0.45, 0.03, 0.008), (0.485, 0.065, 0.085))
+    out = absorb_fragments([box, piece, cube], PARAMS)
+    assert sorted(i.key for i in out) == ["box_f0m1", "cube_f2m5"]
+    assert len(next(i for i in out if i.key == "box_f0m1").points) == len(box.points) + len(piece.points)
+    # without the base-to-rim wall test the strip stays an object: it is that test's doing
+    monkeypatch.setattr("gsr.perception.track.FRAGMENT_ALONG_WALLS", 2.0)
+    assert len(absorb_fragments([box, piece, cube], PARAMS)) == 3
