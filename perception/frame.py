@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
-from gsr.perception.camera import Camera
+from gsr.perception.camera import Camera, load_camera
 
 from gsr.errors import GSRError
 from gsr.scene_graph import NODE_NAME
@@ -226,8 +226,6 @@ def load_frame(
     labels: str | Path | None = None,
 ) -> Frame:
     """Load and cross-check the files of one frame (shapes must match the camera)."""
-    from gsr.perception.camera import load_camera
-
     cam = load_camera(camera)
     rgb_a, depth_a, masks_a = load_rgb(rgb), load_depth(depth), load_masks(masks)
     for name, path, arr in (("rgb", rgb, rgb_a), ("depth", depth, depth_a), ("masks", masks, masks_a)):

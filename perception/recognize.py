@@ -11,6 +11,7 @@ probability is below its threshold answers ``unknown`` and keeps the measured at
 from __future__ import annotations
 
 import numpy as np
+from gsr.perception.geometry import color_name
 from gsr.perception.segment import Segments
 
 FEATURE_NAMES = (
@@ -182,8 +183,6 @@ def rule_category(feat: np.ndarray) -> str:
 
 def pixel_color(feat: np.ndarray) -> str:
     """The palette word of a segment's median pixel colour (hue / saturation / value rule)."""
-    from gsr.perception.geometry import color_name
-
     med = np.clip(feat[FEATURE_NAMES.index("median_r") : FEATURE_NAMES.index("median_b") + 1], 0, 1)
     return color_name((med * 255.0).reshape(1, 3))
 

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from gsr.perception.detect import MLP, Model, RGBDDetector, load_model
+from gsr.perception.detect import MLP, Model, RGBDDetector, detections_from, load_model
 from gsr.perception.frame import Frame
 from gsr.perception.recognize import FEATURE_NAMES, NONE, all_features
 from gsr.perception.segment import (
@@ -552,8 +552,6 @@ def _score_frame(frame: Frame, detector: RGBDDetector, t: dict[str, int]) -> Non
 
 def _segment_detections(seg: Segments, detector: RGBDDetector) -> list[tuple[np.ndarray, str, str | None]]:
     """(strided mask, category, colour) of each non-table detection, as the detector reports them."""
-    from gsr.perception.detect import detections_from
-
     out = []
     for d in detections_from(seg, detector.model):
         if d.category == "table":
