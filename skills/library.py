@@ -11,6 +11,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from gsr.skills.articulated import operate, push
 from gsr.skills.grasping import pick, place
 from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError, SkillResult
@@ -68,16 +69,12 @@ def _place(relation: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
 
 def _articulated(kind: str) -> Callable[[World, Motion, tuple[str, ...]], dict]:
     def run(world: World, m: Motion, args: tuple[str, ...]) -> dict:
-        from gsr.skills.articulated import operate
-
         return operate(world, m, args[0], kind)
 
     return run
 
 
 def _push(world: World, m: Motion, args: tuple[str, ...]) -> dict:
-    from gsr.skills.articulated import push
-
     return push(world, m, args[0], args[2]) or {}
 
 
