@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+from gsr.skills.packing import HAND_HALF
 from gsr.skills.world import SimObject, World
 
 #: Room kept free around the held object's footprint (m): the opening fingers and a little play.
@@ -51,8 +52,6 @@ def _tall_neighbours(world: World, obj: SimObject, hand_bottom: float) -> list[t
 
 def _hand_meets(c: np.ndarray, e1: np.ndarray, nc: np.ndarray, nh: np.ndarray) -> bool:
     """Whether the hand's footprint (22 x 9.4 cm, long along ``e1``) centred at ``c`` meets a box."""
-    from gsr.skills.packing import HAND_HALF
-
     e2 = np.array([-e1[1], e1[0]])
     d = nc - c
     for axis, h in ((e1, HAND_HALF[0]), (e2, HAND_HALF[1])):
