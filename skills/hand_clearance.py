@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from gsr.skills.robot import GRIPPER, top_down
+from gsr.skills.sim_graph import support_of
 from gsr.skills.world import SimObject, World
 
 #: The hand's collision hull in the grasp-point frame (z towards the fingertips, y the closing axis):
@@ -182,8 +183,6 @@ def _tilted(quat: tuple, tilt: float) -> tuple[float, float, float, float]:
 def container_frame(world: World, obj: SimObject) -> tuple[np.ndarray, float, np.ndarray] | None:
     """``(centre, yaw, half sizes)`` of the interior ``obj`` lies in (a box's, a drawer's), world frame;
     None when it is in none."""
-    from gsr.skills.sim_graph import support_of
-
     rel, node = support_of(world, obj.id) or ("", "")
     found = world.interior_of(node) if rel == "in" else None
     if found is None:
