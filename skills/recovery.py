@@ -16,7 +16,11 @@ import re
 import time
 
 import numpy as np
+from gsr.skills.grasping import place
+from gsr.skills.library import settle_released
+from gsr.skills.motion import Motion
 from gsr.skills.result import Failure, SkillError, SkillResult
+from gsr.skills.sim_graph import support_of
 from gsr.skills.world import World
 
 from gsr.scene_graph import SceneGraph
@@ -84,11 +88,6 @@ def set_aside(
 ) -> SkillResult:
     """Put the held ``node`` on the bare table, out of the ``keep_clear`` rectangles; the skill's result
     (checked: it must rest on the table afterwards)."""
-    from gsr.skills.grasping import place
-    from gsr.skills.library import settle_released
-    from gsr.skills.motion import Motion
-    from gsr.skills.sim_graph import support_of
-
     t0 = time.perf_counter()
     m = Motion(world, budget)
     name = f"(place_on {node} {world.table_id})"
