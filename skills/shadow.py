@@ -14,6 +14,9 @@ check passes, so layouts whose objects are reachable stay as they are.
 from __future__ import annotations
 
 import numpy as np
+from gsr.skills.arm_moves import APPROACH, transit_height
+from gsr.skills.grasping import pick_candidates
+from gsr.skills.motion import Motion
 from gsr.skills.result import SkillError
 from gsr.skills.world import SimObject, World
 
@@ -41,10 +44,6 @@ def _behind(world: World, obj: SimObject, fixture: SimObject) -> bool:
 def pickable(world: World, obj: SimObject) -> bool:
     """Whether some pick candidate of ``obj`` has a base spot from which the arm reaches it touching
     nothing (the check a pick makes before it moves); the robot is left as it was."""
-    from gsr.skills.arm_moves import APPROACH, transit_height
-    from gsr.skills.grasping import pick_candidates
-    from gsr.skills.motion import Motion
-
     m = Motion(world)
     m.ignore = {obj.body}
     saved = world.robot.snapshot()
