@@ -10,8 +10,12 @@ from __future__ import annotations
 import numpy as np
 from gsr.skills.asset_model import AssetModel
 from gsr.skills.assets import asset_urdf_path, make_asset
+from gsr.skills.box_slots import HAND_OVER_TOP, INSIDE_MARGIN, box_slots, turned_footprint
+from gsr.skills.layout import layout_from_graph
+from gsr.skills.packing import footprint
 from gsr.skills.robot import Robot
 from gsr.skills.shadow import SHADOW_DEPTH, SHADOW_SIDE, TALL, keep_reachable
+from gsr.skills.sim_graph import graph_from_layout
 from gsr.skills.world import JOINT_FRICTION, SETTLE_STEPS, SimObject, World
 
 from gsr.categories import is_a
@@ -106,8 +110,6 @@ def build_world(
     by default and never used by benchmarks or the executor).
     """
     import pybullet as p
-    from gsr.skills.layout import layout_from_graph
-    from gsr.skills.sim_graph import graph_from_layout
 
     if isinstance(task_or_layout, TaskSpec):
         graph = task_or_layout.initial
@@ -639,9 +641,6 @@ def _box_slot(
     frame): its slot of :func:`gsr.skills.box_slots.box_slots` among everything the layout puts in the
     same box; None when they do not all fit on the floor that way, or when one of them stands tall
     enough for a hand gripping its top to clear the walls (a mug: it is not taken from inside the box)."""
-    from gsr.skills.box_slots import HAND_OVER_TOP, INSIDE_MARGIN, box_slots, turned_footprint
-    from gsr.skills.packing import footprint
-
     box_yaw = world.yaw_of(host.body, link)
     interior = host.model.interiors[""]
     floor = world.to_world(host.body, link, (*interior.center[:2], interior.center[2] - size[2] / 2))[2]
