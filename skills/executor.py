@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from gsr.skills.camera import default_views, render
 from gsr.skills.library import DEFAULT_BUDGET, run_step
 from gsr.skills.result import SkillResult
 from gsr.skills.sim_graph import scene_graph_from_sim
@@ -23,8 +24,10 @@ from gsr.skills.world import World
 
 from gsr.graph_diff import GraphDiff, diff_graphs
 from gsr.pddl.model import Domain
+from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.step import Plan, Step
+from gsr.transition import StepRejected, apply_step
 
 #: Node states that belong to the symbolic state (the rest is description).
 SYMBOLIC_STATES = frozenset({"open", "on", "held"})
@@ -109,8 +112,6 @@ class PhysicalExecutor:
         budget: int = DEFAULT_BUDGET,
         frame_camera: str | None = None,
     ) -> None:
-        from gsr.resources import load_builtin_domain
-
         self.world = world
         self.domain = domain or load_builtin_domain("tabletop")
         self.budget = budget
@@ -121,8 +122,6 @@ class PhysicalExecutor:
             self._frame()
 
     def _frame(self) -> None:
-        from gsr.skills.camera import default_views, render
-
         assert self.frame_camera is not None
         self.frames.append(render(self.world, default_views(self.world)[self.frame_camera]).rgb)
 
@@ -151,8 +150,6 @@ class PhysicalExecutor:
 
         ``act`` runs the step's skill instead of the library's (a recovery sets an object aside on a
         table spot it chooses); the step is checked and its outcome compared all the same."""
-        from gsr.transition import StepRejected, apply_step
-
         name = str(step)
         try:
             expected = apply_step(self.graph, step, self.domain)
