@@ -15,11 +15,23 @@ from collections.abc import Callable
 
 import numpy as np
 from gsr.skills.arm_moves import APPROACH, lift, transit_height
+from gsr.skills.articulated import push_in, roofed_opening
 from gsr.skills.asset_model import GraspSite
+from gsr.skills.hand_clearance import (
+    RELEASE_MARGIN,
+    clear_grasps,
+    graspable_at,
+    hand_clear,
+    hand_clear_at,
+    plan_drag,
+    rim_pinches,
+)
 from gsr.skills.motion import Motion
+from gsr.skills.packing import packed_spot
 from gsr.skills.result import Failure, SkillError
 from gsr.skills.robot import GRIPPER, angled, top_down
 from gsr.skills.sim_graph import interior_boxes, support_of
+from gsr.skills.surfaces import hand_crowding, surface_spot, uncrowded_turn
 from gsr.skills.world import SimObject, World
 
 MAX_DROP = 0.06  # m: the most a placed object may be let go above its release point
@@ -203,8 +215,6 @@ def pick_candidates(world: World, obj: SimObject) -> list[tuple[np.ndarray, tupl
     (:func:`gsr.skills.hand_clearance.clear_grasps`). Inside a container (a deep box) the cleared ones
     come first: there the model's poses put the hand into the walls.
     """
-    from gsr.skills.hand_clearance import clear_grasps, hand_clear, rim_pinches
-
     model = [(pos, quat, min(GRIPPER.open_width, w + 0.035)) for pos, quat, w in grasp_candidates(world, obj)]
     whole = [g for g in obj.model.grasps if math.hypot(*g.xyz[:2]) < 1e-6]
     sx, sy = obj.model.extent[:2]
@@ -344,8 +354,6 @@ def _drag_inward(world: World, m: Motion, obj: SimObject, z_transit: float, erro
     """Drag ``obj`` along its container's floor towards the middle (see
     :func:`gsr.skills.hand_clearance.plan_drag`); whether it moved. Walls and neighbours are checked on
     the way; the object itself is what the fingertips press on."""
-    from gsr.skills.hand_clearance import plan_drag
-
     on_the_way: list[str] = []
     drags = plan_drag(world, obj, on_the_way)
     # what stands on the way towards the middle is named when no drag got the object where a grasp
@@ -503,7 +511,6 @@ def target_point(
     if world.objects[loc.object_id].model.fixed:
         # a fixture's top (stove, rack, cabinet top): a level spot that supports the whole footprint,
         # at the height the surface really has there (not the top of a knob or a rail)
-        from gsr.skills.surfaces import surface_spot
 
         spot = surface_spot(world, obj, loc.body, lo, hi, links={loc.link} if loc.part else None)
         if spot is not None:
@@ -695,7 +702,6 @@ def _ranked_spot(
     centre = np.array([(xlo + xhi) / 2, (ylo + yhi) / 2])
     if prefer_near:  # a fixture top: the edge nearest the robot is the easiest to reach
         # ... where the hand does not meet a tall neighbour (a bowl beside a wine bottle)
-        from gsr.skills.surfaces import hand_crowding
 
         crowded = hand_crowding(world, obj, z)
         candidates.sort(key=lambda c: (crowded(c), c[0] + 0.3 * abs(c[1] - centre[1])))
@@ -739,7 +745,6 @@ def _ranked_spot(
     # the hand reaches past what it holds (it is 20 cm long; a box is held by its wall): the first free
     # spot where the hand at the release point and above it touches nothing, and that ``accept`` (the
     # arm reaches it) takes; else the first hand-clear one; else the first free one
-    from gsr.skills.hand_clearance import hand_clear_at
 
     cleared = None
     refused: list[np.ndarray] = []
@@ -774,8 +779,6 @@ def graspable_later(
     compartment's), or, when a later pick would find no grasp of ``obj`` there
     (:func:`gsr.skills.hand_clearance.graspable_at`: a cube let go against a deep box's wall or in its
     corner), the free spot nearest the box's middle where one would; the packing's when there is none."""
-    from gsr.skills.hand_clearance import graspable_at
-
     spot, delta = packed
     found = world.interior_of(target) if target in world.objects else None
     if found is None:
@@ -884,8 +887,6 @@ def hand_clear_release(
     height wins over the turn's order and nearness. None when there is none. For a release whose descent stopped high (the hand met the drawer above, a
     wall top or a neighbour before the object got down): ``place`` descends until contact and lets go
     there, up to :data:`MAX_DROP` above the release point."""
-    from gsr.skills.hand_clearance import RELEASE_MARGIN, hand_clear_at
-
     found = world.interior_of(target)
     if found is None:
         return None
@@ -976,7 +977,6 @@ def place(
 
     ``keep_clear``: rectangles ((centre, half sizes) on the table) a bare-table spot must stay out of."""
     import pybullet as p
-    from gsr.skills.packing import packed_spot
 
     ee, quat = m.pose()
     lo, hi = world.body_aabb(obj.body)
@@ -984,7 +984,6 @@ def place(
     # the grasp offset as it is now: where the hand must be for the object's bottom centre to be at spot
     offset = ee - np.array([centre[0], centre[1], lo[2]])
     rot = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
-    from gsr.skills.articulated import push_in, roofed_opening
 
     # a container with a roof (a microwave): set the object down before its opening, then slide it in
     opening = roofed_opening(world, target, obj) if relation == "in" else None
@@ -1001,8 +1000,6 @@ def place(
         # containers: a spot in the container's frame, the wrist turned to line the object up with it
         spot, delta = packed
     else:
-        from gsr.skills.surfaces import uncrowded_turn
-
         spot, delta = _spot_and_turn(
             world,
             target,
