@@ -15,9 +15,14 @@ from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+from gsr.skills.build import build_world
+from gsr.skills.executor import PhysicalExecutor
+from gsr.skills.recovery import MAX_CLEARANCES, blockers, keep_clear_around, set_aside, support_step
 from gsr.skills.result import Failure
 
+from gsr.check import check_step
 from gsr.diagnosis import Diagnosis
+from gsr.facts import state_from_graph
 from gsr.pddl.model import Domain
 from gsr.scene_graph import SceneGraph
 from gsr.state import State
@@ -25,7 +30,7 @@ from gsr.step import Step
 from gsr.task_spec import TaskSpec
 
 if TYPE_CHECKING:
-    from gsr.skills.executor import PhysicalExecutor, StepOutcome
+    from gsr.skills.executor import StepOutcome
 
 
 #: Skill failures raised by planning before anything moved (deterministic for a given scene).
@@ -61,11 +66,6 @@ class SimExecutor:
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world (deterministic per ``seed``); the observed initial state."""
-        from gsr.skills.build import build_world
-        from gsr.skills.executor import PhysicalExecutor
-
-        from gsr.facts import state_from_graph
-
         self.close()
         self.domain = domain
         world = build_world(task, seed=self.seed)
@@ -78,9 +78,6 @@ class SimExecutor:
 
     def execute(self, step: Step) -> Diagnosis:
         """Check the step on the observed state, run its skill, and report what the simulator shows."""
-        from gsr.check import check_step
-        from gsr.facts import state_from_graph
-
         assert self.ex is not None and self.domain is not None, "call reset() first"
         checked = check_step(self.domain, state_from_graph(self.ex.graph, self.domain), step)
         if not checked.ok:
@@ -116,9 +113,6 @@ class SimExecutor:
         :data:`~gsr.skills.recovery.MAX_CLEARANCES` of them aside on the table (checked steps of their
         own) and pick again. None when nothing was set aside; else a non-ok diagnosis that says what
         moved and asks the agent to replan from the observed graph (the pick may have succeeded)."""
-        from gsr.skills.executor import PhysicalExecutor
-        from gsr.skills.recovery import MAX_CLEARANCES, blockers, keep_clear_around, set_aside, support_step
-
         assert self.ex is not None
         ex = self.ex
         if (
