@@ -15,12 +15,18 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from gsr.skills.build import build_world
 from gsr.skills.executor import PhysicalExecutor
+from gsr.skills.library import run_step
 from gsr.skills.perceived_scene import VIEWS, PerceivedScene, observable_view, observed_ids
 from gsr.skills.sim_executor import SimExecutor
+from gsr.skills.sim_graph import scene_graph_from_sim
 
+from gsr.facts import state_from_graph
+from gsr.graph_diff import diff_graphs
 from gsr.pddl.model import Domain
 from gsr.state import State
+from gsr.step import Step
 from gsr.task_spec import TaskSpec
 
 
@@ -44,10 +50,6 @@ class PerceivingPhysicalExecutor(PhysicalExecutor):
 
     def _act(self, step: Any) -> Any:
         """Run the skill on the bodies the step's perceived nodes are (:meth:`PerceivedScene.world_id`)."""
-        from gsr.skills.library import run_step
-
-        from gsr.step import Step
-
         acted = Step(step.action, tuple(self.scene.world_id(a) for a in step.args))
         return run_step(self.world, acted, self.budget)
 
@@ -57,8 +59,6 @@ class PerceivingPhysicalExecutor(PhysicalExecutor):
         An object that reappears (the arm had hidden it) or is seen for the first time is a discovery,
         not a contradiction of the step's effects.
         """
-        from gsr.graph_diff import diff_graphs
-
         confirmed = observed_ids(self.graph) & {n.id for n in expected.nodes}
         return diff_graphs(observable_view(expected, confirmed), observable_view(self.graph, confirmed))
 
@@ -82,10 +82,6 @@ class RunnerSimExecutor(SimExecutor):
 
     def reset(self, task: TaskSpec, domain: Domain) -> State:
         """Build the task's world; the observed initial state (perceived when ``perceive``)."""
-        from gsr.skills.build import build_world
-
-        from gsr.facts import state_from_graph
-
         if not self.perceive:
             return super().reset(task, domain)
         self.close()
@@ -120,18 +116,12 @@ class RunnerSimExecutor(SimExecutor):
 
     def truth_state(self) -> State:
         """The simulator's ground-truth state now (what physical success is judged on)."""
-        from gsr.skills.sim_graph import scene_graph_from_sim
-
-        from gsr.facts import state_from_graph
-
         assert self.ex is not None and self.domain is not None, "call reset() first"
         return state_from_graph(scene_graph_from_sim(self.ex.world), self.domain)
 
     def belief_state(self) -> State:
         """The agent's final observed state (perceived or ground truth), in the world's node ids (perceived
         nodes renamed to the bodies they are) so that the task's goal can be checked on it."""
-        from gsr.facts import state_from_graph
-
         assert self.ex is not None and self.domain is not None, "call reset() first"
         graph = self.ex.graph
         if isinstance(self.ex, PerceivingPhysicalExecutor):
