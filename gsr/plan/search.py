@@ -15,6 +15,7 @@ from heapq import heappop, heappush, heapreplace
 
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
+from gsr.plan.landmarks_progress import Progression
 from gsr.plan.task import Task
 
 CLOCK_EVERY = 64
@@ -238,31 +239,73 @@ def breadth_first(task: Task, deadline: float) -> SearchResult:
     return res
 
 
-def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: float) -> SearchResult:
+@dataclass(frozen=True, slots=True)
+class LamaOptions:
+    """Switches of ``lazy_lama`` (the defaults are lama-first's, see docs/planner.md, Search).
+
+    - ``progression``: ``"past-future"`` (Fast Downward's landmark progression,
+      ``gsr.plan.landmarks_progress``) or ``"accept"`` (``Landmarks.accept``: a landmark counts as
+      reached only after its greedy-necessary and reasonable predecessors);
+    - ``lm_preferred``: the landmark heuristic's preferred operators join h_FF's (lama-first: no);
+    - ``boost_root``: the initial state's values count as progress and boost (lama-first: no);
+    - ``tie_order``: the queues' order on equal priorities, 0 h_FF, 1 h_FF preferred, 2 landmarks,
+      3 landmarks preferred (Fast Downward's alternation: the first in list order).
+    """
+
+    progression: str = "past-future"
+    lm_preferred: bool = False
+    boost_root: bool = False
+    tie_order: tuple[int, int, int, int] = (0, 1, 2, 3)
+
+
+LAMA_FIRST = LamaOptions()
+
+
+def lazy_lama(
+    task: Task,
+    relax: Relaxation,
+    landmarks: Landmarks,
+    deadline: float,
+    options: LamaOptions = LAMA_FIRST,
+    trace: list | None = None,
+) -> SearchResult:
     """LAMA's first iteration (Fast Downward's lama-first): lazy greedy search alternating four
-    queues, h_FF and the landmark count, each with all successors and with preferred successors
-    only (the union of both heuristics' preferred operators), preferred queues boosted by 1000 when
-    either heuristic reaches a new best value. Accepted landmarks are kept per state (the path
-    that first reached it)."""
+    queues, h_FF and the landmark sum, each with all successors and with preferred successors only
+    (h_FF's preferred operators, see ``LamaOptions``), preferred queues boosted by 1000 when either
+    heuristic reaches a new best value after the initial state. The landmark status of a state is
+    the one of the path that first reached it. ``trace``: a list that receives ``(expansions,
+    "ff" | "lm", value)`` at every new best value."""
     res = SearchResult("unsolvable")
     space = _Space()
     init = task.init
     root = space.add(init, -1, -1)
-    accepted = [landmarks.accept(0, init)]
+    if options.progression == "past-future":
+        prog = Progression(landmarks)
+        status = [prog.initial(init)]
+        progress, lm_value = prog.progress, prog.value
+    elif options.progression == "accept":
+        prog = None
+        status = [landmarks.accept(0, init)]
+        progress = landmarks.accept
+    else:
+        raise ValueError(f"unknown landmark progression {options.progression!r}")
     if task.is_goal(init):
         res.status = "solved"
         return res
     queues: tuple[list, list, list, list] = ([], [], [], [])  # ff, ff preferred, lm, lm preferred
     priority = [0, 0, 0, 0]
+    tie_order = options.tie_order
     counter = 0
     best = [INF, INF]
-    apply, is_goal, ff, lm = task.apply, task.is_goal, relax.ff, landmarks.value
+    apply, is_goal, ff = task.apply, task.is_goal, relax.ff
+    lm_pref = options.lm_preferred
+    boost = options.boost_root
     pending: int | None = root
     while True:
         if pending is None:
-            # The non-empty queue with the lowest priority counter, the first of 1, 3, 0, 2 on ties.
+            # The non-empty queue with the lowest priority counter, the first in tie_order on ties.
             which = -1
-            for i in (1, 3, 0, 2):
+            for i in tie_order:
                 if queues[i] and (which < 0 or priority[i] < priority[which]):
                     which = i
             if which < 0:
@@ -273,7 +316,7 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
             if state in space.ids:
                 continue
             sid = space.add(state, pid, op)
-            accepted.append(landmarks.accept(accepted[pid], state))
+            status.append(progress(status[pid], state))
             res.generated += 1
             if is_goal(state):
                 res.status, res.ops = "solved", space.path(sid)
@@ -286,17 +329,30 @@ def lazy_lama(task: Task, relax: Relaxation, landmarks: Landmarks, deadline: flo
         res.evaluated += 1
         if h_ff == INF:
             continue
-        h_lm, pref_lm = lm(accepted[sid], state, succ_ops)
-        progress = False
+        if prog is not None:
+            h_lm = lm_value(status[sid])
+            if h_lm == INF:
+                continue
+            pref_lm = prog.preferred(status[sid], succ_ops) if lm_pref else ()
+        else:
+            h_lm, pref_lm = landmarks.value(status[sid], state, succ_ops)
+            if not lm_pref:
+                pref_lm = ()
+        progressed = False
         if h_ff < best[0]:
             best[0] = h_ff
-            progress = True
+            progressed = True
+            if trace is not None:
+                trace.append((res.expanded, "ff", h_ff))
         if h_lm < best[1]:
             best[1] = h_lm
-            progress = True
-        if progress:
+            progressed = True
+            if trace is not None:
+                trace.append((res.expanded, "lm", h_lm))
+        if progressed and boost:
             priority[1] -= BOOST
             priority[3] -= BOOST
+        boost = True  # every state after the initial one
         res.expanded += 1
         if not res.expanded % CLOCK_EVERY and time.perf_counter() > deadline:
             res.status = "timeout"
