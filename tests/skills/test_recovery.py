@@ -158,7 +158,7 @@ def _gcg11(clear_blockers: bool):
 
 
 def test_a_mug_packed_by_a_box_end_wall_is_freed_by_setting_aside_what_stands_on_its_way(monkeypatch) -> None:
-    from gsr.skills import recovery
+    from gsr.skills import recovery, sim_executor
     from gsr.skills.sim_graph import support_of
 
     # GCG Complex 11: three 4.4 cm mugs in one box; yellow_mug1 stands 7 cm from its middle by an end
@@ -177,8 +177,8 @@ def test_a_mug_packed_by_a_box_end_wall_is_freed_by_setting_aside_what_stands_on
     # with the recovery: red_mug1 is set aside on the table, then the drag and the pick succeed; a
     # neighbour named first whose own pick is refused (blue_mug1, packed by the same wall) is skipped
     real = recovery.blockers
-    monkeypatch.setattr(
-        recovery, "blockers", lambda msg, world, graph: ["blue_mug1", *real(msg, world, graph)]
+    monkeypatch.setattr(  # the executor's own binding of recovery.blockers
+        sim_executor, "blockers", lambda msg, world, graph: ["blue_mug1", *real(msg, world, graph)]
     )
     ex = _gcg11(clear_blockers=True)
     try:
