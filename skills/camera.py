@@ -13,10 +13,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from gsr.perception.camera import Camera, camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
+from gsr.perception.frame import Frame, InstanceLabel
 
 if TYPE_CHECKING:
-    from gsr.perception import Camera, Frame
-    from gsr.perception.frame import InstanceLabel
     from gsr.skills.world import World
 
 
@@ -72,7 +72,6 @@ def capture_gl(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, Camera]:
     """One TinyRenderer capture: RGB (uint8), metric depth, the raw segmentation buffer and the camera."""
     import pybullet as p
-    from gsr.perception.camera import camera_from_gl, depth_from_gl_buffer
 
     view = p.computeViewMatrix(eye, target, up, physicsClientId=client)
     proj = p.computeProjectionMatrixFOV(fov, width / height, near, far, physicsClientId=client)
@@ -92,8 +91,6 @@ def capture_gl(
 
 def render(world: World, spec: CameraSpec) -> RGBD:
     """Render RGB, depth and segmentation of the world from one camera."""
-    from gsr.perception.camera import split_gl_segmentation
-
     rgb, depth, seg, camera = capture_gl(
         world.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
     )
@@ -130,8 +127,6 @@ def _pixel_node(world: World, body: int, link: int) -> str | None:
 
 def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
     """One mask id per visible scene-graph node of a rendering, and each id's ``InstanceLabel``."""
-    from gsr.perception.frame import InstanceLabel
-
     masks, names = node_of_pixels(world, img.body, img.link)
     labels = {}
     for i, nid in enumerate(names):
@@ -142,8 +137,6 @@ def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, Insta
 
 def render_frame(world: World, spec: CameraSpec) -> Frame:
     """A ``gsr.perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
-    from gsr.perception.frame import Frame
-
     img = render(world, spec)
     masks, labels = labelled_masks(world, img)
     return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
