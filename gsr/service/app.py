@@ -26,6 +26,7 @@ from pydantic import BaseModel, TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from gsr import __version__
 from gsr.errors import GSRError
 from gsr.service.handlers import (
     ApiError,
@@ -112,21 +113,14 @@ def _small(data: Any, steps: int = 0) -> bool:
 
 
 def _preload() -> None:
-    """Import what in-process requests use, at startup rather than inside the first requests."""
-    import gsr.check
-    import gsr.facts
-    import gsr.io
-    import gsr.plan_format
-    import gsr.validate  # noqa: F401
-
+    """Load what in-process requests use at startup rather than inside the first requests: the modules
+    come with gsr.service.handlers (imported above), the built-in domain is read here."""
     with contextlib.suppress(GSRError):  # a missing domain is reported by the requests that name it
         builtin_domain("tabletop")
 
 
 def create_app(settings: ServiceSettings | None = None) -> FastAPI:
     """The FastAPI application with keys and limits from ``settings`` (defaults: ServiceSettings())."""
-    from gsr import __version__
-
     settings = settings or ServiceSettings()
     state_dir = settings.state_path
     metrics = Metrics(state_dir / "metrics")
