@@ -389,8 +389,10 @@ COMMAND_MODULES = frozenset(
 )
 #: The ratchet: function-level imports of project modules that pull no optional library and are no CLI
 #: command's. It may only go down (lower it when you move some); 463 function-level imports in all when
-#: issue 15's round began.
-MAX_UNJUSTIFIED_FUNCTION_LEVEL_IMPORTS = 165
+#: issue 15's round began. The 74 left: perception's benchmark scripts (their engineers' files), the
+#: planner's deferred C kernels, FD driver and validator (an isolated benchmark run's CPU counts its
+#: imports), the scene-graph modules (pydantic) behind plan_graph and LIBERO problems.
+MAX_UNJUSTIFIED_FUNCTION_LEVEL_IMPORTS = 74
 
 
 def _module_level_imports(path: Path) -> list[ast.Import | ast.ImportFrom]:
