@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from gsr.facts import problem_from_graph
 from gsr.pddl.model import Domain, Formula
-from gsr.plan.grounding import ObjectsByType, ground_simplify, nnf, to_dnf
+from gsr.pddl.walk import nnf, to_dnf
+from gsr.plan.grounding import ObjectsByType, ground_simplify
 from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.semantics import compile_domain

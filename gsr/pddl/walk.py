@@ -6,11 +6,13 @@ a node over new sub-formulas. On those rest the generic walks (:func:`subformula
 :func:`map_formula`, :func:`map_atoms`) and the operations several modules share:
 :func:`free_variables` (the only copy: the checker, the planner's simplifier and the goal reader use
 it), :func:`conjuncts`, :func:`negate` (negation pushed inwards, as the checker's code generator and
-quantifier joins need it), and for effects :func:`effect_leaves` / :func:`effect_literals`.
+quantifier joins need it), the normal forms :func:`nnf` and :func:`to_dnf` (the planner's grounding
+and the grounder's goal comparison use them), and for effects :func:`effect_leaves` /
+:func:`effect_literals`.
 
 Modules whose job *is* a per-node dispatch (the writer, the checker's code generator, the diagnosis
-explainer, the planner's normal forms) keep their own ``isinstance`` chains: there the chain is the
-content, not boilerplate.
+explainer, the planner's ground simplifier) keep their own ``isinstance`` chains: there the chain is
+the content, not boilerplate.
 """
 
 from __future__ import annotations
@@ -18,7 +20,10 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import TypeVar
 
+from gsr.errors import GSRError
 from gsr.pddl.model import (
+    FALSE,
+    TRUE,
     And,
     AndEffect,
     Atom,
@@ -163,6 +168,80 @@ def negate(f: Formula) -> Formula:
     if isinstance(f, Forall):
         return Exists(f.params, negate(f.body))
     return Not(f)
+
+
+def nnf(f: Formula, negated: bool = False) -> Formula:
+    """Negation normal form of ``f`` (of ``(not f)`` when ``negated``): ``imply`` eliminated, ``not``
+    only directly above atoms, equalities and the counting quantifiers ``forn``/``forpairs``, which
+    are kept whole (no ``not`` passes through a count); the planner refuses those when it grounds."""
+    if isinstance(f, (Atom, Equals, ForN, ForPairs)):
+        return Not(f) if negated else f
+    if isinstance(f, Not):
+        return nnf(f.formula, not negated)
+    if isinstance(f, And):
+        parts = tuple(nnf(p, negated) for p in f.parts)
+        return Or(parts) if negated else And(parts)
+    if isinstance(f, Or):
+        parts = tuple(nnf(p, negated) for p in f.parts)
+        return And(parts) if negated else Or(parts)
+    if isinstance(f, Imply):
+        return nnf(Or((Not(f.condition), f.then)), negated)
+    if isinstance(f, Exists):
+        body = nnf(f.body, negated)
+        return Forall(f.params, body) if negated else Exists(f.params, body)
+    if isinstance(f, Forall):
+        body = nnf(f.body, negated)
+        return Exists(f.params, body) if negated else Forall(f.params, body)
+    raise GSRError(f"not a formula: {f!r}")
+
+
+#: A ground literal: (atom, positive). A DNF is a list of conjunctions of such literals.
+GroundLiteral = tuple[Atom, bool]
+Conjunction = frozenset[GroundLiteral]
+#: Beyond this many disjuncts a formula is too disjunctive to compile (the planner's precondition limit).
+DNF_LIMIT = 512
+
+
+def to_dnf(f: Formula, limit: int = DNF_LIMIT) -> list[Conjunction]:
+    """Disjunctive normal form of a ground NNF formula whose equalities and quantifiers are decided
+    (``TRUE``/``FALSE``, atoms, negated atoms, and/or): a list of conjunctions, contradictory ones
+    dropped, each once; more than ``limit`` disjuncts raise ``GSRError``."""
+    if f == TRUE:
+        return [frozenset()]
+    if f == FALSE:
+        return []
+    if isinstance(f, Atom):
+        return [frozenset({(f, True)})]
+    if isinstance(f, Not) and isinstance(f.formula, Atom):
+        return [frozenset({(f.formula, False)})]
+    if isinstance(f, Or):
+        out: list[Conjunction] = []
+        seen: set[Conjunction] = set()
+        for part in f.parts:
+            for conj in to_dnf(part, limit):
+                if conj not in seen:
+                    seen.add(conj)
+                    out.append(conj)
+        if len(out) > limit:
+            raise GSRError(f"formula too disjunctive to compile (> {limit} disjuncts)")
+        return out
+    if isinstance(f, And):
+        acc: list[Conjunction] = [frozenset()]
+        for part in f.parts:
+            nxt: list[Conjunction] = []
+            seen = set()
+            for left in acc:
+                for right in to_dnf(part, limit):
+                    merged = left | right
+                    if merged in seen or any((a, not p) in merged for a, p in right):
+                        continue
+                    seen.add(merged)
+                    nxt.append(merged)
+            if len(nxt) > limit:
+                raise GSRError(f"formula too disjunctive to compile (> {limit} disjuncts)")
+            acc = nxt
+        return acc
+    raise GSRError(f"formula not in ground NNF: {f!r}")
 
 
 # ----------------------------------------------------------------- effects

@@ -6,8 +6,9 @@ import pytest
 
 from gsr.pddl.model import And, Atom, Domain, Exists, Not, Or, Problem, TypedVar
 from gsr.pddl.parser import parse_domain, parse_problem
+from gsr.pddl.walk import nnf, to_dnf
 from gsr.plan import PLANNERS, ground_task, plan
-from gsr.plan.grounding import nnf, normalize_action, to_dnf
+from gsr.plan.grounding import normalize_action
 from gsr.validate import validate_plan
 
 ALL_OURS = [p for p in PLANNERS if p != "fd"]

@@ -249,8 +249,9 @@ def test_negative_preconditions_optimal_cost_matches_fast_downward_lmcut(n: int,
 
 
 def test_fast_simplifier_equals_reference_ground_simplify(libero_dir: Path) -> None:
+    from gsr.pddl.walk import to_dnf
     from gsr.plan.grounding import ObjectsByType
-    from gsr.plan.grounding.normalize import ground_simplify, normalize_action, to_dnf
+    from gsr.plan.grounding.normalize import ground_simplify, normalize_action
     from gsr.plan.grounding.simplify import Simplifier
 
     domain = _tabletop()

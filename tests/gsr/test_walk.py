@@ -1,15 +1,19 @@
-"""The one formula walker: structure, fold/map, free variables (forn/forpairs too), negation."""
+"""The one formula walker: structure, fold/map, free variables (forn/forpairs too), negation, NNF, DNF."""
 
 from __future__ import annotations
 
 import itertools
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import gsr.plan.grounding.simplify as simplify
 import gsr.semantics as semantics
+from gsr.errors import GSRError
 from gsr.pddl.model import (
+    FALSE,
+    TRUE,
     And,
     Atom,
     Equals,
@@ -32,7 +36,9 @@ from gsr.pddl.walk import (
     map_atoms,
     map_formula,
     negate,
+    nnf,
     subformulas,
+    to_dnf,
     with_children,
 )
 from gsr.semantics import holds
@@ -107,3 +113,74 @@ def test_structure_and_negation_properties(f) -> None:
         closed = Exists((TypedVar(name, ("thing",)),), closed)
     for state in itertools.islice(_states(), 4):
         assert holds(DOMAIN, negate(closed), state) is (not holds(DOMAIN, closed, state))
+
+
+def _is_nnf(f) -> bool:
+    """No ``imply``; every ``not`` directly above an atom, an equality or a counting quantifier (kept
+    whole: its body is not rewritten)."""
+    if isinstance(f, (ForN, ForPairs, Atom, Equals)):
+        return True
+    if isinstance(f, Not):
+        return isinstance(f.formula, (Atom, Equals, ForN, ForPairs))
+    return not isinstance(f, Imply) and all(_is_nnf(c) for c in children(f))
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], deadline=None, max_examples=100)
+@given(FORMULAS)
+def test_nnf_is_equivalent_and_normal(f) -> None:
+    positive, negative = nnf(f), nnf(f, negated=True)
+    assert _is_nnf(positive) and _is_nnf(negative)
+    assert free_variables(positive) == free_variables(f) == free_variables(negative)
+    closed = f
+    for name in sorted(free_variables(f)):
+        closed = Exists((TypedVar(name, ("thing",)),), closed)
+    for state in itertools.islice(_states(), 4):
+        truth = holds(DOMAIN, closed, state)
+        assert holds(DOMAIN, nnf(closed), state) is truth
+        assert holds(DOMAIN, nnf(closed, negated=True), state) is (not truth)
+
+
+GROUND = st.recursive(
+    st.builds(lambda o: Atom("p", (o,)), st.sampled_from(["a", "b", "c"])) | st.sampled_from([TRUE, FALSE]),
+    lambda inner: st.one_of(
+        st.builds(Not, inner),
+        st.builds(And, st.lists(inner, max_size=3).map(tuple)),
+        st.builds(Or, st.lists(inner, max_size=3).map(tuple)),
+        st.builds(Imply, inner, inner),
+    ),
+    max_leaves=8,
+)
+
+
+def _dnf_holds(dnf, true: set[str]) -> bool:
+    return any(all((a.args[0] in true) is positive for a, positive in conj) for conj in dnf)
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow], deadline=None, max_examples=100)
+@given(GROUND)
+def test_dnf_of_a_ground_nnf_is_equivalent_without_contradictions(f) -> None:
+    dnf = to_dnf(_fold_constants(nnf(f)))
+    assert len(set(dnf)) == len(dnf)  # each conjunction once
+    assert all(not any((a, not p) in conj for a, p in conj) for conj in dnf)  # none contradictory
+    for bits in range(8):
+        true = {o for i, o in enumerate("abc") if bits >> i & 1}
+        state = State(frozenset(Atom("p", (o,)) for o in true), OBJECTS)
+        assert _dnf_holds(dnf, true) is holds(DOMAIN, f, state)
+
+
+def _fold_constants(f):
+    """``not TRUE`` / ``not FALSE`` (which NNF keeps as negated empty conjunctions) as FALSE / TRUE."""
+    if isinstance(f, Not) and f.formula in (TRUE, FALSE):
+        return FALSE if f.formula == TRUE else TRUE
+    if isinstance(f, (And, Or)):
+        return type(f)(tuple(_fold_constants(p) for p in f.parts))
+    return f
+
+
+def test_dnf_refuses_what_is_not_ground_nnf_and_too_many_disjuncts() -> None:
+    with pytest.raises(GSRError, match="not in ground NNF"):
+        to_dnf(Imply(Atom("p", ("a",)), Atom("p", ("b",))))
+    wide = And(tuple(Or((Atom("p", (f"a{i}",)), Atom("q", (f"a{i}", "b")))) for i in range(9)))
+    assert len(to_dnf(wide)) == 2**9
+    with pytest.raises(GSRError, match="too disjunctive"):
+        to_dnf(wide, limit=256)

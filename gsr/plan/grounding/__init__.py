@@ -5,8 +5,9 @@ This ``__init__`` is the package's public API: code outside the package imports 
 white-box tests may). The stages, in the order a ``ground_task`` call runs them:
 
 - ``normalize``: an action's ADL precondition and effects into a ``Schema`` (negation normal form,
-  flattened conditional effects, one schema per equality case), plus the normal forms ``nnf`` and
-  ``to_dnf`` and the per-binding ``ground_simplify`` other modules use on goals;
+  flattened conditional effects, one schema per equality case; the normal forms are the formula
+  walker's, ``gsr.pddl.walk.nnf`` / ``to_dnf``), and the per-binding ``ground_simplify`` other
+  modules use on goals;
 - ``simplify``: the ``Simplifier`` that expands quantifiers over typed objects (``ObjectsByType``)
   and folds statics and equalities away;
 - ``precondition``: ground preconditions as atom keys (relaxed cores, DNF scans);
@@ -24,7 +25,7 @@ from gsr.plan.grounding.fixpoint import (
     schema_bindings,
 )
 from gsr.plan.grounding.intern import ground_goal
-from gsr.plan.grounding.normalize import ground_simplify, nnf, normalize_action, to_dnf
+from gsr.plan.grounding.normalize import ground_simplify, normalize_action
 from gsr.plan.grounding.simplify import ObjectsByType
 
 __all__ = [
@@ -35,8 +36,6 @@ __all__ = [
     "ground_simplify",
     "ground_task",
     "grounding_tables",
-    "nnf",
     "normalize_action",
     "schema_bindings",
-    "to_dnf",
 ]

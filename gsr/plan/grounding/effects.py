@@ -6,7 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from gsr.pddl.model import Atom, Formula, Not, TypedVar, is_variable
-from gsr.plan.grounding.normalize import Conjunction, Schema, to_dnf
+from gsr.pddl.walk import Conjunction, to_dnf
+from gsr.plan.grounding.normalize import Schema
 from gsr.plan.grounding.precondition import AtomKey
 from gsr.plan.grounding.simplify import Simplifier
 

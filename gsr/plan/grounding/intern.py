@@ -5,8 +5,8 @@ from __future__ import annotations
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, And, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
+from gsr.pddl.walk import Conjunction, nnf, to_dnf
 from gsr.plan.grounding.effects import EMPTY, EffectPart, Variant
-from gsr.plan.grounding.normalize import Conjunction, nnf, to_dnf
 from gsr.plan.grounding.precondition import AtomKey, FormulaCache, IdConjunction, expand_dnf, fast_dnf, id_dnf
 from gsr.plan.grounding.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task

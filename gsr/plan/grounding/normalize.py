@@ -1,6 +1,7 @@
-"""ADL normalisation: negation normal form, flattened conditional effects, ground simplification and DNF.
+"""ADL normalisation: flattened conditional effects, equality cases and ground simplification.
 
-The planner compiles, it does not reject: ``imply`` and ``not`` are pushed inward (NNF), existential
+The normal forms themselves (NNF, DNF) are the formula walker's (gsr.pddl.walk.nnf / to_dnf). The
+planner compiles, it does not reject: ``imply`` and ``not`` are pushed inward (NNF), existential
 preconditions at the top level become extra action parameters, universal quantifiers are
 instantiated over the finite typed objects, equality and static predicates are evaluated at
 grounding time, and what is left of a ground precondition is put into disjunctive normal form
@@ -37,12 +38,7 @@ from gsr.pddl.model import (
     When,
     is_variable,
 )
-
-# A ground literal: (atom, positive). A DNF is a list of conjunctions of such literals.
-GroundLiteral = tuple[Atom, bool]
-Conjunction = frozenset[GroundLiteral]
-
-DNF_LIMIT = 512  # beyond this many disjuncts a precondition is considered too disjunctive to compile
+from gsr.pddl.walk import nnf
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,29 +77,6 @@ class _Fresh:
     def __call__(self, var: str) -> str:
         self.count += 1
         return f"{var}#{self.count}"
-
-
-def nnf(formula: Formula, negate: bool = False) -> Formula:
-    """Negation normal form: ``imply`` eliminated, ``not`` only directly above atoms and equalities."""
-    if isinstance(formula, (Atom, Equals)):
-        return Not(formula) if negate else formula
-    if isinstance(formula, Not):
-        return nnf(formula.formula, not negate)
-    if isinstance(formula, And):
-        parts = tuple(nnf(p, negate) for p in formula.parts)
-        return Or(parts) if negate else And(parts)
-    if isinstance(formula, Or):
-        parts = tuple(nnf(p, negate) for p in formula.parts)
-        return And(parts) if negate else Or(parts)
-    if isinstance(formula, Imply):
-        return nnf(Or((Not(formula.condition), formula.then)), negate)
-    if isinstance(formula, Exists):
-        body = nnf(formula.body, negate)
-        return Forall(formula.params, body) if negate else Exists(formula.params, body)
-    if isinstance(formula, Forall):
-        body = nnf(formula.body, negate)
-        return Exists(formula.params, body) if negate else Forall(formula.params, body)
-    raise GSRError(f"unsupported formula in planner: {formula!r}")
 
 
 def rename(formula: Formula, mapping: Mapping[str, str]) -> Formula:
@@ -326,43 +299,3 @@ def ground_simplify(
     if isinstance(formula, Imply):
         return ground_simplify(nnf(formula), binding, objects, static)
     raise GSRError(f"unsupported formula in planner: {formula!r}")
-
-
-def to_dnf(formula: Formula, limit: int = DNF_LIMIT) -> list[Conjunction]:
-    """DNF of a ground, simplified NNF formula; contradictory disjuncts are dropped."""
-    if formula == TRUE:
-        return [frozenset()]
-    if formula == FALSE:
-        return []
-    if isinstance(formula, Atom):
-        return [frozenset({(formula, True)})]
-    if isinstance(formula, Not) and isinstance(formula.formula, Atom):
-        return [frozenset({(formula.formula, False)})]
-    if isinstance(formula, Or):
-        out: list[Conjunction] = []
-        seen: set[Conjunction] = set()
-        for part in formula.parts:
-            for conj in to_dnf(part, limit):
-                if conj not in seen:
-                    seen.add(conj)
-                    out.append(conj)
-        if len(out) > limit:
-            raise GSRError(f"formula too disjunctive to compile (> {limit} disjuncts)")
-        return out
-    if isinstance(formula, And):
-        acc: list[Conjunction] = [frozenset()]
-        for part in formula.parts:
-            nxt: list[Conjunction] = []
-            seen = set()
-            for left in acc:
-                for right in to_dnf(part, limit):
-                    merged = left | right
-                    if merged in seen or any((a, not p) in merged for a, p in right):
-                        continue
-                    seen.add(merged)
-                    nxt.append(merged)
-            if len(nxt) > limit:
-                raise GSRError(f"formula too disjunctive to compile (> {limit} disjuncts)")
-            acc = nxt
-        return acc
-    raise GSRError(f"formula not in ground NNF: {formula!r}")

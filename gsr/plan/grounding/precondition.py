@@ -9,7 +9,7 @@ parts are therefore cached per formula object (by id; the cache keeps the object
 from __future__ import annotations
 
 from gsr.pddl.model import FALSE, TRUE, And, Atom, Formula, Not, Or
-from gsr.plan.grounding.normalize import DNF_LIMIT, Conjunction, to_dnf
+from gsr.pddl.walk import DNF_LIMIT, Conjunction, to_dnf
 from gsr.plan.grounding.simplify import Simplifier
 
 FormulaCache = dict[object, tuple[Formula, object]]

@@ -31,8 +31,7 @@ from gsr.pddl.model import (
     Or,
     TypedVar,
 )
-from gsr.pddl.walk import free_variables  # the one copy; the grounder imports it from here
-from gsr.plan.grounding.normalize import nnf
+from gsr.pddl.walk import free_variables, nnf  # the one copy; the grounder imports it from here
 
 
 class TypedObjects(Protocol):
