@@ -235,8 +235,79 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     fused = [f for f in fused if f is not None]
     fused = absorb_fragments(merge_duplicates(fused, params), params)
     fused = split_disjoint(fused, params)
+    stacked = split_stacked(fused, params)
+    if {id(x) for x in stacked} != {
+        id(x) for x in fused
+    }:  # a container cut: its new walls may have pieces to absorb
+        stacked = absorb_fragments(stacked, params)
+    fused = stacked
     number_anonymous(fused)
     return fused
+
+
+#: Two containers are stacked (one resting on the other's rim) when their footprints overlap at this IoU ...
+STACK_FOOTPRINT_IOU = 0.5
+#: ... and the upper one's cloud reaches at least this far above and below the lower one's top.
+STACK_REACH = 0.03
+
+
+def split_stacked(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """A container whose cloud took a container stacked under it is cut at that container's top.
+
+    The detector can give a box resting on another box one segment with the box under it in some views;
+    fusion then makes one container reaching from the table to the upper rim, which holds the lower box
+    and everything beside it. Where another view segmented the lower container on its own (L: footprint
+    overlapping, its top well below the fused one's top and well above its bottom) and the fused
+    container's points below L's top have L's colour, not the container's own, those points are L's: they
+    join L and the container keeps what lies above. A box standing *in* a box has the outer box's walls
+    (the outer box's colour) around it below its top, so it is never cut."""
+    from gsr.perception.geometry import color_name
+
+    out = list(fused)
+    for u in fused:
+        if not any(x is u for x in out) or not _plain_container(u):
+            continue
+        u_top, u_bottom = (
+            float(np.percentile(u.points[:, 2], 98.0)),
+            float(np.percentile(u.points[:, 2], 2.0)),
+        )
+        for low in out:
+            if low is u or not _plain_container(low) or low.label.color in (None, u.label.color):
+                continue
+            top = float(np.percentile(low.points[:, 2], 98.0))
+            if not (u_bottom <= top - STACK_REACH and top <= u_top - STACK_REACH):
+                continue
+            if _footprint_iou(u, low) < STACK_FOOTPRINT_IOU:
+                continue
+            below = u.points[:, 2] < top + 0.005
+            if below.sum() < params.min_points or (~below).sum() < params.min_points:
+                continue
+            if color_name(u.rgb[below]) != low.label.color:
+                continue
+            upper = _combined(u, [_subset(u, ~below)], u.label.category, u.label.color, {}, params, u.views)
+            lower = _join(low, _subset(u, below), params=params, keep_label=True)
+            if upper is None or lower is None:
+                continue
+            out = [upper if x is u else lower if x is low else x for x in out]
+            break
+    return out
+
+
+def _plain_container(inst: Instance) -> bool:
+    return not _no_object(inst) and "container" in affordances(inst.label.category)
+
+
+def _subset(inst: Instance, keep: np.ndarray) -> Instance:
+    part = Instance(inst.key, inst.label, inst.points[keep], inst.rgb[keep], views=inst.views)
+    fit_boxes(part)
+    return part
+
+
+def _footprint_iou(a: Instance, b: Instance) -> float:
+    lo, hi = np.maximum(a.aabb_min[:2], b.aabb_min[:2]), np.minimum(a.aabb_max[:2], b.aabb_max[:2])
+    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+    union = float(np.prod(a.aabb_max[:2] - a.aabb_min[:2]) + np.prod(b.aabb_max[:2] - b.aabb_min[:2])) - inter
+    return inter / union if union > 0 else 0.0
 
 
 #: Voxel edge (m) of the connectivity grid of :func:`split_disjoint`: points in voxels that touch (26

@@ -4,11 +4,12 @@ rules of ``in``, and the evaluation's breakdown of ``in`` errors (exact syntheti
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from gsr.perception.evaluate import ContainmentErrors
 from gsr.perception.frame import InstanceLabel
 from gsr.perception.geometry import GeometryParams, Instance, fit_boxes
 from gsr.perception.relations import RelationThresholds, rim_box, supports
-from gsr.perception.track import absorb_fragments, fuse_views, merge_duplicates
+from gsr.perception.track import absorb_fragments, fuse_views, merge_duplicates, split_stacked
 
 from gsr.scene_graph import Edge, Node, SceneGraph
 
@@ -401,3 +402,34 @@ def test_a_wall_face_only_one_camera_saw_joins_its_box_but_a_cube_against_the_wa
     # without the base-to-rim wall test the strip stays an object: it is that test's doing
     monkeypatch.setattr("gsr.perception.track.FRAGMENT_ALONG_WALLS", 2.0)
     assert len(absorb_fragments([box, piece, cube], PARAMS)) == 3
+
+
+def _coloured(key: str, pts: np.ndarray, rgb: np.ndarray, color: str, views: int) -> Instance:
+    inst = Instance(key, InstanceLabel(category="box", color=color), pts, rgb, views)
+    fit_boxes(inst)
+    return inst
+
+
+def test_a_box_fused_with_the_box_it_rests_on_is_cut_at_that_boxs_top_but_a_box_in_a_box_is_not():
+    red, yellow = np.array([200, 30, 30], np.uint8), np.array([220, 200, 40], np.uint8)
+    lower = open_box("lower", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085)).points
+    upper = open_box("upper", (0.305, -0.095, 0.085), (0.545, 0.065, 0.17)).points
+    # two views gave both boxes one segment (voted red); one view segmented the lower, yellow box alone
+    both = np.concatenate([upper, lower])
+    rgb = np.concatenate([np.tile(red, (len(upper), 1)), np.tile(yellow, (len(lower), 1))])
+    fused = _coloured("box_1", both, rgb, "red", 3)
+    # its floor and two walls up to its rim, what that view saw from a corner
+    alone = lower[(lower[:, 1] < -0.099) | (lower[:, 0] > 0.549) | (np.abs(lower[:, 2] - 0.008) < 1e-6)]
+    low = _coloured("box_2", alone, np.tile(yellow, (len(alone), 1)), "yellow", 1)
+    out = {i.label.color: i for i in split_stacked([fused, low], PARAMS)}
+    assert out["red"].aabb_min[2] >= 0.085 and out["red"].aabb_max[2] == pytest.approx(0.17)
+    assert out["yellow"].aabb_max[2] <= 0.09 and len(out["yellow"].points) > len(alone)
+    sup = supports([table(), out["red"], out["yellow"]], PLANE, TH)
+    assert sup["box_2"] == ("on", "table") and sup["box_1"] == ("on", "box_2")
+    # a yellow box standing in a red box: the red walls around it below its top are the outer box's own
+    outer = open_box("outer", (0.3, -0.1, 0.0), (0.55, 0.07, 0.17)).points
+    inner = open_box("inner", (0.35, -0.06, 0.008), (0.5, 0.04, 0.08)).points
+    whole = _coloured("box_1", outer, np.tile(red, (len(outer), 1)), "red", 3)
+    small = _coloured("box_2", inner, np.tile(yellow, (len(inner), 1)), "yellow", 2)
+    kept = split_stacked([whole, small], PARAMS)
+    assert kept[0] is whole and kept[1] is small
