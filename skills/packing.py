@@ -211,11 +211,12 @@ def _held(
 def _fresh_grasp(world: World, obj: SimObject, closing_yaw: float) -> tuple[float, float]:
     """``(closing yaw, finger opening)`` of a square grasp like the current one: the closing axis turned to
     the nearest of the object's own axes, the fingers on the footprint's size along it (its body's for
-    a mug held across it: the handle sticks out along the other axis)."""
+    a mug held across it: the handle sticks out along the other axis), never wider than they are now
+    (a bowl held by its rim)."""
     own = world.yaw_of(obj.body)
     k = round((closing_yaw - own) / (math.pi / 2))
     size = 2 * footprint(obj.model)[1]
-    return own + k * math.pi / 2, float(size[k % 2])
+    return own + k * math.pi / 2, min(float(size[k % 2]), world.robot.finger_width())
 
 
 def _overlaps(points: np.ndarray, half: np.ndarray, rects: list[Rect]) -> np.ndarray:
