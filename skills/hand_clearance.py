@@ -251,6 +251,7 @@ def plan_drag(world: World, obj: SimObject, in_the_way: list[str] | None = None)
     shifts += [(d * u * sign, False) for d in (0.02, 0.04) for u in (axis, across) for sign in (1, -1)]
     host_bodies = {o.body for o in world.objects.values() if o.model.interiors and _inside(world, obj, o)}
     others = _object_bodies(world) - {obj.body} - host_bodies
+    movable = {o.body for o in world.objects.values() if not o.model.fixed} & others
     half_xy = (hi[:2] - lo[:2]) / 2 + 0.003
     bodies = near_bodies(world, obj, reach=0.3)
     out: list[Drag] = []
@@ -280,19 +281,42 @@ def plan_drag(world: World, obj: SimObject, in_the_way: list[str] | None = None)
         if not known and not clear_grasps(world, obj, site + shift, site_def.width, limit=1):
             continue
         proxy = HandProxy(world)
+        hand_in: set[int] = set()  # movable neighbours the hand alone meets on a drag known to help
         try:
-            for tilt in (0.2, -0.2, 0.35, -0.35, 0.45, -0.45):
+            for tilt in DRAG_TILTS:
                 quat = _tilted(top_down(long_yaw), tilt)
                 # the lowest closed fingertip (the fingers meet at the grasp point) on the object's top
                 start = np.array([here[0], here[1], float(hi[2]) + FINGERTIP * math.cos(tilt) - PRESS])
                 ends = (start, start + shift, start + shift * 0.5)
                 if not any(proxy.hit(p_, quat, 0.0, bodies, world.table_body) for p_ in ends):
                     out.append(Drag(start, quat, shift))
+                elif known and in_the_way is not None and not out:
+                    hand_in |= _hand_meets(proxy, ends, quat, bodies, movable, world.table_body)
         finally:
             proxy.remove()
+        if not out and hand_in:
+            # the hand (not the object's way) meets a packed neighbour (a mug beside the cube's way)
+            # at every tilt where walls alone let it drag: named, it can be set aside first
+            by_body = {o.body: o.id for o in world.objects.values()}
+            in_the_way += sorted({by_body[bd] for bd in hand_in} - set(in_the_way))
         if len(out) >= 4:
             break
     return out
+
+
+#: Tilts (rad) of a drag's hand about its thickness axis: its end over the near wall stays above it.
+DRAG_TILTS = (0.2, -0.2, 0.35, -0.35, 0.45, -0.45)
+
+
+def _hand_meets(
+    proxy: HandProxy, ends: tuple, quat: tuple, bodies: list[int], movable: set[int], table: int
+) -> set[int]:
+    """The movable ``bodies`` a drag's hand meets at one of ``ends`` when everything else (walls,
+    fixtures) lets it pass there; empty when something unmovable is in the hand's way too."""
+    fixed = [b for b in bodies if b not in movable]
+    if any(proxy.hit(p_, quat, 0.0, fixed, table) for p_ in ends):
+        return set()
+    return {b for b in bodies if b in movable and any(proxy.hit(p_, quat, 0.0, [b], table) for p_ in ends)}
 
 
 #: Steps (m) along a drag's way at which the object's own shape is checked against its neighbours.

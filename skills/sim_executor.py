@@ -127,13 +127,13 @@ class SimExecutor:
         target = step.args[0]
         moved: list[str] = []
         refused: list[str] = []  # neighbours whose own pick the motion planner refused (nothing moved)
+        # what a refused neighbour's own pick named in its way (a cube packed behind a cube): set aside
+        # first, after which that neighbour is tried again (refused -> deeper -> neighbour)
+        deeper: dict[str, str] = {}
         notes: list[str] = []
         while len(moved) < MAX_CLEARANCES:
-            names = [
-                n
-                for n in blockers(out.diagnosis, ex.world, ex.graph)
-                if n not in moved and n not in refused and n != target
-            ]
+            named = [*deeper, *blockers(out.diagnosis, ex.world, ex.graph)]
+            names = [n for n in dict.fromkeys(named) if n not in moved and n not in refused and n != target]
             if not names or self.clearances >= self.max_episode_clearances:
                 break
             node = names[0]
@@ -146,11 +146,18 @@ class SimExecutor:
             if taken.skill is None:  # the checker rejected the pick: nothing moved
                 break
             if not taken.ok and taken.skill.failure in REFUSALS:
-                # packed in as the object is (a mug by a box's end wall): the next one named, if any
+                # packed in as the object is (a mug by a box's end wall): the next one named, if any;
+                # what its own refusal names in its way comes first
                 refused.append(node)
                 notes.append(f"{node} could not be taken: {taken.skill.message}")
+                for n in blockers(taken.diagnosis, ex.world, ex.graph):
+                    if n not in moved and n != target and n != node:
+                        deeper.setdefault(n, node)
                 continue
             moved.append(node)
+            if node in deeper and deeper[node] in refused:
+                refused.remove(deeper.pop(node))  # its blocker is being moved: it may be taken now
+            deeper.pop(node, None)
             if not taken.ok:
                 notes.append(f"setting {node} aside failed: {taken.diagnosis}")
                 break
