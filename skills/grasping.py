@@ -1020,7 +1020,9 @@ def place(
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
     goal = spot + offset + np.array([0, 0, 0.012])
     z_transit = max(transit_height(world, extra=hi[2] - lo[2], exclude=(obj.id,)), goal[2] + APPROACH)
-    m.ignore = {obj.body} | riders_of(world, obj)  # what rides in the held box moves with it
+    riders = riders_of(world, obj)
+    m.ignore = {obj.body} | riders  # what rides in the held box moves with it
+    m.gentle = bool(riders)  # (Motion.gentle: smooth targets, or the riders creep)
     lift(m, z_transit)
     m.park_for(goal, poses=[(goal, quat), (np.array([goal[0], goal[1], z_transit]), quat)])
     above = (np.array([goal[0], goal[1], z_transit]), quat)
