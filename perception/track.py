@@ -30,7 +30,14 @@ import re
 from collections.abc import Iterable, Mapping
 
 import numpy as np
-from gsr.perception.geometry import GeometryParams, Instance, clean_points, fit_boxes, number_anonymous
+from gsr.perception.geometry import (
+    GeometryParams,
+    Instance,
+    clean_points,
+    color_name,
+    fit_boxes,
+    number_anonymous,
+)
 from gsr.perception.relations import is_container, rim_box
 
 from gsr.categories import affordances, is_part_category
@@ -261,8 +268,6 @@ def split_stacked(fused: list[Instance], params: GeometryParams) -> list[Instanc
     container's points below L's top have L's colour, not the container's own, those points are L's: they
     join L and the container keeps what lies above. A box standing *in* a box has the outer box's walls
     (the outer box's colour) around it below its top, so it is never cut."""
-    from gsr.perception.geometry import color_name
-
     out = list(fused)
     for u in fused:
         if not any(x is u for x in out) or not _plain_container(u):
