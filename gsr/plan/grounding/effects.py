@@ -152,19 +152,37 @@ def ground_effects(
     """
     v.effects = []
     for group in groups:
-        split = group[3]
-        if split == ((), ()) and not group[0]:
+        if unconditional(group):
             v.effects.append(_unconditional(group[4], v.binding))
-            continue
-        base = None
-        if split is not None:
-            base = simplify.ground_literals(split[0], v.binding)
-            if base is None:
-                continue  # the condition is false whatever the effect variables are
-            if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
-                deferred.append((v, group, v.binding, base))
-                continue
-        ground_group(group, v.binding, base, simplify, v.effects, memo)
+        else:
+            group_effects(v, group, simplify, reached, deferred, memo)
+
+
+def unconditional(group: EffectGroup) -> bool:
+    """Whether an effect group has neither effect variables nor a condition (one block per action)."""
+    return group[3] == ((), ()) and not group[0]
+
+
+def group_effects(
+    v: Variant,
+    group: EffectGroup,
+    simplify: Simplifier,
+    reached: set[AtomKey],
+    deferred: list[Deferred],
+    memo: EffectMemo,
+) -> None:
+    """Ground one (not unconditional) effect group of a fired action into ``v.effects``, or defer it
+    (see ground_effects)."""
+    split = group[3]
+    base = None
+    if split is not None:
+        base = simplify.ground_literals(split[0], v.binding)
+        if base is None:
+            return  # the condition is false whatever the effect variables are
+        if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
+            deferred.append((v, group, v.binding, base))
+            return
+    ground_group(group, v.binding, base, simplify, v.effects, memo)  # type: ignore[arg-type]
 
 
 def ground_group(

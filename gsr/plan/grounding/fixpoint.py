@@ -27,6 +27,7 @@ from gsr.pddl.model import (
     is_variable,
 )
 from gsr.plan.grounding.compiled import bind, compile_schema
+from gsr.plan.grounding.compiled_effects import compile_effects
 from gsr.plan.grounding.effects import (
     Deferred,
     EffectGroup,
@@ -466,6 +467,7 @@ class GroundingTables:
     disjunctions: list[tuple[Atom, ...]]  # joined while listing bindings (see schema_bindings)
     triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
     factories: list  # compiled preconditions (gsr.plan.grounding.compiled), one per schema
+    fires: list  # compiled effects (gsr.plan.grounding.compiled_effects), one per schema
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
@@ -520,6 +522,7 @@ def grounding_tables(domain: Domain) -> GroundingTables:
         [],
         [],
         [],
+        [],
     )
     for s, alts in zip(schemas, compiled.alternatives, strict=True):
         disjunction = _disjunction(s, alts)
@@ -531,6 +534,7 @@ def grounding_tables(domain: Domain) -> GroundingTables:
     compiled.factories.extend(
         compile_schema(s, p, kinds, fluent) for s, p in zip(schemas, compiled.parts, strict=True)
     )
+    compiled.fires.extend(compile_effects(s, g) for s, g in zip(schemas, compiled.groups, strict=True))
     _COMPILED.insert(0, (domain, compiled))
     del _COMPILED[_COMPILED_MAX:]
     return compiled
@@ -567,6 +571,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
         compiled.parts,
     )
     disjunctions, triggers = compiled.disjunctions, compiled.triggers
+    fires = compiled.fires if COMPILED else None
     narrow_memo: dict[tuple, bool] = {}
     part_memo: dict[tuple, Formula] = {}
     cores: FormulaCache = {}
@@ -652,9 +657,12 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                     still.append((key, binding))
                 else:
                     v.fired = True
-                    ground_effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
                     fired.append(v)
-                    new_adds(v.effects, reached_keys, pending)
+                    if fires is not None:  # compiled: the same blocks and queued adds, in order
+                        fires[si](v, simplify, reached_keys, deferred, effect_memo, pending)
+                    else:
+                        ground_effects(v, groups[si], simplify, reached_keys, deferred, effect_memo)
+                        new_adds(v.effects, reached_keys, pending)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
