@@ -6,12 +6,12 @@ landmark graph and of the search, and the search's outcome and expansions. CPU t
 process's own (``time.process_time``); ``--timeout`` bounds the search's *wall* time.
 
 Usage: python -m gsr.benchmarks.landmark_profile DOMAIN PROBLEM [--timeout 60] [--disjunctive]
-       [--no-reasonable] [--graph] [--progression past-future|accept] [--lm-preferred]
-       [--boost-root] [--tie-order 0,1,2,3] [--old]
+       [--no-reasonable] [--graph] [--trace] [--fd] [--progression past-future|accept]
+       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2]
 
-The search switches are ``gsr.plan.search.LamaOptions`` (defaults: lama-first's); ``--old`` is the
-search before issue 18's fifth pass (accept progression, landmark preferred operators, a boost at
-the initial state, ties 1,3,0,2).
+The search switches are ``gsr.plan.search.LamaOptions``: GSR's defaults (planner ``lama``), or with
+``--fd`` Fast Downward lama-first's rules (past/future progression, h_FF's preferred operators only,
+no boost at the initial state, ties in list order); each switch given overrides the one of that base.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import gc
 import resource
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from gsr.errors import GSRError
@@ -29,9 +30,7 @@ from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.landmarks_progress import Progression
-from gsr.plan.search import LAMA_FIRST, LamaOptions, lazy_lama
-
-OLD = LamaOptions(progression="accept", lm_preferred=True, boost_root=True, tie_order=(1, 3, 0, 2))
+from gsr.plan.search import FD_LAMA_FIRST, LAMA_FIRST, LamaOptions, lazy_lama
 
 
 def profile(
@@ -95,22 +94,32 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=60.0, help="wall seconds of search")
     parser.add_argument("--disjunctive", action="store_true", help="RHW's disjunctive landmarks too")
     parser.add_argument("--no-reasonable", action="store_true", help="greedy-necessary orders only")
-    parser.add_argument("--progression", choices=("past-future", "accept"), default=LAMA_FIRST.progression)
-    parser.add_argument("--lm-preferred", action="store_true", help="landmark preferred operators too")
-    parser.add_argument("--boost-root", action="store_true", help="the initial state's values boost")
-    parser.add_argument("--tie-order", default="0,1,2,3", help="queue order on equal priorities")
-    parser.add_argument("--old", action="store_true", help="the search before the fifth pass")
+    parser.add_argument("--fd", action="store_true", help="Fast Downward lama-first's search rules")
+    parser.add_argument("--progression", choices=("past-future", "accept"), help="landmark status rule")
+    parser.add_argument("--lm-preferred", choices=("on", "off"), help="landmark preferred operators")
+    parser.add_argument("--boost-root", choices=("on", "off"), help="the initial state's values boost")
+    parser.add_argument("--tie-order", help="queue order on equal priorities, e.g. 1,3,0,2")
     parser.add_argument("--trace", action="store_true", help="print each new best h_FF / landmark value")
     parser.add_argument("--graph", action="store_true", help="print every landmark and its predecessors")
     args = parser.parse_args(argv)
-    try:
-        ties = tuple(int(x) for x in args.tie_order.split(","))
-    except ValueError:
-        ties = ()
-    if sorted(ties) != [0, 1, 2, 3]:
-        print(f"landmark_profile: --tie-order must order 0,1,2,3, not {args.tie_order!r}", file=sys.stderr)
-        return 2
-    options = OLD if args.old else LamaOptions(args.progression, args.lm_preferred, args.boost_root, ties)
+    options = FD_LAMA_FIRST if args.fd else LAMA_FIRST
+    if args.tie_order is not None:
+        try:
+            ties = tuple(int(x) for x in args.tie_order.split(","))
+        except ValueError:
+            ties = ()
+        if sorted(ties) != [0, 1, 2, 3]:
+            print(
+                f"landmark_profile: --tie-order must order 0,1,2,3, not {args.tie_order!r}", file=sys.stderr
+            )
+            return 2
+        options = replace(options, tie_order=ties)
+    if args.progression is not None:
+        options = replace(options, progression=args.progression)
+    if args.lm_preferred is not None:
+        options = replace(options, lm_preferred=args.lm_preferred == "on")
+    if args.boost_root is not None:
+        options = replace(options, boost_root=args.boost_root == "on")
     trace: list | None = [] if args.trace else None
     try:
         out = profile(

@@ -241,24 +241,31 @@ def breadth_first(task: Task, deadline: float) -> SearchResult:
 
 @dataclass(frozen=True, slots=True)
 class LamaOptions:
-    """Switches of ``lazy_lama`` (the defaults are lama-first's, see docs/planner.md, Search).
+    """Switches of ``lazy_lama``; the defaults are GSR's, ``FD_LAMA_FIRST`` is Fast Downward's.
 
-    - ``progression``: ``"past-future"`` (Fast Downward's landmark progression,
-      ``gsr.plan.landmarks_progress``) or ``"accept"`` (``Landmarks.accept``: a landmark counts as
-      reached only after its greedy-necessary and reasonable predecessors);
-    - ``lm_preferred``: the landmark heuristic's preferred operators join h_FF's (lama-first: no);
-    - ``boost_root``: the initial state's values count as progress and boost (lama-first: no);
+    - ``progression``: ``"accept"`` (``Landmarks.accept``: a landmark counts as reached only after
+      its greedy-necessary and reasonable predecessors) or ``"past-future"`` (Fast Downward's
+      landmark progression, ``gsr.plan.landmarks_progress``);
+    - ``lm_preferred``: the landmark heuristic's preferred operators join h_FF's (FD: no);
+    - ``boost_root``: the initial state's values count as progress and boost (FD: no);
     - ``tie_order``: the queues' order on equal priorities, 0 h_FF, 1 h_FF preferred, 2 landmarks,
-      3 landmarks preferred (Fast Downward's alternation: the first in list order).
+      3 landmarks preferred (FD's alternation: list order 0, 1, 2, 3).
+
+    Measured (docs/performance.md, issue 18's fifth pass): FD's rules solve neither transport-sat08
+    p20 nor tidybot-sat11 p01 and lose transport p19 (and, with FD's tie order, need 14,756
+    expansions instead of 2,834 on transport p29), so the defaults stay GSR's.
     """
 
-    progression: str = "past-future"
-    lm_preferred: bool = False
-    boost_root: bool = False
-    tie_order: tuple[int, int, int, int] = (0, 1, 2, 3)
+    progression: str = "accept"
+    lm_preferred: bool = True
+    boost_root: bool = True
+    tie_order: tuple[int, int, int, int] = (1, 3, 0, 2)
 
 
-LAMA_FIRST = LamaOptions()
+LAMA_FIRST = LamaOptions()  # what planner "lama" runs
+FD_LAMA_FIRST = LamaOptions(
+    progression="past-future", lm_preferred=False, boost_root=False, tie_order=(0, 1, 2, 3)
+)
 
 
 def lazy_lama(
@@ -270,10 +277,10 @@ def lazy_lama(
     trace: list | None = None,
 ) -> SearchResult:
     """LAMA's first iteration (Fast Downward's lama-first): lazy greedy search alternating four
-    queues, h_FF and the landmark sum, each with all successors and with preferred successors only
-    (h_FF's preferred operators, see ``LamaOptions``), preferred queues boosted by 1000 when either
-    heuristic reaches a new best value after the initial state. The landmark status of a state is
-    the one of the path that first reached it. ``trace``: a list that receives ``(expansions,
+    queues, h_FF and the landmark heuristic, each with all successors and with preferred successors
+    only, preferred queues boosted by 1000 when either heuristic reaches a new best value (the
+    details are ``LamaOptions``). The landmark status of a state is the one of the path that first
+    reached it. ``trace``: a list that receives ``(expansions,
     "ff" | "lm", value)`` at every new best value."""
     res = SearchResult("unsolvable")
     space = _Space()

@@ -19,7 +19,7 @@ from gsr.plan.grounding import ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
 from gsr.plan.landmarks_progress import Progression
-from gsr.plan.search import LamaOptions, lazy_lama
+from gsr.plan.search import FD_LAMA_FIRST, LAMA_FIRST, LamaOptions, lazy_lama
 from gsr.validate import validate_plan
 
 from .test_plan_landmark_orders import DOMAIN, TOWER
@@ -136,13 +136,9 @@ def test_progression_matches_its_definition_on_random_walks(folder: str, problem
 
 @pytest.mark.parametrize(
     "options",
-    [
-        LamaOptions(),
-        LamaOptions(progression="accept", lm_preferred=True, boost_root=True, tie_order=(1, 3, 0, 2)),
-        LamaOptions(lm_preferred=True),
-    ],
+    [FD_LAMA_FIRST, LAMA_FIRST, LamaOptions(progression="past-future"), LamaOptions(lm_preferred=False)],
 )
-def test_lama_first_and_the_old_search_plan_and_validate(options: LamaOptions) -> None:
+def test_gsr_and_fd_search_rules_plan_and_validate(options: LamaOptions) -> None:
     domain = load_domain(FIXTURES / "blocks" / "domain.pddl")
     problem = load_problem(FIXTURES / "blocks" / "probBLOCKS-9-2.pddl", domain)
     task = ground_task(domain, problem)
