@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_perception.py [--frames 30] [--scenes 30] [--seed
 (``--only fps`` or ``--only noise`` for one part; ``--only detect [--weights DIR]`` times the no-oracle
 detector: segmentation, detection and the whole no-oracle pipeline per frame over 4-camera scenes;
 ``--only openset --scenes 6`` shows what it calls the procedural world's primitives, assets it never saw). Frames are 640x480 renders of random scenes (both
-worlds, see benchmarks/perception_eval.py); they are rendered first, then each is perceived
+worlds, see benchmarks/perception/eval.py); they are rendered first, then each is perceived
 ``--repeats`` times and the median time per frame is kept, so rendering never enters the timing. The
 machine's load average is printed with the figures because the development machine is shared.
 """
@@ -23,7 +23,7 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np
-from gsr.benchmarks.perception_eval import evaluate, procedural_scene, skills_scene
+from gsr.benchmarks.perception.eval import evaluate, procedural_scene, skills_scene
 from gsr.perception.pipeline import perceive
 
 NOISE = (0.0, 0.002, 0.005, 0.01, 0.02)
@@ -119,7 +119,7 @@ def bench_detect(scenes: int, seed: int, repeats: int, weights: str | None = Non
 
 def bench_openset(scenes: int, seed: int, weights: str | None = None) -> dict[str, dict[str, int]]:
     """What the no-oracle detector calls objects of assets it was not trained on: the procedural world's
-    primitives (benchmarks/perception_scenes.py, other sizes and colours), 2 views per scene. Per truth
+    primitives (benchmarks/perception/scenes.py, other sizes and colours), 2 views per scene. Per truth
     category: the category of the detection that matches it (mask IoU >= 0.5), or ``(not segmented)``."""
     from gsr.perception.detect import load_detector
     from gsr.perception.train import MIN_TRUTH_PIXELS, target_of

@@ -102,7 +102,7 @@ def register(app: typer.Typer) -> None:
             raise fail("--weights needs --no-oracle")
         if seen_open and not (no_oracle and world == "skills"):
             raise fail("--seen-open needs --no-oracle and the skills world")
-        from gsr.benchmarks.perception_eval import evaluate, format_report
+        from gsr.benchmarks.perception.eval import evaluate, format_report
 
         detector = None
         if no_oracle:
@@ -136,7 +136,7 @@ def register(app: typer.Typer) -> None:
         """Train the no-oracle detector (merge + recognition MLPs) on rendered scenes; CPU only."""
         if scenes < 2 or views < 1 or heldout_scenes < 0 or threads < 1:
             raise fail("--scenes must be >= 2, --views and --threads >= 1, --heldout-scenes >= 0")
-        from gsr.benchmarks.perception_train_data import run_training
+        from gsr.benchmarks.perception.train_data import run_training
 
         from gsr.errors import GSRError
 

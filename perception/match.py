@@ -34,7 +34,7 @@ def padded_box(n: Node) -> tuple[np.ndarray, np.ndarray] | None:
     return np.array([lo.x, lo.y, lo.z]) - PAD, np.array([hi.x, hi.y, hi.z]) + PAD
 
 
-_box = padded_box  # the earlier private name; benchmarks/perception_node_errors.py should import padded_box
+_box = padded_box  # the earlier private name; benchmarks/perception/node_errors.py should import padded_box
 
 
 def box_iou(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]) -> float:

@@ -16,7 +16,7 @@ Three small models (torch on the CPU, exported as numpy arrays for :mod:`gsr.per
   object, such as the robot arm) and the colour word (plus ``none``: the object's name has no colour).
 
 The frames come from the caller (the perception layer renders nothing): ``gsr perceive-train`` feeds
-frames rendered by gsr.benchmarks.perception_train_data. Labels (``Frame.masks``/``Frame.labels``) are
+frames rendered by gsr.benchmarks.perception.train_data. Labels (``Frame.masks``/``Frame.labels``) are
 read only here and in :func:`evaluate`, never by the detector.
 """
 

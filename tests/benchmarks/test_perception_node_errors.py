@@ -1,8 +1,8 @@
-"""Node errors sorted by kind (gsr.benchmarks.perception_node_errors.classify_errors) on hand-built graphs."""
+"""Node errors sorted by kind (gsr.benchmarks.perception.node_errors.classify_errors) on hand-built graphs."""
 
 from __future__ import annotations
 
-from gsr.benchmarks.perception_node_errors import classify_errors
+from gsr.benchmarks.perception.node_errors import classify_errors
 
 from gsr.scene_graph import BoundingBox, Node, Pose, SceneGraph, Vec3
 

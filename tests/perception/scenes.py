@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from gsr.benchmarks.perception_render import render, table_camera
-from gsr.benchmarks.perception_scenes import Scene, SceneBuilder
+from gsr.benchmarks.perception.render import render, table_camera
+from gsr.benchmarks.perception.scenes import Scene, SceneBuilder
 from gsr.perception.frame import Frame
 from gsr.skills.camera import CameraSpec
 

@@ -14,7 +14,7 @@ from gsr.scene_graph import SceneGraph
 pytest.importorskip("pybullet")
 pytest.importorskip("open3d")
 
-from gsr.benchmarks.perception_render import save_frame
+from gsr.benchmarks.perception.render import save_frame
 
 from tests.perception.scenes import FRONT, frames, hand_scene
 

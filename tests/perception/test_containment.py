@@ -200,7 +200,7 @@ def test_the_seen_open_protocol_adds_earlier_looks_and_keeps_the_scene_and_truth
     import pytest
 
     pytest.importorskip("pybullet")
-    from gsr.benchmarks.perception_eval import evaluate, skills_scene, skills_scene_seen_open
+    from gsr.benchmarks.perception.eval import evaluate, skills_scene, skills_scene_seen_open
 
     seed = 673228719  # a generated task with a closed lidded box and two closed drawers
     earlier, now, truth = skills_scene_seen_open(seed, 1, 96, 72)

@@ -107,7 +107,7 @@ def test_segment_params_are_used(front):
 def test_half_resolution_works_on_the_same_grid(front):
     """A 320x240 image of a view is segmented on the grid of its 640x480 image (stride 1 instead of 2), so
     the trained models see the same pixel counts and neighbour distances at either resolution."""
-    from gsr.benchmarks.perception_render import render
+    from gsr.benchmarks.perception.render import render
 
     from tests.perception.scenes import FRONT
 

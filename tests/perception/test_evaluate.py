@@ -84,7 +84,7 @@ def _frame(counts: dict[str, int]) -> Frame:
 
 
 def test_perceivable_means_one_camera_shows_it():
-    from gsr.benchmarks.perception_eval import VISIBLE_PIXELS, visible_nodes
+    from gsr.benchmarks.perception.eval import VISIBLE_PIXELS, visible_nodes
 
     few = VISIBLE_PIXELS - 5
     frames = [_frame({"a": VISIBLE_PIXELS, "b": few}), _frame({"b": few, "c": 30})]
@@ -92,7 +92,7 @@ def test_perceivable_means_one_camera_shows_it():
 
 
 def test_perceivable_subset_keeps_relations_with_both_ends_visible():
-    from gsr.benchmarks.perception_eval import perceivable_prediction, perceivable_truth
+    from gsr.benchmarks.perception.eval import perceivable_prediction, perceivable_truth
 
     truth = _graph([("a", "on", "t"), ("h", "in", "drawer"), ("b", "on", "h"), ("c", "in", "box")])
     visible = {"a", "t", "b", "box", "c", "drawer"}
@@ -109,7 +109,7 @@ def test_perceivable_subset_keeps_relations_with_both_ends_visible():
 
 def test_eval_harness_on_a_few_procedural_scenes():
     pytest.importorskip("pybullet")
-    from gsr.benchmarks.perception_eval import evaluate, format_report
+    from gsr.benchmarks.perception.eval import evaluate, format_report
 
     report = evaluate(3, seed=5, world="procedural")
     assert report["scenes"] == 3 and report["fps"] > 0
@@ -127,7 +127,7 @@ def test_eval_harness_on_a_few_procedural_scenes():
 @pytest.mark.physics
 def test_eval_harness_on_the_skills_world():
     pytest.importorskip("pybullet")
-    from gsr.benchmarks.perception_eval import evaluate
+    from gsr.benchmarks.perception.eval import evaluate
 
     report = evaluate(2, seed=3, world="skills")
     assert report["world"] == "skills" and set(report["relations"]) == {"on", "in"}
@@ -137,7 +137,7 @@ def test_eval_harness_on_the_skills_world():
 
 def test_eval_harness_single_scene_is_deterministic():
     pytest.importorskip("pybullet")
-    from gsr.benchmarks.perception_eval import evaluate
+    from gsr.benchmarks.perception.eval import evaluate
 
     a, b = evaluate(1, seed=11, world="procedural"), evaluate(1, seed=11, world="procedural")
     for key in ("nodes", "relations", "states"):
@@ -146,7 +146,7 @@ def test_eval_harness_single_scene_is_deterministic():
 
 @pytest.mark.physics
 def test_view_study_more_cameras_see_more() -> None:
-    from gsr.benchmarks.perception_views import markdown, study
+    from gsr.benchmarks.perception.views import markdown, study
 
     report = study(2, 0, {"top": ("top",), "top+back": ("top", "back")})
     one, two = report["sets"]["top"], report["sets"]["top+back"]

@@ -153,7 +153,7 @@ def test_lidded_box_state_from_its_top_surface_in_the_skills_world():
     import dataclasses
 
     import pybullet as pb
-    from gsr.benchmarks.perception_eval import with_graph_attributes
+    from gsr.benchmarks.perception.eval import with_graph_attributes
     from gsr.skills.build import build_world
     from gsr.skills.camera import default_views, render_frame
 

@@ -84,7 +84,7 @@ def test_ids_are_made_by_perception_and_views_fuse(rendered):
 
 
 def test_relations_through_the_overlap_matching(rendered):
-    from gsr.benchmarks.perception_eval import as_truth_ids
+    from gsr.benchmarks.perception.eval import as_truth_ids
 
     frames_, truth = rendered
     graph, _ = perceive_rgbd(_views(frames_), SegmentationDetector(frames_))

@@ -15,7 +15,7 @@ from gsr.errors import GSRError
 pytest.importorskip("pybullet")
 pytest.importorskip("torch")
 
-from gsr.benchmarks.perception_render import table_camera
+from gsr.benchmarks.perception.render import table_camera
 
 from tests.perception.scenes import FRONT, LEFT, frames, hand_scene
 

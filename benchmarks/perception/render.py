@@ -1,7 +1,7 @@
 """Cameras for the procedural perception scenes: look-at specs and PyBullet TinyRenderer rendering.
 
 :func:`render` returns a ``gsr.perception.Frame`` whose mask ids are PyBullet's segmentation values
-(``body + (link + 1) << 24``), labelled by the scene (benchmarks/perception_scenes.py).
+(``body + (link + 1) << 24``), labelled by the scene (benchmarks/perception/scenes.py).
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import json
 from pathlib import Path
 
 import numpy as np
-from gsr.benchmarks.perception_scenes import Scene
+from gsr.benchmarks.perception.scenes import Scene
 from gsr.perception.frame import Frame
 from gsr.skills.camera import CameraSpec, capture_gl
 
@@ -76,7 +76,7 @@ def main() -> None:
     """Render one procedural scene and write its frame files and ground truth (for trying `gsr perceive`)."""
     import argparse
 
-    from gsr.benchmarks.perception_scenes import random_scene
+    from gsr.benchmarks.perception.scenes import random_scene
 
     ap = argparse.ArgumentParser(description=main.__doc__)
     ap.add_argument("--seed", type=int, default=0)

@@ -2,7 +2,7 @@
 
 Two worlds: ``skills`` (the project's simulator: random GSR-Bench-style tasks built by
 ``gsr.skills.build_world``, ground truth from ``gsr.skills.scene_graph_from_sim``; scored on ``on``/``in`` and
-part states, which is what that ground truth defines) and ``procedural`` (benchmarks/perception_scenes.py:
+part states, which is what that ground truth defines) and ``procedural`` (benchmarks/perception/scenes.py:
 primitive scenes with exact ground truth for every relation perception infers, drawer openings and door
 angles). Used by ``gsr perceive-eval`` and benchmarks/bench_perception.py. Rendering, noise and mask
 erosion are outside the timed region: ``fps`` is frames per second of :func:`gsr.perception.perceive` alone.
@@ -85,9 +85,9 @@ SKILLS_VIEWS = ("top", "left", "right", "front")
 
 
 def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
-    """Frames and exact ground truth of one primitive scene (benchmarks/perception_scenes.py)."""
-    from gsr.benchmarks.perception_render import camera_specs, render
-    from gsr.benchmarks.perception_scenes import random_scene
+    """Frames and exact ground truth of one primitive scene (benchmarks/perception/scenes.py)."""
+    from gsr.benchmarks.perception.render import camera_specs, render
+    from gsr.benchmarks.perception.scenes import random_scene
 
     rng = np.random.default_rng(scene_seed)
     scene = random_scene(scene_seed)

@@ -1,6 +1,6 @@
 """Where perception's CPU goes: cProfile (CPU-time clock) over ``perceive`` on rendered skills-world scenes.
 
-``python -m gsr.benchmarks.perception_profile --scenes 3 --cameras 4 --seed 0 [--no-oracle] [--top 25]``
+``python -m gsr.benchmarks.perception.profile --scenes 3 --cameras 4 --seed 0 [--no-oracle] [--top 25]``
 renders the scenes ``gsr perceive-eval`` renders (same seeds, 640x480), perceives each once untimed (one-off
 imports, model loading), then perceives them all under the profiler and prints frames per CPU-second and
 the project functions with the most cumulative CPU time. Rendering is outside the profiled region; so is
@@ -19,7 +19,7 @@ import time
 from typing import Any
 
 import numpy as np
-from gsr.benchmarks.perception_eval import skills_scene
+from gsr.benchmarks.perception.eval import skills_scene
 
 
 def scenes(count: int, seed: int, cameras: int, no_oracle: bool) -> list[list[Any]]:
@@ -67,7 +67,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--top", type=int, default=25, help="how many functions to print")
     args = ap.parse_args(argv)
     if args.scenes < 1 or args.cameras < 1 or args.top < 1:
-        print("perception_profile: --scenes, --cameras and --top must be >= 1", file=sys.stderr)
+        print(
+            "gsr.benchmarks.perception.profile: --scenes, --cameras and --top must be >= 1", file=sys.stderr
+        )
         return 2
     stats, cpu, frames = profile(scenes(args.scenes, args.seed, args.cameras, args.no_oracle), args.no_oracle)
     path = "no-oracle" if args.no_oracle else "oracle masks"

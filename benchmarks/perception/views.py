@@ -1,6 +1,6 @@
 """Which cameras does perception need in the skills world? F1 of ``on``/``in`` per set of views, same scenes.
 
-Run: ``python benchmarks/perception_views.py [--scenes 25] [--seed 0] [--json]
+Run: ``python benchmarks/perception/views.py [--scenes 25] [--seed 0] [--json]
 [--set NAME=view,view,...]...``. Every scene (the random GSR-Bench-style tasks of
 ``gsr perceive-eval --world skills``, same seeds) is rendered once from every view named in any set
 (640x480); each set is perceived (fused) and scored against ``scene_graph_from_sim``, over all truth and
@@ -59,7 +59,7 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     """Scores per view set over the same ``scenes`` skills-world scenes (deterministic per seed)."""
     import random
 
-    from gsr.benchmarks.perception_eval import (
+    from gsr.benchmarks.perception.eval import (
         perceivable_prediction,
         perceivable_truth,
         visible_nodes,
@@ -78,7 +78,7 @@ def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str,
     hidden: dict[str, int] = {}
     for ss in np.random.SeedSequence(seed).spawn(scenes):
         scene_seed = int(ss.generate_state(1)[0])
-        pick = random.Random(scene_seed)  # the same task choice as perception_eval.skills_scene
+        pick = random.Random(scene_seed)  # the same task choice as eval.skills_scene
         task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
         world = build_world(task, seed=scene_seed)
         try:

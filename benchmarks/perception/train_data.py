@@ -138,7 +138,7 @@ def training_frames(seed: int, scenes: int, views: int) -> Iterator[Frame]:
 
 def heldout_frames(seed: int, scenes: int, cameras: int = 4) -> Iterator[Frame]:
     """Frames exactly as ``gsr perceive-eval`` renders them (default views and light), on held-out seeds."""
-    from gsr.benchmarks.perception_eval import skills_scene
+    from gsr.benchmarks.perception.eval import skills_scene
 
     for ss in np.random.SeedSequence([seed, HELDOUT_STREAM]).spawn(scenes):
         frames, _ = skills_scene(int(ss.generate_state(1)[0]), cameras, 640, 480)

@@ -14,7 +14,7 @@ evaluation does (:func:`gsr.perception.match.match_nodes`) and sorts every error
 Rendered scenes are cached (``--cache DIR``) so that detector variants can be compared on the very same
 frames. Usage::
 
-    python -m gsr.benchmarks.perception_node_errors --scenes 10 --cameras 4 --seed 5 [--cache /tmp/c] [--json]
+    python -m gsr.benchmarks.perception.node_errors --scenes 10 --cameras 4 --seed 5 [--cache /tmp/c] [--json]
         [--no-drawer-completion]
 """
 
@@ -35,7 +35,7 @@ from gsr.errors import GSRError
 
 
 def _scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any, set[str]]:
-    from gsr.benchmarks.perception_eval import skills_scene, visible_nodes
+    from gsr.benchmarks.perception.eval import skills_scene, visible_nodes
 
     path = cache / f"scene_{seed}_{cameras}.pkl" if cache is not None else None
     if path is not None and path.is_file():
