@@ -39,6 +39,7 @@ def test_contents_of_a_drawer_in_its_own_frame_with_tilt_and_support() -> None:
         assert other.id not in rows  # still on the table, far from the drawer
         row = rows[mug.id]
         assert row["support"] == ["in", target] and row["tilt"] < 5.0
+        assert abs(row["yaw"]) < 2.0  # the wrist's turn lined it up with the drawer's walls
         # the footprint's centre where the packing put it (the box of a mug with its handle)
         assert np.allclose(row["uv"], uv, atol=0.01)
         # a mug laid on its side reads as tilted
