@@ -7,7 +7,7 @@ process's own (``time.process_time``); ``--timeout`` bounds the search's *wall* 
 
 Usage: python -m gsr.benchmarks.landmark_profile DOMAIN PROBLEM [--timeout 60] [--disjunctive]
        [--no-reasonable] [--graph] [--trace] [--fd] [--progression past-future|accept]
-       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2]
+       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2] [--lifo]
 
 The search switches are ``gsr.plan.search.LamaOptions``: GSR's defaults (planner ``lama``), or with
 ``--fd`` Fast Downward lama-first's rules (past/future progression, h_FF's preferred operators only,
@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import os
 import resource
 import sys
 import time
@@ -41,6 +42,7 @@ def profile(
     reasonable: bool,
     options: LamaOptions = LAMA_FIRST,
     trace: list | None = None,
+    lifo: bool = False,
 ) -> dict:
     """Ground, build the landmark graph, search; the figures as a dict (``lm`` the graph)."""
     c0 = time.process_time()
@@ -53,6 +55,7 @@ def profile(
         gc.enable()
     c1 = time.process_time()
     relax = Relaxation(task, unit=True)
+    relax.lifo = lifo
     c2 = time.process_time()
     lm = Landmarks(task, disjunctive=disjunctive, reasonable=reasonable)
     c3 = time.process_time()
@@ -99,6 +102,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--lm-preferred", choices=("on", "off"), help="landmark preferred operators")
     parser.add_argument("--boost-root", choices=("on", "off"), help="the initial state's values boost")
     parser.add_argument("--tie-order", help="queue order on equal priorities, e.g. 1,3,0,2")
+    parser.add_argument(
+        "--lifo",
+        action="store_true",
+        help="experimental: h_add's buckets last in first out (FD's order), Python h_add (no C kernels)",
+    )
     parser.add_argument("--trace", action="store_true", help="print each new best h_FF / landmark value")
     parser.add_argument("--graph", action="store_true", help="print every landmark and its predecessors")
     args = parser.parse_args(argv)
@@ -121,9 +129,18 @@ def main(argv: list[str] | None = None) -> int:
     if args.boost_root is not None:
         options = replace(options, boost_root=args.boost_root == "on")
     trace: list | None = [] if args.trace else None
+    if args.lifo:  # the compiled kernels pop FIFO: the Python h_add only
+        os.environ["GSR_PLAN_CC"] = os.environ["GSR_PLAN_JIT"] = "0"
     try:
         out = profile(
-            args.domain, args.problem, args.timeout, args.disjunctive, not args.no_reasonable, options, trace
+            args.domain,
+            args.problem,
+            args.timeout,
+            args.disjunctive,
+            not args.no_reasonable,
+            options,
+            trace,
+            args.lifo,
         )
     except (GSRError, OSError) as err:
         print(f"landmark_profile: {err}", file=sys.stderr)

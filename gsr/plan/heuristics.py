@@ -19,6 +19,12 @@ from gsr.plan.task import Task
 INF = float("inf")
 
 
+def _drain(bucket: list[int]):
+    """The bucket's entries last in first out, including those pushed while it is drained."""
+    while bucket:
+        yield bucket.pop()
+
+
 class Relaxation:
     """The unary-operator relaxation of a Task, shared by all heuristics."""
 
@@ -34,6 +40,9 @@ class Relaxation:
         n = len(task.atoms)
         self.task = task
         self.unit = unit
+        # Experimental (issue 18, fifth pass): pop h_add's cost buckets above 0 last-in-first-out,
+        # as Fast Downward does. Python path only (``GSR_PLAN_CC=0 GSR_PLAN_JIT=0``); off by default.
+        self.lifo = False
         self.goal_fact = n
         self.true_fact = n + 1
         # Negative preconditions, effect conditions and goals become complement facts "not a" (true
@@ -383,9 +392,13 @@ class Relaxation:
                                 top = v
                             buckets[v].append(g)
         c = 1
+        lifo = self.lifo
         while c <= top:
             step = (c << shift) + 1
-            for f in buckets[c]:
+            bucket = buckets[c]
+            # FIFO (the compiled kernels' order) or, with ``lifo``, last in first out as Fast
+            # Downward's bucket queue pops: same costs, other best supporters among equal ones.
+            for f in _drain(bucket) if lifo else bucket:
                 if cost[f] != c:
                     continue
                 if f == goal:
