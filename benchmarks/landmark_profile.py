@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import gc
-import os
 import resource
 import sys
 import time
@@ -105,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--lifo",
         action="store_true",
-        help="experimental: h_add's buckets last in first out (FD's order), Python h_add (no C kernels)",
+        help="experimental: h_add's buckets last in first out (Fast Downward's order)",
     )
     parser.add_argument("--trace", action="store_true", help="print each new best h_FF / landmark value")
     parser.add_argument("--graph", action="store_true", help="print every landmark and its predecessors")
@@ -129,8 +128,6 @@ def main(argv: list[str] | None = None) -> int:
     if args.boost_root is not None:
         options = replace(options, boost_root=args.boost_root == "on")
     trace: list | None = [] if args.trace else None
-    if args.lifo:  # the compiled kernels pop FIFO: the Python h_add only
-        os.environ["GSR_PLAN_CC"] = os.environ["GSR_PLAN_JIT"] = "0"
     try:
         out = profile(
             args.domain,

@@ -40,9 +40,7 @@ class Relaxation:
         n = len(task.atoms)
         self.task = task
         self.unit = unit
-        # Experimental (issue 18, fifth pass): pop h_add's cost buckets above 0 last-in-first-out,
-        # as Fast Downward does. Python path only (``GSR_PLAN_CC=0 GSR_PLAN_JIT=0``); off by default.
-        self.lifo = False
+        self._lifo = False  # see the ``lifo`` property
         self.goal_fact = n
         self.true_fact = n + 1
         # Negative preconditions, effect conditions and goals become complement facts "not a" (true
@@ -178,6 +176,28 @@ class Relaxation:
         self._jit_open = self.integral and relax_jit.allowed()
         if self._jit_open and relax_jit.wanted(sum(self.npre)):
             self._use_jit()
+
+    @property
+    def compiled(self):
+        """The compiled h_add / h_FF in use (``relax_c.CRelaxation`` or numba's), or None."""
+        return self._jit
+
+    @property
+    def lifo(self) -> bool:
+        """Experimental (issue 18, fifth pass): h_add pops its cost buckets above 0 last in first
+        out, as Fast Downward's bucket queue does, instead of first in first out. The costs are the
+        same; the best supporters among equally cheap ones, so h_FF's relaxed plan and preferred
+        operators, differ. Python path and C kernels (not numba); off by default."""
+        return self._lifo
+
+    @lifo.setter
+    def lifo(self, value: bool) -> None:
+        if self._jit is not None and not hasattr(self._jit, "set_lifo"):
+            raise ValueError("last-in-first-out h_add buckets need the C kernels or the Python path")
+        self._lifo = bool(value)
+        self._last = None  # a cached h_add of the other order
+        if self._jit is not None:
+            self._jit.set_lifo(self._lifo)
 
     def _facts(self, state: int) -> list[int]:
         """The facts true in ``state``: its atoms, the always-true fact and the true complements."""
@@ -392,7 +412,7 @@ class Relaxation:
                                 top = v
                             buckets[v].append(g)
         c = 1
-        lifo = self.lifo
+        lifo = self._lifo
         while c <= top:
             step = (c << shift) + 1
             bucket = buckets[c]

@@ -139,6 +139,8 @@ def _load(path: Path) -> ctypes.CDLL:
     i64, ptr, buf = ctypes.c_int64, ctypes.c_void_p, ctypes.c_char_p
     lib.gsr_relax_new.restype = ptr
     lib.gsr_relax_new.argtypes = [i64] * 9 + [ptr] * 13
+    lib.gsr_relax_set_lifo.restype = None
+    lib.gsr_relax_set_lifo.argtypes = [ptr, i64]
     lib.gsr_relax_free.restype = None
     lib.gsr_relax_free.argtypes = [ptr]
     lib.gsr_hadd.restype = i64
@@ -246,9 +248,15 @@ class CRelaxation:
         lib.gsr_relax_set_ops(
             ctx, *(_addr(arrays[k]) for k in ("opre_ptr", "opre_idx", "oneg_ptr", "oneg_idx"))
         )
+        if getattr(relax, "lifo", False):
+            lib.gsr_relax_set_lifo(ctx, 1)
         self._hadd, self._ff = lib.gsr_hadd, lib.gsr_ff
         self.unit = relax.unit
         self.op_cost = [o.cost for o in relax.task.ops]
+
+    def set_lifo(self, lifo: bool) -> None:
+        """h_add's buckets above cost 0 last in first out (``Relaxation.lifo``) or FIFO."""
+        self.lib.gsr_relax_set_lifo(self.ctx, 1 if lifo else 0)
 
     def __del__(self) -> None:
         ctx, self.ctx = getattr(self, "ctx", None), None

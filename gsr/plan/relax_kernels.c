@@ -29,6 +29,7 @@ typedef struct {
     int64_t n_buckets, max_buckets, *bhead, *btail; /* bucket table, grown up to max_buckets */
     int64_t *nfact, *nnext;            /* bucket nodes (one per push) */
     int64_t *hk, *hc, *hf;             /* overflow heap: (seq, cost, fact) */
+    int64_t lifo;                      /* buckets above 0 last in first out (Fast Downward's order) */
 } relax_t;
 
 static void *alloc(int64_t n) { return malloc((size_t)(n > 0 ? n : 1) * sizeof(int64_t)); }
@@ -99,6 +100,9 @@ static void heap_pop(int64_t *hk, int64_t *hc, int64_t *hf, int64_t size) {
     hk[i] = k; hc[i] = c; hf[i] = f;
 }
 
+/* Buckets above cost 0 last in first out (1) or first in first out (0, the default). */
+void gsr_relax_set_lifo(relax_t *r, int64_t lifo) { r->lifo = lifo; }
+
 /* h_add of ``state`` (little-endian bitset bytes): fills cost (UNREACHED when unreached) and sup. Returns
  * 0, or -1 when the bucket table could not grow (out of memory). */
 int64_t gsr_hadd(relax_t *r, const uint8_t *state, int64_t n_bytes) {
@@ -149,9 +153,14 @@ int64_t gsr_hadd(relax_t *r, const uint8_t *state, int64_t n_bytes) {
         }                                                                                 \
         if (v_ < r->n_buckets) {                                                          \
             nfact[nodes] = g_;                                                            \
-            nnext[nodes] = -1;                                                            \
-            if (bhead[v_] < 0) bhead[v_] = nodes; else nnext[btail[v_]] = nodes;          \
-            btail[v_] = nodes;                                                            \
+            if (r->lifo && v_ > 0) { /* a stack: pushed at the head, popped from it */    \
+                nnext[nodes] = bhead[v_];                                                 \
+                bhead[v_] = nodes;                                                        \
+            } else {                                                                      \
+                nnext[nodes] = -1;                                                        \
+                if (bhead[v_] < 0) bhead[v_] = nodes; else nnext[btail[v_]] = nodes;      \
+                btail[v_] = nodes;                                                        \
+            }                                                                             \
             nodes++;                                                                      \
             if (v_ > top) top = v_;                                                       \
         } else {                                                                          \
@@ -181,15 +190,19 @@ int64_t gsr_hadd(relax_t *r, const uint8_t *state, int64_t n_bytes) {
         }
     }
     for (int64_t c = 0; c <= top; c++) {
-        for (int64_t node = bhead[c]; node >= 0; node = nnext[node]) { /* the bucket may grow */
+        int pop = r->lifo && c > 0; /* LIFO: take the head off first; pushes land before the rest */
+        for (int64_t node = bhead[c]; node >= 0;) { /* the bucket may grow */
+            if (pop) bhead[c] = nnext[node];
             int64_t f = nfact[node];
-            if (cost[f] != c) continue;
-            if (f == goal) goto done;
-            for (int64_t e = pre_of_ptr[f]; e < pre_of_ptr[f + 1]; e++) {
-                int64_t u = pre_of_idx[e];
-                acc[u] += c;
-                if (--unsat[u] == 0) RELAX(u, acc[u]);
+            if (cost[f] == c) {
+                if (f == goal) goto done;
+                for (int64_t e = pre_of_ptr[f]; e < pre_of_ptr[f + 1]; e++) {
+                    int64_t u = pre_of_idx[e];
+                    acc[u] += c;
+                    if (--unsat[u] == 0) RELAX(u, acc[u]);
+                }
             }
+            node = pop ? bhead[c] : nnext[node];
         }
     }
     while (hsize > 0) {

@@ -51,3 +51,40 @@ def test_lifo_buckets_keep_every_cost_and_plan(monkeypatch, folder: str, problem
     res = lazy_lama(task, lifo, Landmarks(task), time.perf_counter() + 30)
     assert res.status == "solved"
     assert validate_plan(domain, prob, task.to_plan(res.ops)).valid
+
+
+@pytest.mark.parametrize(
+    "folder,problem", [("blocks", "probBLOCKS-9-2.pddl"), ("miconic-simpleadl", "s4-0.pddl")]
+)
+def test_c_kernels_pop_lifo_as_python_does(monkeypatch, folder: str, problem: str) -> None:
+    """Same costs, best supporters, h_FF and preferred operators from the C kernels and Python."""
+    from gsr.plan import relax_c
+
+    domain = load_domain(FIXTURES / folder / "domain.pddl")
+    task = ground_task(domain, load_problem(FIXTURES / folder / problem, domain))
+    compiled = Relaxation(task, unit=True)
+    if not isinstance(compiled.compiled, relax_c.CRelaxation):
+        pytest.skip(f"no C kernels here: {relax_c.why_not}")
+    compiled.lifo = True
+    monkeypatch.setenv("GSR_PLAN_CC", "0")
+    monkeypatch.setenv("GSR_PLAN_JIT", "0")
+    python = Relaxation(task, unit=True)
+    python.lifo = True
+    assert python.compiled is None
+    rng = random.Random(2)
+    state = task.init
+    for _ in range(60):
+        compiled.compiled.hadd(state)
+        cost_p, sup_p = python.hadd(state)
+        n = len(cost_p)
+        cost_c = [float("inf") if c >= 1 << 60 else c for c in compiled.compiled.cost[:n]]
+        assert cost_c == cost_p
+        assert list(compiled.compiled.sup[:n]) == sup_p
+        assert compiled.ff(state) == python.ff(state)
+        ops = task.applicable(state)
+        if not ops:
+            break
+        state = task.apply(state, rng.choice(ops))
+    compiled.lifo = False
+    fifo = Relaxation(task, unit=True)
+    assert compiled.ff(state) == fifo.ff(state)
