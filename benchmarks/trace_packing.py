@@ -19,6 +19,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from gsr.benchmarks.bench_skills import EPISODE_CPU_S, RETRIES, run_suite_task
+from gsr.benchmarks.suites import get_suite
+from gsr.skills import motion, packing
+from gsr.skills.packing import container_of
+from gsr.skills.sim_graph import support_of
 
 if TYPE_CHECKING:
     from gsr.skills.world import World
@@ -37,8 +42,6 @@ def container_contents(world: World, target: str, skip: str = "") -> list[dict]:
     """Every movable object over ``target``'s interior (5 cm round it), in the container's frame:
     ``{"id", "uv", "yaw" (degrees off the container's axes, -45..45), "bottom" (above the floor),
     "height", "tilt", "support"}``."""
-    from gsr.skills.packing import container_of
-    from gsr.skills.sim_graph import support_of
 
     found = container_of(world, target)
     if found is None:
@@ -74,7 +77,6 @@ def container_contents(world: World, target: str, skip: str = "") -> list[dict]:
 
 def spot_in_frame(world: World, target: str, spot: np.ndarray) -> tuple[list[float], float]:
     """A packed spot (world x, y, bottom z) as ``(uv, height above the floor)`` in ``target``'s frame."""
-    from gsr.skills.packing import container_of
 
     cont, interior, link, _drawer = container_of(world, target)
     yaw = world.yaw_of(cont.body, link)
@@ -88,9 +90,6 @@ def trace(task_id: str, out=sys.stdout, snapshots: Path | None = None) -> dict:
     """Run ``task_id`` with the packing and every finger release traced to ``out``; the episode record.
     ``snapshots``: a folder to save the PyBullet state in (``p.saveBullet``) each time a spot is
     packed, as ``<object>_<n>.bullet`` (n counts the spots packed so far), before the spot is chosen."""
-    from gsr.benchmarks.bench_skills import EPISODE_CPU_S, RETRIES, run_suite_task
-    from gsr.benchmarks.suites import get_suite
-    from gsr.skills import motion, packing
 
     tasks = {t.id: t for t in get_suite("gsr-bench-gen").tasks(None, 0)}
     if task_id not in tasks:
