@@ -24,7 +24,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np
 from gsr.benchmarks.perception.eval import evaluate, procedural_scene, skills_scene
+from gsr.perception.detect import load_detector
 from gsr.perception.pipeline import perceive
+from gsr.perception.rgbd import View, perceive_rgbd
+from gsr.perception.train import MIN_TRUTH_PIXELS, target_of
 
 NOISE = (0.0, 0.002, 0.005, 0.01, 0.02)
 EROSION = (0, 2, 4)
@@ -68,8 +71,6 @@ def bench_detect(scenes: int, seed: int, repeats: int, weights: str | None = Non
     """The no-oracle detector (gsr.perception.detect) per 640x480 frame: segmentation alone, detection
     (segmentation + recognition) and the whole no-oracle pipeline (detection + fusion + relations) over the
     4 default views of ``scenes`` skills-world scenes. Median of ``repeats`` per frame, then the mean."""
-    from gsr.perception.detect import load_detector
-    from gsr.perception.rgbd import View, perceive_rgbd
 
     detector = load_detector(weights)
     seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence([seed, 5]).spawn(scenes)]
@@ -121,8 +122,6 @@ def bench_openset(scenes: int, seed: int, weights: str | None = None) -> dict[st
     """What the no-oracle detector calls objects of assets it was not trained on: the procedural world's
     primitives (benchmarks/perception/scenes.py, other sizes and colours), 2 views per scene. Per truth
     category: the category of the detection that matches it (mask IoU >= 0.5), or ``(not segmented)``."""
-    from gsr.perception.detect import load_detector
-    from gsr.perception.train import MIN_TRUTH_PIXELS, target_of
 
     detector = load_detector(weights)
     out: dict[str, dict[str, int]] = {}

@@ -21,10 +21,22 @@ import time
 from typing import Any
 
 import numpy as np
+from gsr.benchmarks.perception.render import camera_specs, render
+from gsr.benchmarks.perception.scenes import random_scene
+from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+from gsr.perception.belief import update_belief, with_flush_parts
 from gsr.perception.corrupt import add_depth_noise, erode_masks
+from gsr.perception.detect import load_detector
 from gsr.perception.evaluate import SCORED_RELATIONS, ContainmentErrors, Score
 from gsr.perception.frame import Frame
+from gsr.perception.match import NodeScore, match_nodes
 from gsr.perception.pipeline import PerceptionParams, perceive
+from gsr.perception.rgbd import Timing, View, perceive_rgbd
+from gsr.perception.track import Tracker, rename_graph
+from gsr.skills.build import build_world
+from gsr.skills.camera import default_views, labelled_masks, render_frame
+from gsr.skills.camera import render as render_image
+from gsr.skills.sim_graph import scene_graph_from_sim
 
 from gsr.scene_graph import SceneGraph
 
@@ -86,8 +98,6 @@ SKILLS_VIEWS = ("top", "left", "right", "front")
 
 def procedural_scene(scene_seed: int, cameras: int, width: int, height: int) -> tuple[list[Frame], Any]:
     """Frames and exact ground truth of one primitive scene (benchmarks/perception/scenes.py)."""
-    from gsr.benchmarks.perception.render import camera_specs, render
-    from gsr.benchmarks.perception.scenes import random_scene
 
     rng = np.random.default_rng(scene_seed)
     scene = random_scene(scene_seed)
@@ -106,11 +116,6 @@ def skills_scene(
     ``self_filter``: the robot's own pixels get no depth (a robot removes itself from its sensor data with
     its model at its joint state), as the no-oracle protocol and the demo do."""
     import random
-
-    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
-    from gsr.skills.build import build_world
-    from gsr.skills.camera import default_views, render_frame
-    from gsr.skills.sim_graph import scene_graph_from_sim
 
     pick = random.Random(scene_seed)
     task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
@@ -155,10 +160,6 @@ def skills_scene_seen_open(
     import random
 
     import pybullet as p
-    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
-    from gsr.skills.build import build_world
-    from gsr.skills.camera import default_views
-    from gsr.skills.sim_graph import scene_graph_from_sim
 
     pick = random.Random(scene_seed)
     task = generate_cell(pick.choice(CELLS), pick.choice(LEVELS), n=1, seed=scene_seed)[0]
@@ -224,9 +225,8 @@ def _open_part(world: Any, truth: SceneGraph, obj_id: str, part: str) -> None:
 
 def _robot_free_frame(world: Any, spec: Any) -> Frame:
     """``render_frame`` with no depth on the robot's own pixels (one rendering)."""
-    from gsr.skills.camera import labelled_masks, render
 
-    img = render(world, spec)
+    img = render_image(world, spec)
     masks, labels = labelled_masks(world, img)
     depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
     return Frame(rgb=img.rgb, depth=depth, masks=masks, camera=img.camera, labels=labels)
@@ -403,12 +403,8 @@ def evaluate_no_oracle(
     (:func:`gsr.perception.match.match_nodes`); a node counts as found when its category and colour are
     right. Relations and states are scored through the same pairing. ``fps`` counts the detector
     (segmentation and recognition) and the geometric pipeline, wall clock; ``fps_cpu`` per CPU-second."""
-    from gsr.perception.match import NodeScore, match_nodes
-    from gsr.perception.rgbd import Timing, View, perceive_rgbd
 
     if detector is None:
-        from gsr.perception.detect import load_detector
-
         detector = load_detector()
     relations = scored_relations(world, scenes, cameras)
     if seen_open and world != "skills":
@@ -505,9 +501,6 @@ def observe_sequence(
     perceiver itself does in closed-loop use: the Tracker keeps ids, parts of seen objects that vanish
     are believed shut (:func:`gsr.perception.belief.with_flush_parts`), and :func:`update_belief` keeps
     what a closed container or an occluder explains."""
-    from gsr.perception.belief import update_belief, with_flush_parts
-    from gsr.perception.rgbd import perceive_rgbd
-    from gsr.perception.track import Tracker
 
     tracker = Tracker()
     belief: SceneGraph | None = None
@@ -534,7 +527,6 @@ def detector_name(detector: Any) -> str:
 def as_truth_ids(graph: SceneGraph, matching: dict[str, str]) -> SceneGraph:
     """The perceived graph in the truth's ids: matched nodes renamed, the rest prefixed ``unmatched_``
     (so a perceived ``bowl_1`` never coincides with a truth node that happens to have that id)."""
-    from gsr.perception.track import rename_graph
 
     mapping = {n.id: matching.get(n.id, f"unmatched_{n.id}") for n in graph.nodes}
     return rename_graph(graph, mapping)

@@ -29,13 +29,17 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
+import gsr.perception.pipeline as pipeline
 import numpy as np
+from gsr.benchmarks.perception.eval import skills_scene, visible_nodes
+from gsr.perception.detect import load_detector
+from gsr.perception.match import NodeScore, match_nodes, node_correct, padded_box, scorable
+from gsr.perception.rgbd import View, perceive_rgbd
 
 from gsr.errors import GSRError
 
 
 def _scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any, set[str]]:
-    from gsr.benchmarks.perception.eval import skills_scene, visible_nodes
 
     path = cache / f"scene_{seed}_{cameras}.pkl" if cache is not None else None
     if path is not None and path.is_file():
@@ -54,7 +58,6 @@ def _scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any,
 
 def _inside_share(a: Any, b: Any) -> float:
     """Share of box ``a``'s volume inside box ``b`` (nodes' bboxes, grown by the matcher's pad)."""
-    from gsr.perception.match import padded_box
 
     ab, bb = padded_box(a), padded_box(b)
     if ab is None or bb is None:
@@ -67,7 +70,6 @@ def _inside_share(a: Any, b: Any) -> float:
 
 def classify_errors(graph: Any, truth: Any, visible: set[str]) -> list[dict[str, Any]]:
     """Every node error of one scene as ``{kind, sub, truth, perceived}`` (see the module docstring)."""
-    from gsr.perception.match import match_nodes, node_correct, scorable
 
     matching = match_nodes(graph, truth)
     tmap = truth.node_map()
@@ -117,9 +119,6 @@ def run(
 
     ``complete_drawers=False`` perceives without the drawer-stack completion
     (:func:`gsr.perception.drawer_slots.hidden_drawers`), for an A/B on the same cached frames."""
-    import gsr.perception.pipeline as pipeline
-    from gsr.perception.detect import load_detector
-    from gsr.perception.match import NodeScore, match_nodes
 
     detector = detector or load_detector()
     errors: list[dict[str, Any]] = []
@@ -142,7 +141,6 @@ def run(
 
 def _perceive_all(scenes: int, seed: int, cameras: int, cache: Path | None, detector: Any) -> list[tuple]:
     """(graph, truth, visible ids, perception CPU s) of each scene of the stream."""
-    from gsr.perception.rgbd import View, perceive_rgbd
 
     out = []
     for ss in np.random.SeedSequence(seed).spawn(scenes):
@@ -184,8 +182,6 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     try:
-        from gsr.perception.detect import load_detector
-
         report = run(
             args.scenes,
             args.seed,

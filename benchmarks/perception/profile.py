@@ -20,6 +20,9 @@ from typing import Any
 
 import numpy as np
 from gsr.benchmarks.perception.eval import skills_scene
+from gsr.perception import perceive
+from gsr.perception.detect import load_detector
+from gsr.perception.rgbd import View, perceive_rgbd
 
 
 def scenes(count: int, seed: int, cameras: int, no_oracle: bool) -> list[list[Any]]:
@@ -34,17 +37,12 @@ def scenes(count: int, seed: int, cameras: int, no_oracle: bool) -> list[list[An
 def profile(frame_sets: list[list[Any]], no_oracle: bool) -> tuple[pstats.Stats, float, int]:
     """Perceive every scene under a CPU-time profiler: (stats, CPU seconds, frames)."""
     if no_oracle:
-        from gsr.perception.detect import load_detector
-        from gsr.perception.rgbd import View, perceive_rgbd
-
         detector = load_detector()
         inputs = [[View(f.rgb, f.depth, f.camera) for f in fs] for fs in frame_sets]
 
         def run(views: list[Any]) -> Any:
             return perceive_rgbd(views, detector)[0]
     else:
-        from gsr.perception import perceive
-
         inputs = frame_sets
         run = perceive
     run(inputs[0])  # one-off imports and model loading are not a per-frame cost

@@ -10,7 +10,8 @@ import json
 from pathlib import Path
 
 import numpy as np
-from gsr.benchmarks.perception.scenes import Scene
+from gsr.benchmarks.perception.scenes import Scene, random_scene
+from gsr.perception.camera import save_camera
 from gsr.perception.frame import Frame
 from gsr.skills.camera import CameraSpec, capture_gl
 
@@ -51,7 +52,6 @@ def render(scene: Scene, spec: CameraSpec) -> Frame:
 
 def save_frame(frame: Frame, folder: str | Path) -> dict[str, Path]:
     """Write a frame as the files `gsr perceive` reads: rgb.png, depth.npy, masks.npy, camera.json, labels.json."""
-    from gsr.perception.camera import save_camera
     from PIL import Image
 
     out = Path(folder)
@@ -75,8 +75,6 @@ def save_frame(frame: Frame, folder: str | Path) -> dict[str, Path]:
 def main() -> None:
     """Render one procedural scene and write its frame files and ground truth (for trying `gsr perceive`)."""
     import argparse
-
-    from gsr.benchmarks.perception.scenes import random_scene
 
     ap = argparse.ArgumentParser(description=main.__doc__)
     ap.add_argument("--seed", type=int, default=0)

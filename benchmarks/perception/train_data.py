@@ -17,8 +17,18 @@ from collections.abc import Iterator
 from dataclasses import replace
 
 import numpy as np
+from gsr.benchmarks.perception.eval import skills_scene
+from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+from gsr.benchmarks.suites.libero_suite import load_libero
+from gsr.perception.camera import camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
 from gsr.perception.corrupt import add_depth_noise
+from gsr.perception.detect import RGBDDetector, load_model
 from gsr.perception.frame import Frame
+from gsr.perception.train import TrainConfig, evaluate, save_model, train
+from gsr.skills.build import build_world
+from gsr.skills.camera import RGBD, CameraSpec, default_views, labelled_masks
+
+from gsr.resources import data_dir
 
 #: Share of scenes taken from the LIBERO tasks (the rest are generated GSR-Bench tasks).
 LIBERO_SHARE = 0.3
@@ -26,7 +36,6 @@ LIBERO_SHARE = 0.3
 
 def _task(scene_seed: int):
     """A random task (generated GSR-Bench cell/level or a LIBERO task), deterministic per seed."""
-    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
 
     pick = random.Random(scene_seed)
     if pick.random() < LIBERO_SHARE:
@@ -41,10 +50,6 @@ _LIBERO: list = []
 
 def _libero_tasks() -> list:
     if not _LIBERO:
-        from gsr.benchmarks.suites.libero_suite import load_libero
-
-        from gsr.resources import data_dir
-
         folder = data_dir() / "libero"
         if folder.is_dir():
             _LIBERO.extend(load_libero(folder))
@@ -53,7 +58,6 @@ def _libero_tasks() -> list:
 
 def camera_poses(world, rng: np.random.Generator, count: int) -> list:
     """``count`` camera specs: jittered default views and free poses on a hemisphere over the table."""
-    from gsr.skills.camera import CameraSpec, default_views
 
     lo, hi = world.body_aabb(world.table_body)
     cx, cy, cz = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2]
@@ -83,8 +87,6 @@ def camera_poses(world, rng: np.random.Generator, count: int) -> list:
 def render_lit(world, spec, rng: np.random.Generator) -> Frame:
     """Render one labelled frame under a random light (direction, ambient, diffuse)."""
     import pybullet as p
-    from gsr.perception.camera import camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
-    from gsr.skills.camera import RGBD, labelled_masks
 
     view = p.computeViewMatrix(spec.eye, spec.target, spec.up, physicsClientId=world.client)
     proj = p.computeProjectionMatrixFOV(
@@ -115,7 +117,6 @@ def render_lit(world, spec, rng: np.random.Generator) -> Frame:
 
 def scene_frames(scene_seed: int, views: int) -> list[Frame]:
     """``views`` labelled, randomly lit and noised frames of one random scene."""
-    from gsr.skills.build import build_world
 
     rng = np.random.default_rng([scene_seed, 7])
     world = build_world(_task(scene_seed), seed=scene_seed)
@@ -138,7 +139,6 @@ def training_frames(seed: int, scenes: int, views: int) -> Iterator[Frame]:
 
 def heldout_frames(seed: int, scenes: int, cameras: int = 4) -> Iterator[Frame]:
     """Frames exactly as ``gsr perceive-eval`` renders them (default views and light), on held-out seeds."""
-    from gsr.benchmarks.perception.eval import skills_scene
 
     for ss in np.random.SeedSequence([seed, HELDOUT_STREAM]).spawn(scenes):
         frames, _ = skills_scene(int(ss.generate_state(1)[0]), cameras, 640, 480)
@@ -162,8 +162,6 @@ def run_training(
     log=print,
 ) -> dict:
     """Render, train, evaluate on held-out scenes, and write the model folder; returns the metadata."""
-    from gsr.perception.detect import RGBDDetector, load_model
-    from gsr.perception.train import TrainConfig, evaluate, save_model, train
 
     total = scenes * views
     link_frames = max(1, total // 6)

@@ -22,6 +22,18 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np
+from gsr.benchmarks.perception.eval import (
+    perceivable_prediction,
+    perceivable_truth,
+    visible_nodes,
+    with_graph_attributes,
+)
+from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
+from gsr.perception import perceive
+from gsr.perception.evaluate import Score
+from gsr.skills.build import build_world
+from gsr.skills.camera import CameraSpec, default_views, render_frame
+from gsr.skills.sim_graph import scene_graph_from_sim
 
 DEFAULT_SETS = {
     "top": ("top",),
@@ -35,7 +47,6 @@ DEFAULT_SETS = {
 
 def views(world: Any) -> dict[str, Any]:
     """The default views plus three from the far side of the table (facing the robot)."""
-    from gsr.skills.camera import CameraSpec, default_views
 
     out = dict(default_views(world))
     lo, hi = world.body_aabb(world.table_body)
@@ -58,19 +69,6 @@ def _hider(target: str) -> str:
 def study(scenes: int, seed: int, sets: dict[str, tuple[str, ...]]) -> dict[str, Any]:
     """Scores per view set over the same ``scenes`` skills-world scenes (deterministic per seed)."""
     import random
-
-    from gsr.benchmarks.perception.eval import (
-        perceivable_prediction,
-        perceivable_truth,
-        visible_nodes,
-        with_graph_attributes,
-    )
-    from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
-    from gsr.perception import perceive
-    from gsr.perception.evaluate import Score
-    from gsr.skills.build import build_world
-    from gsr.skills.camera import render_frame
-    from gsr.skills.sim_graph import scene_graph_from_sim
 
     needed = sorted({v for names in sets.values() for v in names})
     largest = max(sets, key=lambda k: len(sets[k]))
