@@ -13,7 +13,8 @@ from gsr.pddl.parser import parse_domain, parse_problem
 from gsr.plan import plan
 from gsr.plan.grounding import fixpoint as ground
 from gsr.plan.grounding import grounding_tables
-from gsr.plan.grounding.effects import ground_effects, new_adds
+from gsr.plan.grounding.effects import _instances, ground_effects, new_adds
+from gsr.plan.grounding.simplify import ObjectsByType, Simplifier
 from gsr.resources import load_builtin_domain
 
 _DOMAIN = """
@@ -103,3 +104,26 @@ def test_compiled_tabletop_effects_equal_the_interpreted_ones(monkeypatch, reque
     checked = _checked_fires(request, domain)
     task = ground.ground_task(domain, problem)
     assert len(checked) > 50 and len(task.ops) > 50
+
+
+def test_effect_instances_are_joined_once_per_guard_value_with_the_same_result() -> None:
+    domain = load_builtin_domain("tabletop")
+    name, graph, goal, _ = long_tabletop_task(3)
+    problem = problem_from_graph(graph, goal, name=name, domain=domain)
+    tables = grounding_tables(domain)
+    simplify = Simplifier(
+        ObjectsByType(domain, problem.all_objects(domain)), tables.fluent, set(problem.init)
+    )
+    si = next(k for k, s in enumerate(tables.schemas) if s.name == "pick")
+    group = next(g for g in tables.groups[si] if g[0])  # the cube counting: (next ?n ?m), (counted ?o)
+    objects = sorted(problem.all_objects(domain))
+    memo: dict = {}
+    nonempty = 0
+    for o in objects:
+        for c in objects[:4]:
+            binding = {"?o": o, "?from": c, "?h": "x"}
+            expected = list(simplify.instances(group[0], group[2], binding))
+            assert _instances(group, binding, simplify, memo) == expected
+            nonempty += bool(expected)
+    assert nonempty >= 4  # some object is counted: the (next ?n ?m) pairs were joined
+    assert len(memo) == len({o for o in objects})  # one join per value of ?o, not per container

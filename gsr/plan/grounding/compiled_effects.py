@@ -45,7 +45,7 @@ def compile_effects(schema: Schema, groups: list[EffectGroup]) -> Fire:
             body.append("    start = len(effects)")
             body.append(f"    group_effects(v, G{k}, simplify, reached, deferred, memo)")
             body.append("    if len(effects) > start:")
-            body.append("        new_adds(effects[start:], reached, pending)")
+            body.append("        new_adds(effects[start:], reached, pending, memo)")
             continue
         lits = []
         adds = []

@@ -208,8 +208,7 @@ def ground_group(
         entry = memo.get(key)
         if entry is None:
             parts: list[EffectPart] = []
-            instances = simplify.instances(params, guards, binding) if params else (binding,)
-            for b in instances:
+            for b in _instances(group, binding, simplify, memo):
                 inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
                 if inner is None:
                     continue
@@ -249,6 +248,30 @@ def ground_group(
         effects.append((EMPTY, own))
 
 
+def _instances(
+    group: EffectGroup, binding: dict[str, str], simplify: Simplifier, memo: EffectMemo
+) -> list[dict[str, str]]:
+    """``simplify.instances`` of a group's effect variables, the join over its static guards done
+    once per value of the action variables the guards mention (memoised beside the group's parts:
+    pick's cube counting ``(next ?n ?m)`` is joined once per task, not once per container)."""
+    params, guards = group[0], group[2]
+    if not params:
+        return [binding]
+    names = tuple(p.name for p in params)
+    outer = sorted({a for g in guards for a in g.args if is_variable(a) and a not in names})
+    key = ("instances", id(group), *(binding.get(a, a) for a in outer))
+    values = memo.get(key)
+    if values is None:
+        found = [tuple(b[n] for n in names) for b in simplify.instances(params, guards, binding)]
+        memo[key] = values = (found, frozenset())  # type: ignore[assignment]
+    out = []
+    for vals in values[0]:  # type: ignore[union-attr]
+        full = dict(binding)
+        full.update(zip(names, vals, strict=True))  # type: ignore[arg-type]
+        out.append(full)
+    return out
+
+
 def _unconditional(lits: Literals, binding: dict[str, str]) -> EffectBlock:
     """The block of an unconditional effect group: its own one-part list (never worth memoising:
     the atoms mention the action's variables)."""
@@ -257,14 +280,39 @@ def _unconditional(lits: Literals, binding: dict[str, str]) -> EffectBlock:
 
 
 def new_adds(
-    blocks: list[EffectBlock], reached: set[AtomKey], pending: list[tuple[tuple[AtomKey, ...], AtomKey]]
+    blocks: list[EffectBlock],
+    reached: set[AtomKey],
+    pending: list[tuple[tuple[AtomKey, ...], AtomKey]],
+    memo: EffectMemo | None = None,
 ) -> None:
-    """Queue the add effects not reached yet with their positive condition atoms (see ground_task)."""
+    """Queue the add effects not reached yet with their positive condition atoms (see ground_task).
+
+    With ``memo``, each parts list's adds and the positive condition keys of their parts are listed
+    once (a memoised list is shared by many actions: pick's cube counting by container)."""
     for base, parts in blocks:
-        outer: tuple[Atom, ...] | None = None
-        for inner, ground in parts:
-            for atom, is_del in ground:
-                if not is_del and atom not in reached:
-                    if outer is None:
-                        outer = tuple((a.predicate, a.args) for a, pos in base if pos)
-                    pending.append((outer + tuple((a.predicate, a.args) for a, pos in inner if pos), atom))
+        outer: tuple[AtomKey, ...] | None = None
+        if memo is None:
+            adds = _adds(parts)
+        else:
+            hit = memo.get(("adds", id(parts)))
+            if hit is None:  # the entry keeps the list alive: its id stays its own
+                hit = memo[("adds", id(parts))] = (parts, _adds(parts))  # type: ignore[assignment]
+            adds = hit[1]  # type: ignore[assignment]
+        for inner, atom in adds:
+            if atom not in reached:
+                if outer is None:
+                    outer = tuple((a.predicate, a.args) for a, pos in base if pos)
+                pending.append((outer + inner, atom))
+
+
+def _adds(parts: list[EffectPart]) -> list[tuple[tuple[AtomKey, ...], AtomKey]]:
+    """The add effects of a parts list, in order, each with its part's positive condition keys."""
+    out = []
+    for inner, ground in parts:
+        keys: tuple[AtomKey, ...] | None = None
+        for atom, is_del in ground:
+            if not is_del:
+                if keys is None:
+                    keys = tuple((a.predicate, a.args) for a, pos in inner if pos)
+                out.append((keys, atom))
+    return out

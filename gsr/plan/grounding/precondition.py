@@ -214,6 +214,8 @@ def expand_dnf(literals: list[int], choices: list[list[IdConjunction]]) -> list[
     base = frozenset(literals)
     if any(~x in base for x in base):
         return []
+    if not choices:
+        return [base]
     acc = [base]
     for alts in choices:
         nxt: list[IdConjunction] = []
