@@ -14,7 +14,9 @@ Modules (each also runs as ``python -m gsr.benchmarks.perception.<module>`` wher
 - ``train_data``: ``gsr perceive-train``: rendered frames with randomised light for the detector
   (``run_training``, ``training_frames``, ``heldout_frames``);
 - ``node_errors``: missed and false nodes sorted by kind (``classify_errors``, ``run``);
-- ``profile``: a CPU profile of ``perceive`` on rendered scenes.
+- ``profile``: a CPU profile of ``perceive`` on rendered scenes;
+- ``builder_check``: the same scenes built through the skills layer's URDF writer, frames compared
+  (docs/architecture.md, "One scene builder: measured").
 
 The names below are the package's public API. They resolve on first use, so importing the package
 loads neither PyBullet nor the perception pipeline, and ``python -m`` of one module does not import
