@@ -133,16 +133,21 @@ class SceneBuilder:
         self._counts[stem] = self._counts.get(stem, 0) + 1
         return f"{stem}_{self._counts[stem]}"
 
-    def _body(self, boxes: list[tuple[np.ndarray, np.ndarray, tuple]], pos, yaw: float, **links) -> int:
-        """A multibody whose base is a compound of boxes (half extents, offset, colour)."""
-        pb, cid = self.pb, self.scene.client
-        vis = pb.createVisualShapeArray(
+    def _visual(self, boxes: list[tuple[np.ndarray, np.ndarray, tuple]]) -> int:
+        """One visual shape made of boxes (half extents, offset, colour)."""
+        pb = self.pb
+        return pb.createVisualShapeArray(
             shapeTypes=[pb.GEOM_BOX] * len(boxes),
             halfExtents=[list(map(float, h)) for h, _, _ in boxes],
             visualFramePositions=[list(map(float, o)) for _, o, _ in boxes],
             rgbaColors=[_rgba(c) for _, _, c in boxes],
-            physicsClientId=cid,
+            physicsClientId=self.scene.client,
         )
+
+    def _body(self, boxes: list[tuple[np.ndarray, np.ndarray, tuple]], pos, yaw: float, **links) -> int:
+        """A multibody whose base is a compound of boxes (half extents, offset, colour)."""
+        pb, cid = self.pb, self.scene.client
+        vis = self._visual(boxes)
         return pb.createMultiBody(
             baseMass=0,
             baseVisualShapeIndex=vis,
@@ -232,13 +237,7 @@ class SceneBuilder:
             (np.array([dd, t / 2, dz * 0.6]), np.array([0, -dw + t / 2, -dz * 0.4]), dcol),
             (np.array([t / 2, dw, dz * 0.6]), np.array([dd - t / 2, 0, -dz * 0.4]), dcol),  # back
         ]
-        dvis = pb.createVisualShapeArray(
-            shapeTypes=[pb.GEOM_BOX] * len(drawer),
-            halfExtents=[list(map(float, h)) for h, _, _ in drawer],
-            visualFramePositions=[list(map(float, o)) for _, o, _ in drawer],
-            rgbaColors=[_rgba(c) for _, _, c in drawer],
-            physicsClientId=cid,
-        )
+        dvis = self._visual(drawer)
         handle_half = [0.01, 0.05, 0.008]
         hvis = pb.createVisualShape(
             pb.GEOM_BOX, halfExtents=handle_half, rgbaColor=[0.2, 0.2, 0.2, 1], physicsClientId=cid
