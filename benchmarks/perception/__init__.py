@@ -14,7 +14,7 @@ Modules (each also runs as ``python -m gsr.benchmarks.perception.<module>`` wher
 - ``train_data``: ``gsr perceive-train``: rendered frames with randomised light for the detector
   (``run_training``, ``training_frames``, ``heldout_frames``);
 - ``node_errors``: missed and false nodes sorted by kind (``classify_errors``, ``run``);
-- ``profile``: a CPU profile of ``perceive`` on rendered scenes;
+- ``cpu_profile``: a CPU profile of ``perceive`` on rendered scenes;
 - ``builder_check``: the same scenes built through the skills layer's URDF writer, frames compared
   (docs/architecture.md, "One scene builder: measured").
 

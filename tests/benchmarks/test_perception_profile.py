@@ -1,7 +1,7 @@
-"""benchmarks/perception/profile.py: CPU profile of perceive on rendered scenes."""
+"""benchmarks/perception/cpu_profile.py: CPU profile of perceive on rendered scenes."""
 
 import pytest
-from gsr.benchmarks.perception.profile import main
+from gsr.benchmarks.perception.cpu_profile import main
 
 
 def test_bad_counts_are_one_line_errors(capsys):

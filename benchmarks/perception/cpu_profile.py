@@ -1,6 +1,6 @@
 """Where perception's CPU goes: cProfile (CPU-time clock) over ``perceive`` on rendered skills-world scenes.
 
-``python -m gsr.benchmarks.perception.profile --scenes 3 --cameras 4 --seed 0 [--no-oracle] [--top 25]``
+``python -m gsr.benchmarks.perception.cpu_profile --scenes 3 --cameras 4 --seed 0 [--no-oracle] [--top 25]``
 renders the scenes ``gsr perceive-eval`` renders (same seeds, 640x480), perceives each once untimed (one-off
 imports, model loading), then perceives them all under the profiler and prints frames per CPU-second and
 the project functions with the most cumulative CPU time. Rendering is outside the profiled region; so is
@@ -66,7 +66,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.scenes < 1 or args.cameras < 1 or args.top < 1:
         print(
-            "gsr.benchmarks.perception.profile: --scenes, --cameras and --top must be >= 1", file=sys.stderr
+            "gsr.benchmarks.perception.cpu_profile: --scenes, --cameras and --top must be >= 1",
+            file=sys.stderr,
         )
         return 2
     stats, cpu, frames = profile(scenes(args.scenes, args.seed, args.cameras, args.no_oracle), args.no_oracle)
