@@ -13,7 +13,7 @@ from gsr.pddl.parser import parse_domain, parse_problem
 from gsr.plan import plan
 from gsr.plan.grounding import fixpoint as ground
 from gsr.plan.grounding import grounding_tables
-from gsr.plan.grounding.effects import _instances, ground_effects, new_adds
+from gsr.plan.grounding.effects import effect_instances, ground_effects, new_adds
 from gsr.plan.grounding.simplify import ObjectsByType, Simplifier
 from gsr.resources import load_builtin_domain
 
@@ -123,7 +123,7 @@ def test_effect_instances_are_joined_once_per_guard_value_with_the_same_result()
         for c in objects[:4]:
             binding = {"?o": o, "?from": c, "?h": "x"}
             expected = list(simplify.instances(group[0], group[2], binding))
-            assert _instances(group, binding, simplify, memo) == expected
+            assert effect_instances(group, binding, simplify, memo) == expected
             nonempty += bool(expected)
     assert nonempty >= 4  # some object is counted: the (next ?n ?m) pairs were joined
     assert len(memo) == len({o for o in objects})  # one join per value of ?o, not per container

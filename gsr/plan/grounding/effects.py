@@ -208,7 +208,7 @@ def ground_group(
         entry = memo.get(key)
         if entry is None:
             parts: list[EffectPart] = []
-            for b in _instances(group, binding, simplify, memo):
+            for b in effect_instances(group, binding, simplify, memo):
                 inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
                 if inner is None:
                     continue
@@ -248,7 +248,7 @@ def ground_group(
         effects.append((EMPTY, own))
 
 
-def _instances(
+def effect_instances(
     group: EffectGroup, binding: dict[str, str], simplify: Simplifier, memo: EffectMemo
 ) -> list[dict[str, str]]:
     """``simplify.instances`` of a group's effect variables, the join over its static guards done
