@@ -182,6 +182,20 @@ def test_a_cube_by_a_deep_boxs_end_wall_is_dragged_inwards_then_picked() -> None
         world.step(120)
         cube = world.objects["blue_cube2"]
         assert support_of(world, cube.id) == ("in", "yellow_lid_box")
+        # the build starts the cube in the box's middle (skills/box_slots.py): put it 6.5 cm along the box
+        # from there towards the end away from the open lid (beyond the ~3 cm band where a grasp fits),
+        # where a cube let go into the box can come to rest. (One touching the end wall, 9 cm out, is not
+        # dragged: no tilt of the hand lying along the box clears that wall.)
+        centre, yaw, half = hc.container_frame(world, cube)
+        long_yaw = yaw + (math.pi / 2 if half[1] > half[0] else 0.0)
+        along = np.array([math.cos(long_yaw), math.sin(long_yaw)])
+        lid = np.array(p.getLinkState(box.body, box.links["lid"], physicsClientId=c)[0][:2])
+        away = -1.0 if float((lid - np.asarray(centre[:2])) @ along) > 0 else 1.0
+        pos, quat = p.getBasePositionAndOrientation(cube.body, physicsClientId=c)
+        xy = np.asarray(centre[:2]) + away * 0.065 * along
+        p.resetBasePositionAndOrientation(cube.body, (xy[0], xy[1], pos[2] + 0.002), quat, physicsClientId=c)
+        world.step(120)
+        assert support_of(world, cube.id) == ("in", "yellow_lid_box")
         drags = hc.plan_drag(world, cube)
         # first towards the middle (a hand along the box fits there)
         assert drags and 0.03 < float(np.linalg.norm(drags[0].shift)) < 0.1
