@@ -89,9 +89,8 @@ class Motion:
         import pybullet as p
 
         w, r = self.world, self.robot
-        saved = r.snapshot()
-        r.reset(q)
-        try:
+        with r.probe():
+            r.reset(q)
             for o in w.objects.values():
                 if o.body in self.ignore:
                     continue
@@ -102,8 +101,6 @@ class Motion:
             for pt in p.getClosestPoints(r.body, w.table_body, -0.002, physicsClientId=w.client):
                 return f"table at the {_link_name(r, pt[3])}", int(pt[3])
             return None
-        finally:
-            r.restore(saved)
 
     def line(
         self, start: Pose, goal: Pose, seed: np.ndarray, check: bool = True, until_contact: bool = False
@@ -402,38 +399,32 @@ class Motion:
         import pybullet as p
 
         r, w = self.robot, self.world
-        saved = r.snapshot()
-        q = saved[0].copy()
-        q[:2] = base
-        r.reset(q)
-        try:
+        with r.probe() as q:
+            q[:2] = base
+            r.reset(q)
             for o in w.objects.values():
                 for link in (*r.base, r.arm[0]):
                     if p.getClosestPoints(r.body, o.body, margin, linkIndexA=link, physicsClientId=w.client):
                         return False
             return True
-        finally:
-            r.restore(saved)
 
     def straight_path(self, poses: list[Pose], start: np.ndarray) -> list[np.ndarray] | None:
         """The configurations of the straight moves through ``poses`` (1 cm apart, ``start`` at
         ``poses[0]`` first, the base where ``start`` has it), or None where one needs an IK branch flip;
         nothing is checked for collision and the robot is left as it was."""
-        saved = self.robot.snapshot()
-        try:
-            q, out = start, [start]
-            for a, b in itertools.pairwise(poses):
-                self.robot.reset(q)
-                for nxt in self.line(a, b, q, check=False):
-                    if float(np.max(np.abs(nxt[2:] - q[2:]))) > MAX_JOINT_JUMP:
-                        return None
-                    q = nxt
-                    out.append(q)
-            return out
-        except SkillError:
-            return None
-        finally:
-            self.robot.restore(saved)
+        with self.robot.probe():
+            try:
+                q, out = start, [start]
+                for a, b in itertools.pairwise(poses):
+                    self.robot.reset(q)
+                    for nxt in self.line(a, b, q, check=False):
+                        if float(np.max(np.abs(nxt[2:] - q[2:]))) > MAX_JOINT_JUMP:
+                            return None
+                        q = nxt
+                        out.append(q)
+                return out
+            except SkillError:
+                return None
 
     def descend_planned(self, poses: list[Pose]) -> None:
         """From above a target, move down through ``poses`` (the reverse of what :meth:`plan_base` was

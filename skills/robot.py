@@ -9,9 +9,11 @@ IK keeps the rails where the skill put them (huge damping) and solves the seven 
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -182,6 +184,17 @@ class Robot:
             p.resetJointState(self.body, j, float(v), float(w), physicsClientId=self.client)
         self.hold(q if held is None else held)
 
+    @contextlib.contextmanager
+    def probe(self) -> Iterator[np.ndarray]:
+        """A look-ahead that sets joints freely (IK, forward kinematics, collision checks): on leaving the
+        block the arm is as it was (:meth:`snapshot` / :meth:`restore`: positions, velocities, held motor
+        targets), also when the block raises. Yields a copy of the rail and arm positions it started from."""
+        saved = self.snapshot()
+        try:
+            yield saved[0].copy()
+        finally:
+            self.restore(saved)
+
     def reset(self, q: tuple[float, ...] | np.ndarray, fingers: float | None = None) -> None:
         """Set joint positions directly (world setup and collision checking only, never during a skill)."""
         import pybullet as p
@@ -234,30 +247,31 @@ class Robot:
         """Base + arm positions putting the grasp point at ``pos`` with orientation ``quat``, base fixed at ``base``."""
         import pybullet as p
 
-        saved = self.snapshot()
-        q = np.array(seed if seed is not None else (*base, *ARM_HOME), dtype=float)
-        q[:2] = base
-        # a huge damping on the rails keeps the solver from using them: the skill positions the base
-        damping = [1000.0, 1000.0] + [0.1] * 9
-        for _ in range(10):  # refine from the previous solution: PyBullet's IK is one damped step at a time
-            self.reset(q)
-            sol = p.calculateInverseKinematics(
-                self.body,
-                self.ee,
-                [float(v) for v in pos],
-                [float(v) for v in quat],
-                jointDamping=damping,
-                maxNumIterations=100,
-                residualThreshold=1e-6,
-                physicsClientId=self.client,
-            )
-            q = np.clip(np.array(sol[:9]), self.lower[:9], self.upper[:9])
+        with self.probe():
+            q = np.array(seed if seed is not None else (*base, *ARM_HOME), dtype=float)
             q[:2] = base
-            self.reset(q)
-            got = self.ee_pose()[0]
-            if float(np.linalg.norm(got - np.asarray(pos))) < 1e-3:
-                break
-        self.restore(saved)
+            # a huge damping on the rails keeps the solver from using them: the skill positions the base
+            damping = [1000.0, 1000.0] + [0.1] * 9
+            for _ in range(
+                10
+            ):  # refine from the previous solution: PyBullet's IK is one damped step at a time
+                self.reset(q)
+                sol = p.calculateInverseKinematics(
+                    self.body,
+                    self.ee,
+                    [float(v) for v in pos],
+                    [float(v) for v in quat],
+                    jointDamping=damping,
+                    maxNumIterations=100,
+                    residualThreshold=1e-6,
+                    physicsClientId=self.client,
+                )
+                q = np.clip(np.array(sol[:9]), self.lower[:9], self.upper[:9])
+                q[:2] = base
+                self.reset(q)
+                got = self.ee_pose()[0]
+                if float(np.linalg.norm(got - np.asarray(pos))) < 1e-3:
+                    break
         dp, da = self.fk_error(q, np.asarray(pos), quat)
         if (dp > 1e-3 or da > 1e-2) and dp < 0.05:  # PyBullet's solver stalls near some orientations
             q = self.refine(q, np.asarray(pos), quat, iters=60)
@@ -269,49 +283,50 @@ class Robot:
         """Damped-least-squares IK on the 7 arm joints (base fixed) from ``q0``; pulls towards mid-range."""
         import pybullet as p
 
-        saved = self.snapshot()
-        q = np.array(q0, dtype=float)
-        lo, hi = np.array(self.lower[2:9]), np.array(self.upper[2:9])
-        mid = (lo + hi) / 2
-        target = np.asarray(pos, dtype=float)
-        r_tgt = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
-        for _ in range(iters):
-            self.reset(q)
-            got_p, got_q = self.ee_pose()
-            r_cur = np.array(p.getMatrixFromQuaternion(list(got_q))).reshape(3, 3)
-            r_err = r_tgt @ r_cur.T  # world-frame rotation still to go
-            cos = float(np.clip((np.trace(r_err) - 1) / 2, -1.0, 1.0))
-            angle = math.acos(cos)
-            vee = np.array([r_err[2, 1] - r_err[1, 2], r_err[0, 2] - r_err[2, 0], r_err[1, 0] - r_err[0, 1]])
-            w_err = vee / (2 * math.sin(angle)) * angle if angle > 1e-6 else vee / 2
-            if angle > math.pi - 1e-3:  # the formula degenerates at half a turn: nudge about any axis
-                w_err = np.array([0.0, 0.0, 0.5])
-            err = np.concatenate([target - got_p, w_err])
-            if np.linalg.norm(err[:3]) < 5e-4 and angle < 5e-3:
-                break
-            states = [
-                s[0]
-                for s in p.getJointStates(
-                    self.body, [*self.joints, *self.fingers], physicsClientId=self.client
+        with self.probe():
+            q = np.array(q0, dtype=float)
+            lo, hi = np.array(self.lower[2:9]), np.array(self.upper[2:9])
+            mid = (lo + hi) / 2
+            target = np.asarray(pos, dtype=float)
+            r_tgt = np.array(p.getMatrixFromQuaternion(list(quat))).reshape(3, 3)
+            for _ in range(iters):
+                self.reset(q)
+                got_p, got_q = self.ee_pose()
+                r_cur = np.array(p.getMatrixFromQuaternion(list(got_q))).reshape(3, 3)
+                r_err = r_tgt @ r_cur.T  # world-frame rotation still to go
+                cos = float(np.clip((np.trace(r_err) - 1) / 2, -1.0, 1.0))
+                angle = math.acos(cos)
+                vee = np.array(
+                    [r_err[2, 1] - r_err[1, 2], r_err[0, 2] - r_err[2, 0], r_err[1, 0] - r_err[0, 1]]
                 )
-            ]
-            lin, ang = p.calculateJacobian(
-                self.body,
-                self.ee,
-                (0, 0, 0),
-                states,
-                [0.0] * len(states),
-                [0.0] * len(states),
-                physicsClientId=self.client,
-            )
-            jac = np.vstack([np.array(lin), np.array(ang)])[:, 2:9]
-            lam = 0.05
-            step = jac.T @ np.linalg.solve(jac @ jac.T + lam * lam * np.eye(6), err)
-            null = np.eye(7) - np.linalg.pinv(jac) @ jac
-            step += null @ (0.05 * (mid - q[2:9]))
-            scale = max(1.0, float(np.max(np.abs(step))) / 0.2)
-            q[2:9] = np.clip(q[2:9] + step / scale, lo + 1e-3, hi - 1e-3)
-        self.restore(saved)
+                w_err = vee / (2 * math.sin(angle)) * angle if angle > 1e-6 else vee / 2
+                if angle > math.pi - 1e-3:  # the formula degenerates at half a turn: nudge about any axis
+                    w_err = np.array([0.0, 0.0, 0.5])
+                err = np.concatenate([target - got_p, w_err])
+                if np.linalg.norm(err[:3]) < 5e-4 and angle < 5e-3:
+                    break
+                states = [
+                    s[0]
+                    for s in p.getJointStates(
+                        self.body, [*self.joints, *self.fingers], physicsClientId=self.client
+                    )
+                ]
+                lin, ang = p.calculateJacobian(
+                    self.body,
+                    self.ee,
+                    (0, 0, 0),
+                    states,
+                    [0.0] * len(states),
+                    [0.0] * len(states),
+                    physicsClientId=self.client,
+                )
+                jac = np.vstack([np.array(lin), np.array(ang)])[:, 2:9]
+                lam = 0.05
+                step = jac.T @ np.linalg.solve(jac @ jac.T + lam * lam * np.eye(6), err)
+                null = np.eye(7) - np.linalg.pinv(jac) @ jac
+                step += null @ (0.05 * (mid - q[2:9]))
+                scale = max(1.0, float(np.max(np.abs(step))) / 0.2)
+                q[2:9] = np.clip(q[2:9] + step / scale, lo + 1e-3, hi - 1e-3)
         return q
 
     def fk_error(
@@ -320,10 +335,9 @@ class Robot:
         """Position (m) and orientation (rad) error of configuration ``q`` against a target pose."""
         import pybullet as p
 
-        saved = self.snapshot()
-        self.reset(q)
-        got_p, got_q = self.ee_pose()
-        self.restore(saved)
+        with self.probe():
+            self.reset(q)
+            got_p, got_q = self.ee_pose()
         dq = p.getDifferenceQuaternion(list(got_q), list(quat))
         angle = 2 * math.acos(min(1.0, abs(dq[3])))
         return float(np.linalg.norm(got_p - np.asarray(pos))), angle

@@ -46,10 +46,9 @@ def pickable(world: World, obj: SimObject) -> bool:
     nothing (the check a pick makes before it moves); the robot is left as it was."""
     m = Motion(world)
     m.ignore = {obj.body}
-    saved = world.robot.snapshot()
-    centre = (world.body_aabb(obj.body)[0] + world.body_aabb(obj.body)[1]) / 2
-    z = transit_height(world)
-    try:
+    with world.robot.probe():
+        centre = (world.body_aabb(obj.body)[0] + world.body_aabb(obj.body)[1]) / 2
+        z = transit_height(world)
         for pos, quat, _opening in pick_candidates(world, obj)[:CANDIDATES]:
             above = (np.array([pos[0], pos[1], z]), quat)
             poses = [(pos, quat), (pos + np.array([0, 0, APPROACH]), quat), above]
@@ -59,8 +58,6 @@ def pickable(world: World, obj: SimObject) -> bool:
             except SkillError:
                 continue
         return False
-    finally:
-        world.robot.restore(saved)
 
 
 def _free(world: World, obj: SimObject) -> bool:
