@@ -21,7 +21,7 @@ from gsr.benchmarks.scoring import any_goal
 from gsr.diagnosis import Diagnosis
 from gsr.episode import Agent, AgentFailure
 from gsr.errors import GSRError
-from gsr.facts import problem_from_graph
+from gsr.facts import problem_from_graph, state_from_graph
 from gsr.pddl.model import TRUE, Domain, Formula
 from gsr.plan import api as plan_api  # called through the module: counters patch plan_api.plan_graph
 from gsr.plan.grounding import ground_task
@@ -32,7 +32,9 @@ from gsr.task_spec import TaskSpec
 
 
 class _PlanningAgent:
-    """Shared logic: plan to a goal formula once, then replay the plan step by step (replan on feedback)."""
+    """Shared logic: plan to a goal formula once, then replay the plan step by step; plan again from the
+    shown graph after a rejected step, or after an accepted one when the graph's state is not the one the
+    step leads to (an executor that also moved other objects, e.g. neighbours set aside for a pick)."""
 
     name = "planning"
 
@@ -55,10 +57,18 @@ class _PlanningAgent:
         self.queue = deque(result.plan.steps)
 
     def act(self, graph: SceneGraph, instruction: str, feedback: Diagnosis | None = None) -> Step | None:
-        """Next planned step; replans from ``graph`` after a rejected step."""
-        if feedback is not None and not feedback.ok:
+        """Next planned step; plans again from ``graph`` after a rejected step or when ``graph`` is not in
+        the state the accepted step leads to."""
+        if feedback is not None and (not feedback.ok or self._moved_otherwise(graph, feedback)):
             self._plan(graph)
         return self.queue.popleft() if self.queue else None
+
+    def _moved_otherwise(self, graph: SceneGraph, feedback: Diagnosis) -> bool:
+        """Whether the shown graph differs from the state the accepted step leads to."""
+        expected = feedback.next_state
+        if expected is None or self.domain is None:
+            return False
+        return state_from_graph(graph, self.domain).atoms != expected.atoms
 
     @property
     def believed_goal(self) -> Formula | None:

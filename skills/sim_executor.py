@@ -98,7 +98,7 @@ class SimExecutor:
         self.outcomes.append(out)
         if out.ok:
             return checked
-        cleared = self._clear_and_retry(step, out)
+        cleared = self._clear_and_retry(step, out, checked)
         if cleared is not None:
             return cleared
         return Diagnosis(
@@ -108,11 +108,12 @@ class SimExecutor:
             hints=("the scene graph now shows what the simulator observed; replan from it",),
         )
 
-    def _clear_and_retry(self, step: Step, out: StepOutcome) -> Diagnosis | None:
+    def _clear_and_retry(self, step: Step, out: StepOutcome, checked: Diagnosis) -> Diagnosis | None:
         """A pick refused because movable neighbours were in the hand's way: set at most
         :data:`~gsr.skills.recovery.MAX_CLEARANCES` of them aside on the table (checked steps of their
-        own) and pick again. None when nothing was set aside; else a non-ok diagnosis that says what
-        moved and asks the agent to replan from the observed graph (the pick may have succeeded)."""
+        own) and pick again. None when nothing was set aside; else a diagnosis that says what moved: ok
+        (with the step's own transition) when the pick then succeeded, else not ok; either way the
+        observed graph differs from the agent's plan, which should be planned again from it."""
         assert self.ex is not None
         ex = self.ex
         if (
@@ -182,6 +183,16 @@ class SimExecutor:
         if not moved:
             return None  # (refused neighbours: the scene is as it was, the step's own failure stands)
         self.recoveries.append({"step": str(step), "moved": moved, "picked": out.ok, "notes": notes})
+        if out.ok:
+            # the pick went through once the neighbours moved: the step is done (not a rejection the
+            # episode's retry budget pays for) with its own transition; the graph shows the moved
+            # neighbours besides, so a closed-loop agent sees it is not in the state the step leads to
+            # and plans again from it
+            return replace(
+                checked,
+                message=f"executed after a clearance: {step}: " + "; ".join(notes),
+                hints=("neighbours were moved: the scene graph shows where; replan from it",),
+            )
         return Diagnosis(
             ok=False,
             step=step,

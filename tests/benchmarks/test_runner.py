@@ -284,3 +284,48 @@ def test_reasoner_agent_is_closed_loop_on_the_graph_it_is_shown(task, domain) ->
     # the same world with a faithful executor: the plan is followed, no re-plan
     agent = make_agent("reasoner", {"backend": "grounder"})
     assert run_episode(right, agent, domain).success and agent.replans == 0
+
+
+class _HelpfulExecutor:
+    """A symbolic executor that, besides an accepted step, also moves another object (as a physical
+    executor setting neighbours aside for a pick does): once it can, it puts blue_cube into the box."""
+
+    def __init__(self) -> None:
+        from gsr.symbolic_executor import SymbolicExecutor
+
+        self.inner = SymbolicExecutor()
+        self.moved = False
+
+    def reset(self, task, domain):
+        self.domain = domain
+        return self.inner.reset(task, domain)
+
+    def execute(self, step):
+        from gsr.check import check_step
+        from gsr.step import Step
+
+        diagnosis = self.inner.execute(step)
+        if diagnosis.ok and not self.moved:
+            state = self.inner.state
+            for side in (Step("pick", ("blue_cube", "table")), Step("place_in", ("blue_cube", "box"))):
+                done = check_step(self.domain, state, side)
+                if not done.ok:
+                    break
+                state = done.next_state
+            else:
+                self.inner.state, self.inner._stale, self.moved = state, True, True
+        return diagnosis
+
+    def graph(self):
+        return self.inner.graph()
+
+
+def test_planner_agent_plans_again_when_an_accepted_step_moved_other_objects(task, domain) -> None:
+    # the agent's plan moves both cubes; after an accepted step the executor has put blue_cube in the
+    # box itself: following the old plan would propose a pick of blue_cube from the table (rejected)
+    both = task.model_copy(update={"goal_alternatives": ()})
+    executor = _HelpfulExecutor()
+    r = run_episode(both, make_agent("planner"), domain, executor=executor)
+    assert executor.moved
+    assert r.success and r.outcome == "true_success" and r.proposed == r.valid
+    assert not any("blue_cube" in s for s in r.plan), r.plan

@@ -14,6 +14,7 @@ import pytest
 from gsr.benchmarks.suites import get_suite
 from gsr.skills.result import Failure
 
+from gsr.facts import state_from_graph
 from gsr.resources import load_builtin_domain
 from gsr.step_grammar import parse_step_text
 
@@ -75,9 +76,13 @@ def test_a_pick_blocked_by_packed_neighbours_sets_them_aside_and_succeeds() -> N
             + w.body_aabb(w.objects["yellow_cube1"].body)[1][:2]
         ) / 2
         d = ex.execute(step)
-        # the step is reported with what moved, so the agent replans from the observed graph
-        assert not d.ok and "clearance for (pick yellow_cube1 blue_box)" in d.message
+        # the step is done (its own transition) and reported with what moved; the graph shows the moved
+        # neighbours besides, so a closed-loop agent replans from it
+        assert d.ok and "executed after a clearance: (pick yellow_cube1 blue_box)" in d.message
         assert "aside on table" in d.message and "then succeeded" in d.message
+        assert (
+            d.next_state is not None and state_from_graph(ex.graph(), ex.domain).atoms != d.next_state.atoms
+        )
         (rec,) = ex.recoveries
         assert rec["picked"] and 1 <= len(rec["moved"]) <= 2
         assert support_of(w, "yellow_cube1") == ("held", "")
