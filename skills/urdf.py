@@ -118,12 +118,15 @@ def _inertia(link: Link) -> str:
 
 
 def _link(link: Link) -> str:
+    # material names must be unique in the whole URDF (link names are): PyBullet's URDF reader keeps one
+    # colour per material name, so per-link names m0, m1... gave every link's first visual one link's colour
     parts = [f'<link name="{link.name}">', _inertia(link)]
     for i, s in enumerate(link.shapes):
         origin = f'<origin xyz="{_v(s.xyz)}" rpy="{_v(s.rpy)}"/>'
         parts.append(
             f'<visual name="v{i}">{origin}<geometry>{_geometry(s)}</geometry>'
-            f'<material name="m{i}"><color rgba="{_v(s.rgba[:3])} {_f(s.rgba[3])}"/></material></visual>'
+            f'<material name="{link.name}_m{i}"><color rgba="{_v(s.rgba[:3])} {_f(s.rgba[3])}"/></material>'
+            "</visual>"
         )
         if s.collide:
             parts.append(f'<collision name="c{i}">{origin}<geometry>{_geometry(s)}</geometry></collision>')
