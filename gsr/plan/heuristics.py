@@ -192,11 +192,11 @@ class Relaxation:
 
     @lifo.setter
     def lifo(self, value: bool) -> None:
-        if self._jit is not None and not hasattr(self._jit, "set_lifo"):
+        if value and self._jit is not None and not hasattr(self._jit, "set_lifo"):
             raise ValueError("last-in-first-out h_add buckets need the C kernels or the Python path")
         self._lifo = bool(value)
         self._last = None  # a cached h_add of the other order
-        if self._jit is not None:
+        if self._jit is not None and hasattr(self._jit, "set_lifo"):
             self._jit.set_lifo(self._lifo)
 
     def _facts(self, state: int) -> list[int]:
