@@ -2,8 +2,9 @@
 
 Modules (each also runs as ``python -m gsr.benchmarks.perception.<module>`` where it has a ``main``):
 
-- ``scenes``: random tabletop scenes of primitive-box PyBullet multibodies with exact per-link labels
-  and exact ground-truth graphs (``random_scene``, ``Scene``, ``SceneBuilder``);
+- ``scenes``: random tabletop scenes of primitive boxes with exact per-link labels and exact
+  ground-truth graphs (``random_scene``, ``Scene``, ``SceneBuilder``); their bodies are written by the
+  skills layer's URDF writer (``gsr.skills.urdf``), the one body writer of both layers;
 - ``render``: look-at cameras on those scenes and their TinyRenderer frames (``camera_specs``,
   ``table_camera``, ``save_frame``; the function ``render.render``, which the package
   does not re-export: its name is the module's);
@@ -14,9 +15,7 @@ Modules (each also runs as ``python -m gsr.benchmarks.perception.<module>`` wher
 - ``train_data``: ``gsr perceive-train``: rendered frames with randomised light for the detector
   (``run_training``, ``training_frames``, ``heldout_frames``);
 - ``node_errors``: missed and false nodes sorted by kind (``classify_errors``, ``run``);
-- ``cpu_profile``: a CPU profile of ``perceive`` on rendered scenes;
-- ``builder_check``: the same scenes built through the skills layer's URDF writer, frames compared
-  (docs/architecture.md, "One scene builder: measured").
+- ``cpu_profile``: a CPU profile of ``perceive`` on rendered scenes.
 
 The names below are the package's public API. They resolve on first use, so importing the package
 loads neither PyBullet nor the perception pipeline, and ``python -m`` of one module does not import

@@ -11,12 +11,15 @@ the table top is z = 0.
 from __future__ import annotations
 
 import math
+import os
+import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
 from gsr.perception.frame import InstanceLabel
 from gsr.perception.geometry import Instance
 from gsr.perception.relations import RelationThresholds, descriptive_relations
+from gsr.skills.urdf import Joint, Link, Shape, box, urdf_text
 
 from gsr.scene_graph import Edge, Node, SceneGraph
 
@@ -112,12 +115,51 @@ def _quat(yaw: float) -> tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
-def _rgba(rgb: tuple[float, float, float]) -> list[float]:
-    return [*rgb, 1.0]
+#: One box of a body: half extents, offset in the link frame, colour (RGB).
+Box = tuple[np.ndarray, np.ndarray, tuple[float, float, float]]
+
+
+def _shapes(boxes: list[Box]) -> tuple[Shape, ...]:
+    """The boxes as the URDF writer's visual-only shapes (no collision: nothing here is simulated)."""
+    return tuple(
+        box(tuple(map(float, o)), tuple(2.0 * float(x) for x in h), (*map(float, c), 1.0), collide=False)  # type: ignore[arg-type]
+        for h, o, c in boxes
+    )
+
+
+def load_body(client: int, links: list[Link], position, yaw: float) -> tuple[int, dict[str, int]]:
+    """Load ``links`` (the first is the base) as one fixed body through the skills URDF writer.
+
+    Returns the body id and each link's PyBullet link index by name (the base is -1). The URDF text
+    goes to a scratch file that is removed once PyBullet has read it, so building scenes leaves no files.
+    """
+    import pybullet as pb
+
+    fd, path = tempfile.mkstemp(suffix=".urdf", prefix="gsr-scene-")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(urdf_text("scene_body", links))
+        body = pb.loadURDF(
+            path,
+            list(map(float, position)),
+            _quat(yaw),
+            useFixedBase=True,
+            physicsClientId=client,
+        )
+    finally:
+        os.unlink(path)
+    index = {links[0].name: -1}
+    for j in range(pb.getNumJoints(body, physicsClientId=client)):
+        index[pb.getJointInfo(body, j, physicsClientId=client)[12].decode()] = j
+    return body, index
 
 
 class SceneBuilder:
-    """Adds primitive objects to a DIRECT PyBullet client and records their labels and truth."""
+    """Adds primitive objects to a DIRECT PyBullet client and records their labels and truth.
+
+    The bodies are written by the skills layer's URDF writer (``gsr.skills.urdf``, through
+    :func:`load_body`); what is the builder's own is the exact placement, the labels and the truth.
+    """
 
     def __init__(self, rng: np.random.Generator) -> None:
         import pybullet as pb
@@ -133,29 +175,11 @@ class SceneBuilder:
         self._counts[stem] = self._counts.get(stem, 0) + 1
         return f"{stem}_{self._counts[stem]}"
 
-    def _visual(self, boxes: list[tuple[np.ndarray, np.ndarray, tuple]]) -> int:
-        """One visual shape made of boxes (half extents, offset, colour)."""
-        pb = self.pb
-        return pb.createVisualShapeArray(
-            shapeTypes=[pb.GEOM_BOX] * len(boxes),
-            halfExtents=[list(map(float, h)) for h, _, _ in boxes],
-            visualFramePositions=[list(map(float, o)) for _, o, _ in boxes],
-            rgbaColors=[_rgba(c) for _, _, c in boxes],
-            physicsClientId=self.scene.client,
-        )
-
-    def _body(self, boxes: list[tuple[np.ndarray, np.ndarray, tuple]], pos, yaw: float, **links) -> int:
-        """A multibody whose base is a compound of boxes (half extents, offset, colour)."""
-        pb, cid = self.pb, self.scene.client
-        vis = self._visual(boxes)
-        return pb.createMultiBody(
-            baseMass=0,
-            baseVisualShapeIndex=vis,
-            basePosition=list(map(float, pos)),
-            baseOrientation=_quat(yaw),
-            physicsClientId=cid,
-            **links,
-        )
+    def _body(
+        self, boxes: list[Box], pos, yaw: float, links: tuple[Link, ...] = ()
+    ) -> tuple[int, dict[str, int]]:
+        """A fixed body whose base is a compound of boxes, with optional jointed ``links`` on it."""
+        return load_body(self.scene.client, [Link("base", _shapes(boxes), 0.0), *links], pos, yaw)
 
     def _label(self, body: int, link: int, label: InstanceLabel) -> None:
         self.scene.labels[body + ((link + 1) << 24)] = label
@@ -163,7 +187,7 @@ class SceneBuilder:
     def table(self) -> None:
         """The table: top at z = 0, 1.2 m deep (x 0..1.2), 1.6 m wide."""
         half = np.array([0.6, 0.8, 0.025])
-        body = self._body([(half, np.zeros(3), TABLE_COLOR)], (0.6, 0.0, -0.025), 0.0)
+        body, _ = self._body([(half, np.zeros(3), TABLE_COLOR)], (0.6, 0.0, -0.025), 0.0)
         self._label(body, -1, InstanceLabel(id="table", category="table"))
         self.scene.placed.append(Placed("table", "table", np.array([0.6, 0.0, -0.025]), half))
 
@@ -189,7 +213,7 @@ class SceneBuilder:
         """A solid box-shaped object (cube, block, plate-like slab) resting at ``z_bottom``."""
         node = self.name(f"{color}_{category}")
         center = np.array([xy[0], xy[1], z_bottom + half[2]])
-        body = self._body([(half, np.zeros(3), COLORS_RGB.get(color, (0.9, 0.9, 0.9)))], center, yaw)
+        body, _ = self._body([(half, np.zeros(3), COLORS_RGB.get(color, (0.9, 0.9, 0.9)))], center, yaw)
         self._label(body, -1, InstanceLabel(id=node, category=category, color=color))
         placed = Placed(node, category, center, half, yaw, color, support=support)
         self.scene.placed.append(placed)
@@ -208,7 +232,7 @@ class SceneBuilder:
         ]
         node = self.name(f"{color}_box")
         center = np.array([xy[0], xy[1], hz])
-        body = self._body(parts, center, yaw)
+        body, _ = self._body(parts, center, yaw)
         self._label(body, -1, InstanceLabel(id=node, category="box", color=color))
         placed = Placed(node, "box", center, np.array([hx, hy, hz]), yaw, color, support=("on", "table"))
         placed.floor = float(center[2] - hz + t)
@@ -237,41 +261,30 @@ class SceneBuilder:
             (np.array([dd, t / 2, dz * 0.6]), np.array([0, -dw + t / 2, -dz * 0.4]), dcol),
             (np.array([t / 2, dw, dz * 0.6]), np.array([dd - t / 2, 0, -dz * 0.4]), dcol),  # back
         ]
-        dvis = self._visual(drawer)
-        handle_half = [0.01, 0.05, 0.008]
-        hvis = pb.createVisualShape(
-            pb.GEOM_BOX, halfExtents=handle_half, rgbaColor=[0.2, 0.2, 0.2, 1], physicsClientId=cid
-        )
+        hx = 0.01  # the handle's half depth
+        handle = [(np.array([hx, 0.05, 0.008]), np.zeros(3), (0.2, 0.2, 0.2))]
         n = levels
-        # PyBullet orders links depth-first, so interleave them: drawer i is link 2i, its handle 2i + 1.
         heights = [-hh + t + dh * (2 * i + 1) for i in range(n)]
-        link_pos, parents = [], []
-        for i in range(n):
-            link_pos += [[-t, 0.0, heights[i]], [-dd - handle_half[0], 0.0, 0.0]]  # front flush when closed
-            parents += [0, 2 * i + 1]  # 0 = base; k + 1 = link k
-        links = dict(
-            linkMasses=[0.0] * (2 * n),
-            linkCollisionShapeIndices=[-1] * (2 * n),
-            linkVisualShapeIndices=[dvis, hvis] * n,
-            linkPositions=link_pos,
-            linkOrientations=[[0, 0, 0, 1]] * (2 * n),
-            linkInertialFramePositions=[[0, 0, 0]] * (2 * n),
-            linkInertialFrameOrientations=[[0, 0, 0, 1]] * (2 * n),
-            linkParentIndices=parents,
-            linkJointTypes=[pb.JOINT_PRISMATIC, pb.JOINT_FIXED] * n,
-            linkJointAxis=[[-1, 0, 0], [0, 0, 1]] * n,
-        )
+        links: list[Link] = []
+        for i in range(n):  # drawer i slides out along -x; its front is flush with the shell when closed
+            slide = Joint("prismatic", (-t, 0.0, heights[i]), (-1.0, 0.0, 0.0), 0.0, 2 * hd)
+            pull = Joint("fixed", (-dd - hx, 0.0, 0.0), (0.0, 0.0, 1.0))
+            links += [
+                Link(f"drawer_{i}", _shapes(drawer), 0.0, "base", slide),
+                Link(f"handle_{i}", _shapes(handle), 0.0, f"drawer_{i}", pull),
+            ]
         node = self.name("cabinet")
         center = np.array([xy[0], xy[1], hh])
-        body = self._body(shell, center, yaw, **links)
+        body, index = self._body(shell, center, yaw, tuple(links))
         self._label(body, -1, InstanceLabel(id=node, category="cabinet"))
         out = [Placed(node, "cabinet", center, np.array([hd, hw, hh]), yaw, support=("on", "table"))]
         names = LEVELS if n == 3 else (("low", "high") if n == 2 else ("low",))
         for i in range(n):
-            pb.resetJointState(body, 2 * i, openings[i], physicsClientId=cid)
+            drawer_link, handle_link = index[f"drawer_{i}"], index[f"handle_{i}"]
+            pb.resetJointState(body, drawer_link, openings[i], physicsClientId=cid)
             part = f"{node}/drawer_{names[i]}"
-            self._label(body, 2 * i, InstanceLabel(id=part, category="drawer", parent=node))
-            self._label(body, 2 * i + 1, InstanceLabel(keypoint_of=part, name="handle"))
+            self._label(body, drawer_link, InstanceLabel(id=part, category="drawer", parent=node))
+            self._label(body, handle_link, InstanceLabel(keypoint_of=part, name="handle"))
             c, s = math.cos(yaw), math.sin(yaw)
             off = np.array([-openings[i] - t, 0.0])
             dc = center + np.array([c * off[0] - s * off[1], s * off[0] + c * off[1], heights[i]])
@@ -296,32 +309,15 @@ class SceneBuilder:
             (np.array([hd, t / 2, hh]), np.array([0, -hw + t / 2, 0]), grey),
             (np.array([t / 2, hw, hh]), np.array([hd - t / 2, 0, 0]), grey),
         ]
-        door_half = [0.008, hw, hh]
-        dvis = pb.createVisualShape(
-            pb.GEOM_BOX,
-            halfExtents=door_half,
-            visualFramePosition=[-0.008, -hw, 0],
-            rgbaColor=[0.1, 0.1, 0.12, 1],
-            physicsClientId=self.scene.client,
-        )
-        links = dict(
-            linkMasses=[0.0],
-            linkCollisionShapeIndices=[-1],
-            linkVisualShapeIndices=[dvis],
-            linkPositions=[[-hd, hw, 0.0]],  # hinge on the front-left edge (+y is left)
-            linkOrientations=[[0, 0, 0, 1]],
-            linkInertialFramePositions=[[0, 0, 0]],
-            linkInertialFrameOrientations=[[0, 0, 0, 1]],
-            linkParentIndices=[0],
-            linkJointTypes=[pb.JOINT_REVOLUTE],
-            linkJointAxis=[[0, 0, -1]],  # positive angle swings the free edge towards the robot
-        )
+        door = [(np.array([0.008, hw, hh]), np.array([-0.008, -hw, 0.0]), (0.1, 0.1, 0.12))]
+        # hinged on the front-left edge (+y is left); a positive angle swings the free edge towards the robot
+        hinge = Joint("revolute", (-hd, hw, 0.0), (0.0, 0.0, -1.0), 0.0, 1.6)
         node = self.name("microwave")
         center = np.array([xy[0], xy[1], hh])
-        body = self._body(shell, center, yaw, **links)
-        pb.resetJointState(body, 0, angle, physicsClientId=self.scene.client)
+        body, index = self._body(shell, center, yaw, (Link("door", _shapes(door), 0.0, "base", hinge),))
+        pb.resetJointState(body, index["door"], angle, physicsClientId=self.scene.client)
         self._label(body, -1, InstanceLabel(id=node, category="microwave"))
-        self._label(body, 0, InstanceLabel(id=f"{node}/door", category="door", parent=node))
+        self._label(body, index["door"], InstanceLabel(id=f"{node}/door", category="door", parent=node))
         self.scene.placed.append(
             Placed(node, "microwave", center, np.array([hd, hw, hh]), yaw, support=("on", "table"))
         )

@@ -29,16 +29,13 @@ def hand_scene() -> tuple[Scene, dict[str, np.ndarray]]:
     b.microwave(np.array([0.97, -0.5]), -0.1, 1.1)
     import pybullet as pb
 
-    cab = next(
-        i
-        for i in range(pb.getNumBodies(physicsClientId=b.scene.client))
-        if pb.getNumJoints(i, physicsClientId=b.scene.client) == 4
-    )
+    # each handle is a link labelled as its drawer's keypoint; its position is the link's world frame
     handles = {
-        f"cabinet_1/drawer_{name}": np.array(
-            pb.getLinkState(cab, 2 * i + 1, physicsClientId=b.scene.client)[4]
+        label.keypoint_of: np.array(
+            pb.getLinkState(seg & ((1 << 24) - 1), (seg >> 24) - 1, physicsClientId=b.scene.client)[4]
         )
-        for i, name in enumerate(("low", "high"))
+        for seg, label in b.scene.labels.items()
+        if label.keypoint_of and label.name == "handle"
     }
     return b.scene, handles
 
