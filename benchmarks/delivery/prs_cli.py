@@ -43,9 +43,12 @@ def prs_command(
     if split not in SPLITS:
         print(f"error: --split must be one of {', '.join(SPLITS)}, not {split!r}", file=sys.stderr)
         return 1
+    if crossfit and workers > 1:
+        print("error: --crossfit runs its folds in one process; leave --workers at 1", file=sys.stderr)
+        return 1
     try:
         if crossfit:
-            run = run_prs_crossfit(data, tasks, crossfit, split)
+            run = run_prs_crossfit(data, tasks, crossfit, split, captions)
         else:
             run = run_prs(data, tasks, workers=workers, captions=captions, calibration=calibration)
     except GSRError as exc:

@@ -208,15 +208,25 @@ def fold_of(task: PrsTask, position: int, folds: int, split: str) -> int:
 
 
 def run_prs_crossfit(
-    data: str | Path, tasks_file: str | Path, folds: int = 2, split: str = "position"
+    data: str | Path,
+    tasks_file: str | Path,
+    folds: int = 2,
+    split: str = "position",
+    captions: str = "dev",
 ) -> dict:
     """The honest dev estimate: the tasks split in ``folds`` (``SPLITS``); each fold runs on a station
     calibrated, and with object captions built, from the *other* folds only (the inventory stays every
-    object of the file). Returns the same document as ``run_prs``."""
+    object of the file). ``captions`` "none": no captions at all (the sensor sees types only); a caption
+    file would bypass the folds and is refused. Returns the same document as ``run_prs``."""
     if folds < 2:
         raise GSRError("--crossfit needs at least 2 folds")
     if split not in SPLITS:
         raise GSRError(f"--split must be one of {', '.join(SPLITS)}, not {split!r}")
+    if captions not in ("dev", "none"):
+        raise GSRError(
+            "--crossfit builds captions from the other folds (--captions dev) or none (--captions none); "
+            f"a caption file ({captions}) would bypass the folds"
+        )
     data, tasks_file = str(data), str(tasks_file)
     t0, c0 = time.perf_counter(), time.process_time()
     tasks = load_tasks(tasks_file, load_station(data, None))
@@ -231,14 +241,15 @@ def run_prs_crossfit(
         calibrate_station(station, observations_of(station, train))
         objects = inventory(station, tasks)
         labels = sorted({o.type for o in objects})
-        caps = build_captions(station, train, labels)
-        _set_state(("crossfit", data, tasks_file, f), station, test, objects, labels, caps)
+        caps = build_captions(station, train, labels) if captions == "dev" else {}
+        _set_state(("crossfit", data, tasks_file, f, captions), station, test, objects, labels, caps)
         rows += [_run_one(t.request.task_id) for t in test]
     order = {t.request.task_id: k for k, t in enumerate(tasks)}
     rows.sort(key=lambda r: order[r["task_id"]])
     truths = {t.request.task_id: t.truth for t in tasks}
     folds_text = f"crossfit, {folds} folds by {split}"
-    meta = {"workers": 1, "captions": folds_text, "calibration_tasks": folds_text}
+    caption_text = folds_text if captions == "dev" else "none"
+    meta = {"workers": 1, "captions": caption_text, "calibration_tasks": folds_text}
     return _document(rows, truths, t0, c0, meta, _STATE["station"])
 
 

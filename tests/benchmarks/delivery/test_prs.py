@@ -16,6 +16,7 @@ from gsr.benchmarks.delivery.prs_parse import RoomMatcher, label_score, parse_re
 from gsr.benchmarks.delivery.prs_run import run_prs
 from gsr.benchmarks.delivery.prs_tasks import PrsTruth, inventory, load_tasks
 
+from gsr.errors import GSRError
 from tests.benchmarks.delivery.building.prs_synthetic import make_folder
 
 
@@ -192,6 +193,21 @@ def test_crossfit_calibrates_each_fold_on_the_others(folder: Path, tmp_path: Pat
     assert list(run["submission"]) == [f"t{k}" for k in range(40)]  # file order kept
     assert run["summary"]["Task SR"] >= 0.8
     assert prs_command(folder, folder / "delivery_tasks_dev.json", tmp_path / "o", crossfit=1) == 1
+
+
+def test_crossfit_honours_captions_none_and_refuses_what_it_cannot_do(
+    folder: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from gsr.benchmarks.delivery.prs_run import run_prs_crossfit
+
+    tasks = folder / "delivery_tasks_dev.json"
+    run = run_prs_crossfit(folder, tasks, folds=2, captions="none")
+    assert run["summary"]["captions"] == "none"  # was silently the folds' captions
+    with pytest.raises(GSRError, match="bypass the folds"):
+        run_prs_crossfit(folder, tasks, folds=2, captions=str(tasks))
+    assert prs_command(folder, tasks, tmp_path / "o", workers=2, crossfit=2) == 1
+    assert "--workers" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize(
