@@ -1,16 +1,19 @@
 """Cameras in the simulated world: RGB, metric depth and instance masks with intrinsics and extrinsics.
 
-:func:`render_frame` returns a ``gsr.perception.Frame`` whose mask ids are one per scene-graph node (objects
-and articulated parts, from PyBullet's object-and-link segmentation), with labels naming the node, its
-category, colour and parent: ground truth for the perception pipeline. Rendering uses the CPU tiny
-renderer (headless); camera poses use the world frame (+x forward from the robot, +y left, +z up).
+:func:`render_frame` is the one place a rendering becomes a ``gsr.perception.Frame``: by default its mask
+ids are one per scene-graph node (objects and articulated parts, from PyBullet's object-and-link
+segmentation), with labels naming the node, its category, colour and parent: ground truth for the
+perception pipeline. Its options: a :class:`Light` (randomised training light), where the masks come
+from (a :data:`MaskSource`: the world's nodes, a scene's own segmentation labels, doors added, or none
+for a detector's input) and ``robot_free`` (no depth on the robot's own pixels). Rendering uses the CPU
+tiny renderer (headless); camera poses use the world frame (+x forward from the robot, +y left, +z up).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from gsr.perception.camera import Camera, camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
@@ -58,44 +61,65 @@ class RGBD:
     link: np.ndarray
     camera: Camera
 
+    @property
+    def segmentation(self) -> np.ndarray:
+        """PyBullet's object-and-link segmentation values, ``body + (link + 1) << 24`` (-1 = nothing)."""
+        return np.where(self.body < 0, -1, self.body + ((self.link + 1) << 24)).astype(np.int32)
 
-def capture_gl(
-    client: int,
-    eye: Sequence[float],
-    target: Sequence[float],
-    up: Sequence[float],
-    fov: float,
-    width: int,
-    height: int,
-    near: float,
-    far: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, Camera]:
-    """One TinyRenderer capture: RGB (uint8), metric depth, the raw segmentation buffer and the camera."""
+
+@dataclass(frozen=True, slots=True)
+class Light:
+    """The tiny renderer's light: ``direction`` towards the light (world frame), ambient and diffuse
+    coefficients. ``None`` wherever a light is asked for means PyBullet's default light."""
+
+    direction: tuple[float, float, float]
+    ambient: float
+    diffuse: float
+
+
+class Client(Protocol):
+    """Anything rendered: a PyBullet client id (a ``World``, an offline perception ``Scene``)."""
+
+    @property
+    def client(self) -> int: ...
+
+
+#: Where a frame's masks come from: ``(source, rendering) -> (mask ids per pixel, label per mask id)``.
+MaskSource = Callable[[Any, "RGBD"], tuple[np.ndarray, dict[int, InstanceLabel]]]
+
+
+def render(world: Client, spec: CameraSpec, light: Light | None = None) -> RGBD:
+    """Render RGB, metric depth, body and link ids of a world (any PyBullet client) from one camera."""
     import pybullet as p
 
-    view = p.computeViewMatrix(eye, target, up, physicsClientId=client)
-    proj = p.computeProjectionMatrixFOV(fov, width / height, near, far, physicsClientId=client)
+    client = world.client
+
+    view = p.computeViewMatrix(spec.eye, spec.target, spec.up, physicsClientId=client)
+    proj = p.computeProjectionMatrixFOV(
+        spec.fov, spec.width / spec.height, spec.near, spec.far, physicsClientId=client
+    )
+    lit: dict[str, Any] = {}
+    if light is not None:
+        lit = {
+            "lightDirection": list(light.direction),
+            "lightAmbientCoeff": light.ambient,
+            "lightDiffuseCoeff": light.diffuse,
+        }
+    w, h = spec.width, spec.height
     _, _, rgba, depth_buf, seg = p.getCameraImage(
-        width,
-        height,
+        w,
+        h,
         view,
         proj,
+        **lit,
         renderer=p.ER_TINY_RENDERER,
         flags=p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
         physicsClientId=client,
     )
-    rgb = np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3].copy()
-    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(height, width), proj)
-    return rgb, depth, np.asarray(seg).reshape(height, width), camera_from_gl(view, proj, width, height)
-
-
-def render(world: World, spec: CameraSpec) -> RGBD:
-    """Render RGB, depth and segmentation of the world from one camera."""
-    rgb, depth, seg, camera = capture_gl(
-        world.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
-    )
-    body, link = split_gl_segmentation(seg)
-    return RGBD(rgb, depth, body, link, camera)
+    rgb = np.asarray(rgba, dtype=np.uint8).reshape(h, w, 4)[:, :, :3].copy()
+    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(h, w), proj)
+    body, link = split_gl_segmentation(np.asarray(seg).reshape(h, w))
+    return RGBD(rgb, depth, body, link, camera_from_gl(view, proj, w, h))
 
 
 def node_of_pixels(world: World, body: np.ndarray, link: np.ndarray) -> tuple[np.ndarray, list[str]]:
@@ -135,11 +159,37 @@ def labelled_masks(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, Insta
     return masks, labels
 
 
-def render_frame(world: World, spec: CameraSpec) -> Frame:
-    """A ``gsr.perception.Frame``: RGB-D plus one mask id per visible scene-graph node, labelled with its node."""
-    img = render(world, spec)
-    masks, labels = labelled_masks(world, img)
-    return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
+def no_masks(source: Any, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
+    """No instance masks (every pixel -1, no labels): RGB-D only, what a detector gets to see."""
+    return np.full(img.depth.shape, -1, dtype=np.int32), {}
+
+
+def robot_free_depth(world: World, img: RGBD) -> np.ndarray:
+    """The rendering's depth with no return on the robot's own pixels, as a robot filters itself out of
+    its sensor data with its own model at its joint state (nothing else of the segmentation is used)."""
+    return np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
+
+
+def render_frame(
+    world: Client,
+    spec: CameraSpec,
+    *,
+    light: Light | None = None,
+    masks: MaskSource = labelled_masks,
+    robot_free: bool = False,
+) -> Frame:
+    """A ``gsr.perception.Frame`` of one camera: every frame made from a rendering is made here.
+
+    ``masks`` says where the instance masks and their labels come from: by default one id per visible
+    scene-graph node of a ``World``, labelled with its node (:func:`labelled_masks`); :func:`no_masks` for
+    RGB-D alone; or any other :data:`MaskSource` (the offline perception scenes' segmentation labels, the
+    runtime loop's door masks). ``light`` replaces PyBullet's default light; ``robot_free`` leaves no depth
+    on the robot's pixels (:func:`robot_free_depth`; the world must have a robot).
+    """
+    img = render(world, spec, light)
+    ids, labels = masks(world, img)
+    depth = robot_free_depth(world, img) if robot_free else img.depth  # type: ignore[arg-type]
+    return Frame(rgb=img.rgb, depth=depth, masks=ids, camera=img.camera, labels=labels)
 
 
 def save_png(rgb: np.ndarray, path: str) -> None:

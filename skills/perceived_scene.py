@@ -32,7 +32,7 @@ from gsr.perception.frame import Frame, InstanceLabel
 from gsr.perception.match import match_nodes
 from gsr.perception.rgbd import View, detect_frames
 from gsr.perception.track import Tracker, rename_graph
-from gsr.skills.camera import default_views, labelled_masks, render
+from gsr.skills.camera import RGBD, default_views, labelled_masks, no_masks, render_frame
 from gsr.skills.executor import symbolic_view
 from gsr.skills.sim_graph import scene_graph_from_sim, support_of
 
@@ -204,10 +204,9 @@ def _tracker() -> Any:
 def self_filtered_view(world: World, spec: CameraSpec) -> Any:
     """One camera's RGB-D with the robot's own body removed (depth 0 there), as a robot filters itself
     out of its sensor data with its own model at its joint state; nothing else of the simulator's
-    segmentation is used."""
-    img = render(world, spec)
-    depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
-    return View(img.rgb, depth, img.camera)
+    segmentation is used (no masks: the detector segments)."""
+    frame = render_frame(world, spec, masks=no_masks, robot_free=True)
+    return View(frame.rgb, frame.depth, frame.camera)
 
 
 def bind_to_world(graph: SceneGraph, world: World) -> dict[str, str]:
@@ -230,7 +229,11 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
     category ``door``, parent the object), so perception measures the door angle and the object takes
     the door's open/closed state; :func:`without_helper_parts` drops the door node afterwards.
     """
-    img = render(world, spec)
+    return render_frame(world, spec, masks=masks_with_doors)
+
+
+def masks_with_doors(world: World, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
+    """:func:`gsr.skills.camera.labelled_masks` plus a mask for each door that is no graph node (a ``MaskSource``)."""
     masks, labels = labelled_masks(world, img)
     parts = {(obj, part) for obj, part in world.parts.values()}
     for oid in sorted(world.objects):
@@ -244,7 +247,7 @@ def frame_with_doors(world: World, spec: CameraSpec) -> Frame:
             k = len(labels)
             masks = np.where(pixels, k, masks)
             labels[k] = InstanceLabel(id=f"{oid}/{door}", category="door", parent=oid)
-    return Frame(rgb=img.rgb, depth=img.depth, masks=masks, camera=img.camera, labels=labels)
+    return masks, labels
 
 
 def without_helper_parts(graph: SceneGraph, world: World) -> SceneGraph:

@@ -1,7 +1,8 @@
 """Cameras for the procedural perception scenes: look-at specs and PyBullet TinyRenderer rendering.
 
-:func:`render` returns a ``gsr.perception.Frame`` whose mask ids are PyBullet's segmentation values
-(``body + (link + 1) << 24``), labelled by the scene (benchmarks/perception/scenes.py).
+:func:`render` returns a ``gsr.perception.Frame`` (through ``gsr.skills.camera.render_frame``, the one
+frame path) whose mask ids are PyBullet's segmentation values (``body + (link + 1) << 24``), labelled by
+the scene (benchmarks/perception/scenes.py).
 """
 
 from __future__ import annotations
@@ -12,8 +13,8 @@ from pathlib import Path
 import numpy as np
 from gsr.benchmarks.perception.scenes import Scene, random_scene
 from gsr.perception.camera import save_camera
-from gsr.perception.frame import Frame
-from gsr.skills.camera import CameraSpec, capture_gl
+from gsr.perception.frame import Frame, InstanceLabel
+from gsr.skills.camera import RGBD, CameraSpec, render_frame
 
 #: Where the procedural scenes' cameras look: the middle of the table in front of the robot.
 TABLE_TARGET = (0.65, 0.0, 0.0)
@@ -41,13 +42,14 @@ def camera_specs(
     return specs
 
 
+def scene_masks(scene: Scene, img: RGBD) -> tuple[np.ndarray, dict[int, InstanceLabel]]:
+    """The offline scenes' masks: PyBullet's segmentation values, labelled by the scene (a ``MaskSource``)."""
+    return img.segmentation, dict(scene.labels)
+
+
 def render(scene: Scene, spec: CameraSpec) -> Frame:
-    """Render RGB, metric depth and the segmentation (labelled) with PyBullet's TinyRenderer."""
-    rgb, depth, seg, camera = capture_gl(
-        scene.client, spec.eye, spec.target, spec.up, spec.fov, spec.width, spec.height, spec.near, spec.far
-    )
-    masks = np.asarray(seg, dtype=np.int64).astype(np.int32)
-    return Frame(rgb=rgb, depth=depth, masks=masks, camera=camera, labels=dict(scene.labels))
+    """A frame of the scene: ``gsr.skills.camera.render_frame`` with the scene's own segmentation labels."""
+    return render_frame(scene, spec, masks=scene_masks)
 
 
 def save_frame(frame: Frame, folder: str | Path) -> dict[str, Path]:

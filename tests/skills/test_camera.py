@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from gsr.skills.camera import default_views, render, render_frame
+from gsr.perception.camera import split_gl_segmentation
+from gsr.skills.camera import Light, default_views, no_masks, render, render_frame
 
 
 def test_render_frame_labels_nodes(bowl_world) -> None:
@@ -32,3 +33,25 @@ def test_intrinsics_and_depth_agree_on_a_known_point(bowl_world) -> None:
     row, col = round(v), round(u)
     assert img.body[row, col] == bowl_world.table_body
     assert abs(float(img.depth[row, col]) - p_cam[2]) < 0.01
+
+
+def test_render_frame_options_change_only_what_they_name(bowl_world) -> None:
+    # the one frame path: light, mask source and robot-free depth each change their own part of a frame
+    views = default_views(bowl_world)
+    spec = next(s for s in views.values() if (render(bowl_world, s).body == bowl_world.robot.body).any())
+    img = render(bowl_world, spec)
+    robot = img.body == bowl_world.robot.body
+    plain = render_frame(bowl_world, spec)
+    free = render_frame(bowl_world, spec, robot_free=True)
+    assert np.all(free.depth[robot] == 0.0) and np.all(plain.depth[robot] > 0.0)
+    assert np.array_equal(free.depth[~robot], plain.depth[~robot])
+    assert np.array_equal(free.rgb, plain.rgb) and np.array_equal(free.masks, plain.masks)
+    lit = render_frame(bowl_world, spec, light=Light((0.3, -0.5, 0.8), 0.8, 0.3))
+    assert not np.array_equal(lit.rgb, plain.rgb)
+    assert np.array_equal(lit.depth, plain.depth) and np.array_equal(lit.masks, plain.masks)
+    assert lit.labels == plain.labels
+    bare = render_frame(bowl_world, spec, masks=no_masks)
+    assert np.all(bare.masks == -1) and bare.labels == {}
+    raw = render_frame(bowl_world, spec, masks=lambda world, rendering: (rendering.segmentation, {}))
+    body, link = split_gl_segmentation(raw.masks)
+    assert np.array_equal(body, img.body) and np.array_equal(link, img.link)
