@@ -34,8 +34,7 @@ from gsr.perception.pipeline import PerceptionParams, perceive
 from gsr.perception.rgbd import Timing, View, perceive_rgbd
 from gsr.perception.track import Tracker, rename_graph
 from gsr.skills.build import build_world
-from gsr.skills.camera import default_views, labelled_masks, render_frame
-from gsr.skills.camera import render as render_image
+from gsr.skills.camera import default_views, render_frame
 from gsr.skills.sim_graph import scene_graph_from_sim
 
 from gsr.scene_graph import SceneGraph
@@ -124,7 +123,7 @@ def skills_scene(
         views = default_views(world)
         names = [SKILLS_VIEWS[i % len(SKILLS_VIEWS)] for i in range(cameras)]
         specs = [dataclasses.replace(views[n], width=width, height=height) for n in names]
-        frames = [_robot_free_frame(world, s) if self_filter else render_frame(world, s) for s in specs]
+        frames = [render_frame(world, s, robot_free=self_filter) for s in specs]
         frames = [with_graph_attributes(f, world.graph) for f in frames]
         truth = scene_graph_from_sim(world)
         # add the true openings (joint travel from closed) so opening errors can be measured
@@ -173,10 +172,12 @@ def skills_scene_seen_open(
         for obj_id, part in _closed_hiding_parts(world):
             saved = p.saveState(physicsClientId=world.client)
             _open_part(world, truth, obj_id, part)
-            earlier.append([with_graph_attributes(_robot_free_frame(world, s), world.graph) for s in specs])
+            earlier.append(
+                [with_graph_attributes(render_frame(world, s, robot_free=True), world.graph) for s in specs]
+            )
             p.restoreState(saved, physicsClientId=world.client)
             p.removeState(saved, physicsClientId=world.client)
-        now = [with_graph_attributes(_robot_free_frame(world, s), world.graph) for s in specs]
+        now = [with_graph_attributes(render_frame(world, s, robot_free=True), world.graph) for s in specs]
         return earlier, now, truth
     finally:
         world.close()
@@ -221,15 +222,6 @@ def _open_part(world: Any, truth: SceneGraph, obj_id: str, part: str) -> None:
                 )
                 break
             node = edge.target
-
-
-def _robot_free_frame(world: Any, spec: Any) -> Frame:
-    """``render_frame`` with no depth on the robot's own pixels (one rendering)."""
-
-    img = render_image(world, spec)
-    masks, labels = labelled_masks(world, img)
-    depth = np.where(img.body == world.robot.body, 0.0, img.depth).astype(np.float32)
-    return Frame(rgb=img.rgb, depth=depth, masks=masks, camera=img.camera, labels=labels)
 
 
 def with_graph_attributes(frame: Frame, graph: SceneGraph) -> Frame:
