@@ -20,13 +20,12 @@ import numpy as np
 from gsr.benchmarks.perception.eval import skills_scene
 from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
 from gsr.benchmarks.suites.libero_suite import load_libero
-from gsr.perception.camera import camera_from_gl, depth_from_gl_buffer, split_gl_segmentation
 from gsr.perception.corrupt import add_depth_noise
 from gsr.perception.detect import RGBDDetector, load_model
 from gsr.perception.frame import Frame
 from gsr.perception.train import TrainConfig, evaluate, save_model, train
 from gsr.skills.build import build_world
-from gsr.skills.camera import RGBD, CameraSpec, default_views, labelled_masks
+from gsr.skills.camera import CameraSpec, Light, default_views, render_frame
 
 from gsr.resources import data_dir
 
@@ -86,33 +85,11 @@ def camera_poses(world, rng: np.random.Generator, count: int) -> list:
 
 def render_lit(world, spec, rng: np.random.Generator) -> Frame:
     """Render one labelled frame under a random light (direction, ambient, diffuse)."""
-    import pybullet as p
-
-    view = p.computeViewMatrix(spec.eye, spec.target, spec.up, physicsClientId=world.client)
-    proj = p.computeProjectionMatrixFOV(
-        spec.fov, spec.width / spec.height, spec.near, spec.far, physicsClientId=world.client
-    )
     az, el = rng.uniform(0, 2 * math.pi), rng.uniform(0.3, 1.4)
-    light = [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
-    _, _, rgba, depth_buf, seg = p.getCameraImage(
-        spec.width,
-        spec.height,
-        view,
-        proj,
-        lightDirection=light,
-        lightAmbientCoeff=float(rng.uniform(0.4, 0.8)),
-        lightDiffuseCoeff=float(rng.uniform(0.3, 0.7)),
-        renderer=p.ER_TINY_RENDERER,
-        flags=p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX,
-        physicsClientId=world.client,
-    )
-    h, w = spec.height, spec.width
-    rgb = np.asarray(rgba, dtype=np.uint8).reshape(h, w, 4)[:, :, :3].copy()
-    depth = depth_from_gl_buffer(np.asarray(depth_buf).reshape(h, w), proj)
-    body, link = split_gl_segmentation(np.asarray(seg).reshape(h, w))
-    img = RGBD(rgb, depth, body, link, camera_from_gl(view, proj, w, h))
-    masks, labels = labelled_masks(world, img)
-    return Frame(rgb=rgb, depth=depth, masks=masks, camera=img.camera, labels=labels)
+    direction = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+    ambient = float(rng.uniform(0.4, 0.8))
+    light = Light(direction, ambient, float(rng.uniform(0.3, 0.7)))
+    return render_frame(world, spec, light=light)
 
 
 def scene_frames(scene_seed: int, views: int) -> list[Frame]:
