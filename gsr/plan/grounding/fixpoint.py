@@ -26,6 +26,7 @@ from gsr.pddl.model import (
     Problem,
     is_variable,
 )
+from gsr.pddl.walk import atoms as atoms_of
 from gsr.plan.grounding.compiled import bind, compile_schema
 from gsr.plan.grounding.compiled_effects import compile_effects
 from gsr.plan.grounding.effects import (
@@ -47,6 +48,7 @@ from gsr.plan.grounding.normalize import (
 )
 from gsr.plan.grounding.precondition import AtomKey, FormulaCache, relaxed, relaxed_core
 from gsr.plan.grounding.simplify import ObjectsByType, Simplifier, free_variables
+from gsr.plan.grounding.static_join import StaticJoin, relation, static_join
 from gsr.plan.task import Task
 
 __all__ = [
@@ -141,6 +143,7 @@ def schema_bindings(
     by_arg: ArgIndex | None = None,
     delta: dict[str, list[tuple[str, ...]]] | None = None,
     deadline: float | None = None,
+    extra: tuple[Atom, ...] = (),
 ) -> list[dict]:
     """All parameter bindings whose join atoms hold in the (relaxed) reached set, typed.
 
@@ -151,6 +154,9 @@ def schema_bindings(
     With a ``disjunction`` of atoms (pick's ``(or (on ?o ?from) (in ?o ?from))``), only bindings
     under which one of its atoms holds are listed: each alternative is joined like a join atom
     instead of enumerating every object for the variables it binds and testing it afterwards.
+
+    ``extra`` atoms are joined like join atoms (static relations in ``index``, see
+    gsr.plan.grounding.static_join); they are never new in ``delta``.
     """
     params = schema.all_params
     # The objects each parameter may take (typed); None for a variable that is no parameter.
@@ -158,7 +164,7 @@ def schema_bindings(
     for p in params:
         objects(p.types)
         allowed[p.name] = objects.sets[p.types]
-    atoms = schema.join
+    atoms = (*schema.join, *extra) if extra else schema.join
     out: list[dict] = []
     seen: set[tuple[str, ...]] = set()
     dedupe = bool(disjunction) or delta is not None
@@ -468,6 +474,12 @@ class GroundingTables:
     triggers: list[tuple[str, ...]]  # predicates whose growth can give a schema new bindings
     factories: list  # compiled preconditions (gsr.plan.grounding.compiled), one per schema
     fires: list  # compiled effects (gsr.plan.grounding.compiled_effects), one per schema
+    # The narrow disjunctions (see ``narrow``) over static predicates only: the compiled path tests
+    # these before building a binding's precondition (push's "parts of one thing" rules out most
+    # of its bindings; memoised per value of their variables, like _ruled_out).
+    static_narrow: list[list[tuple[Formula, tuple[str, ...]]]]
+    # Those of them joined while listing (gsr.plan.grounding.static_join), per schema.
+    static_joins: list[tuple[StaticJoin, ...]]
 
 
 # The few most recent domains, by identity (load_builtin_domain hands out one cached object, so a
@@ -523,6 +535,8 @@ def grounding_tables(domain: Domain) -> GroundingTables:
         [],
         [],
         [],
+        [],
+        [],
     )
     for s, alts in zip(schemas, compiled.alternatives, strict=True):
         disjunction = _disjunction(s, alts)
@@ -535,6 +549,13 @@ def grounding_tables(domain: Domain) -> GroundingTables:
         compile_schema(s, p, kinds, fluent) for s, p in zip(schemas, compiled.parts, strict=True)
     )
     compiled.fires.extend(compile_effects(s, g) for s, g in zip(schemas, compiled.groups, strict=True))
+    compiled.static_narrow.extend(
+        [(part, free) for part, free in parts if not any(a.predicate in fluent for a in atoms_of(part))]
+        for parts in compiled.narrow
+    )
+    for si, parts in enumerate(compiled.static_narrow):
+        joins = (static_join(part, free, f"#static-or:{si}:{k}") for k, (part, free) in enumerate(parts))
+        compiled.static_joins.append(tuple(j for j in joins if j is not None))
     _COMPILED.insert(0, (domain, compiled))
     del _COMPILED[_COMPILED_MAX:]
     return compiled
@@ -564,6 +585,17 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
         # Equalities of split cases join against (o, o) for every object (never a task atom).
         for o in sorted(objects.objects):
             _index_atom(index, by_arg, Atom(EQUALS, (o, o)))
+    # Static disjunctions as relations over the initial atoms, joined like join atoms (static_join).
+    extra: list[tuple[Atom, ...]] = []
+    for joins in compiled.static_joins:
+        heads = []
+        for join in joins:
+            rel = relation(join, index)
+            if rel is not None:
+                for tup in rel:
+                    _index_atom(index, by_arg, Atom(join[0].predicate, tup))
+                heads.append(join[0])
+        extra.append(tuple(heads))
     groups, alternatives, narrow, parts = (
         compiled.groups,
         compiled.alternatives,
@@ -572,6 +604,9 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     )
     disjunctions, triggers = compiled.disjunctions, compiled.triggers
     fires = compiled.fires if COMPILED else None
+    # Disjunctions _ruled_out tests before a binding's precondition is built: all narrow ones on
+    # the general path, the static ones on the compiled path (it evaluates the others itself).
+    rule_out = narrow if not COMPILED else compiled.static_narrow
     narrow_memo: dict[tuple, bool] = {}
     part_memo: dict[tuple, Formula] = {}
     cores: FormulaCache = {}
@@ -613,12 +648,14 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
             if sizes != old:
                 join_sizes[si] = sizes
                 if old is None or disjunctions[si] or not schema.join:
-                    new = schema_bindings(schema, index, objects, disjunctions[si], by_arg, None, deadline)
+                    new = schema_bindings(
+                        schema, index, objects, disjunctions[si], by_arg, None, deadline, extra[si]
+                    )
                 else:
                     # Semi-naive: only the bindings using an atom reached since the last listing
                     # are new; the others are fired already or waiting.
                     delta = {p: added.get(p, [])[n:] for p, n in zip(triggers[si], old, strict=True)}
-                    new = schema_bindings(schema, index, objects, (), by_arg, delta, deadline)
+                    new = schema_bindings(schema, index, objects, (), by_arg, delta, deadline, extra[si])
                 for b in new:
                     key = (si, *map(b.__getitem__, names))
                     if key not in watched:
@@ -633,12 +670,8 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                 listed.add(key)
                 v = cache.get(key, _MISSING)
                 if v is _MISSING:
-                    # (A compiled precondition evaluates the narrow disjunctions itself, memoised.)
-                    if (
-                        narrow[si]
-                        and not COMPILED
-                        and _ruled_out(si, narrow[si], binding, simplify, narrow_memo)
-                    ):
+                    # (A compiled precondition evaluates the non-static narrow ones itself, memoised.)
+                    if rule_out[si] and _ruled_out(si, rule_out[si], binding, simplify, narrow_memo):
                         cache[key] = None
                         continue
                     if alternatives[si] and not _any_reached(alternatives[si], binding, reached_keys):

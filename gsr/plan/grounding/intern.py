@@ -153,7 +153,10 @@ def _piece_ids(
             continue
         if not alts:
             return None
-        choices.append(alts)
+        if len(alts) == 1:  # a choice left with one alternative is its literals (see expand_dnf)
+            lits += alts[0]
+        else:
+            choices.append(alts)
     return lits, choices
 
 
@@ -185,16 +188,16 @@ def precondition_dnf(
                 return []
             lits += found[0]  # type: ignore[index]
             choices += found[1]  # type: ignore[index]
-        for choice in v.choices:
-            hit = scanned.get(id(choice))
-            if hit is None:
-                hit = scanned[id(choice)] = (choice, _choice_ids(choice[0], key_ids))
-            alts = hit[1]
+        for choice in v.choices:  # built per binding (never shared): converted here
+            alts = _choice_ids(choice[0], key_ids)
             if alts is None:
                 continue  # holds: an alternative needs nothing (its unreached atoms are false)
             if not alts:
                 return []
-            choices.append(alts)  # type: ignore[arg-type]
+            if len(alts) == 1:  # one alternative left: its literals (see expand_dnf)
+                lits += alts[0]
+            else:
+                choices.append(alts)
         return expand_dnf(lits, choices)
     base = frozenset(lits)
     if any(~x in base for x in base):
