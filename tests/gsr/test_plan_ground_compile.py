@@ -133,6 +133,16 @@ def test_tabletop_schemas_share_memo_tables() -> None:
     assert len(memos) > len(set(memos)) + 5
 
 
+def test_a_quantifier_over_all_the_variables_is_memoised_and_shared() -> None:
+    tables = grounding_tables(load_builtin_domain("tabletop"))
+    by_name = {s.name: f for s, f in zip(tables.schemas, tables.factories, strict=True)}
+    # open's and close's "no open drawer above ?x" mention the action's one variable: one table
+    # for both, and open's "nothing on ?x" as its literal keys, with no Simplifier call per binding
+    assert set(by_name["open"].memos) & set(by_name["close"].memos)
+    assert "key_cnf(simplify(" not in by_name["open"].source
+    assert "for q_ in O0" in by_name["open"].source
+
+
 @pytest.mark.parametrize(
     "problem",
     [

@@ -238,9 +238,13 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
             if alts is not None:  # a disjunction of fluent literals (pick's on-or-in), inline
                 body.append(f"    choices.append(make_choice([{', '.join(alts)}]))")
                 continue
-            body.append(f"    r = key_cnf(simplify({const(part)}, b))")
-            body.append(_use_cnf("r"))
-            continue
+            if type(part) not in (Forall, Exists):
+                body.append(f"    r = key_cnf(simplify({const(part)}, b))")
+                body.append(_use_cnf("r"))
+                continue
+            # A quantifier over all the action's variables (open's "no open drawer above ?x"):
+            # memoised like the narrower conjuncts below, in the table shared with the
+            # alpha-equivalent conjuncts of other schemas (close's), one-literal fast path included.
         if kind == generic:  # memoised on the values of its own variables
             uses_extra = True
             m, key = memo("cnf", part)
