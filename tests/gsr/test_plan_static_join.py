@@ -130,11 +130,21 @@ def test_push_relation_holds_every_pair_its_disjunction_allows(monkeypatch, seed
     )
 
 
-def test_one_alternative_choices_as_literals_give_the_same_dnf() -> None:
+def _reference_dnf(lits, choices):
+    """Every consistent pick of one alternative per choice with the literals, minimal ones only."""
+    found = set()
+    for pick in itertools.product(*choices):
+        d = frozenset(lits).union(*pick)
+        if not any(~x in d for x in d):
+            found.add(d)
+    return {d for d in found if not any(k < d for k in found)}
+
+
+def test_expand_dnf_gives_the_minimal_consistent_picks() -> None:
     rng = random.Random(3)
-    for _ in range(400):
-        lits = [rng.choice((1, -1)) * rng.randrange(1, 9) for _ in range(rng.randrange(0, 3))]
-        lits = [x if x > 0 else ~(-x) for x in lits]
+    sizes = set()
+    for _ in range(600):
+        lits = [x if rng.random() < 0.6 else ~x for x in rng.sample(range(1, 9), rng.randrange(0, 3))]
 
         def conj():
             return frozenset(
@@ -142,11 +152,9 @@ def test_one_alternative_choices_as_literals_give_the_same_dnf() -> None:
             )
 
         choices = [[conj() for _ in range(rng.randrange(1, 4))] for _ in range(rng.randrange(0, 4))]
-        hoisted = list(lits)
-        rest = []
-        for alts in choices:
-            if len(alts) == 1:
-                hoisted += alts[0]
-            else:
-                rest.append(alts)
-        assert expand_dnf(hoisted, rest) == expand_dnf(lits, choices)
+        got = expand_dnf(lits, choices)
+        assert len(got) == len(set(got))
+        assert set(got) == _reference_dnf(lits, choices)
+        assert [len(d) for d in got] == sorted(len(d) for d in got)
+        sizes.add(len(got))
+    assert {0, 1, 2} <= sizes  # contradictions, single disjuncts and real choices all came up
