@@ -140,6 +140,50 @@ FALSE_CAUSES = (
 )
 
 
+def classify_in_errors(
+    predicted: SceneGraph, truth: SceneGraph, visible: set[str], perceived: set[str]
+) -> list[tuple[str, str, str, str]]:
+    """Every ``in`` relation of one scene as ``(kind, object, container, cause)``: kind ``tp`` (cause ""),
+    ``missed`` (a truth relation not perceived, cause of MISSED_CAUSES) or ``false`` (a perceived relation
+    not in the truth, cause of FALSE_CAUSES). Arguments as :class:`ContainmentErrors`."""
+    t_in = {(e.source, e.target) for e in truth.edges if e.relation == "in"}
+    t_sup = {e.source: (e.relation, e.target) for e in truth.edges if e.relation in ("on", "in")}
+    p_in = {(e.source, e.target) for e in predicted.edges if e.relation == "in"}
+    p_sup = {e.source: (e.relation, e.target) for e in predicted.edges if e.relation in ("on", "in")}
+    truth_ids = {n.id for n in truth.nodes}
+    nodes = truth.node_map()
+    out: list[tuple[str, str, str, str]] = []
+    for a, c in sorted(t_in):
+        if (a, c) in p_in:
+            out.append(("tp", a, c, ""))
+            continue
+        if a not in visible:
+            closed = c in nodes and "closed" in nodes[c].states
+            cause = "hidden_closed" if closed else "hidden_other"
+        elif a not in perceived:
+            cause = "object_not_perceived"
+        elif c not in perceived:
+            cause = "container_not_perceived"
+        elif a not in p_sup:
+            cause = "no_support"
+        else:
+            cause = "wrong_container" if p_sup[a][0] == "in" else "on_instead_of_in"
+        out.append(("missed", a, c, cause))
+    for a, c in sorted(p_in - t_in):
+        if a not in truth_ids:
+            cause = "unmatched_object"
+        elif c not in truth_ids:
+            cause = "unmatched_container"
+        elif t_sup.get(a, ("", ""))[0] == "in":
+            cause = "wrong_container"
+        elif t_sup.get(a, ("", ""))[0] == "on":
+            cause = "in_instead_of_on"
+        else:
+            cause = "other"
+        out.append(("false", a, c, cause))
+    return out
+
+
 @dataclass
 class ContainmentErrors:
     """Counts of the ``in`` relation's errors by cause, over scenes (see MISSED_CAUSES, FALSE_CAUSES).
@@ -154,40 +198,11 @@ class ContainmentErrors:
 
     def add(self, predicted: SceneGraph, truth: SceneGraph, visible: set[str], perceived: set[str]) -> None:
         """Classify one scene's ``in`` errors."""
-        t_in = {(e.source, e.target) for e in truth.edges if e.relation == "in"}
-        t_sup = {e.source: (e.relation, e.target) for e in truth.edges if e.relation in ("on", "in")}
-        p_in = {(e.source, e.target) for e in predicted.edges if e.relation == "in"}
-        p_sup = {e.source: (e.relation, e.target) for e in predicted.edges if e.relation in ("on", "in")}
-        truth_ids = {n.id for n in truth.nodes}
-        nodes = truth.node_map()
-        for a, c in sorted(t_in):
-            if (a, c) in p_in:
+        for kind, _, _, cause in classify_in_errors(predicted, truth, visible, perceived):
+            if kind == "tp":
                 self.true_positive += 1
-                continue
-            if a not in visible:
-                closed = c in nodes and "closed" in nodes[c].states
-                cause = "hidden_closed" if closed else "hidden_other"
-            elif a not in perceived:
-                cause = "object_not_perceived"
-            elif c not in perceived:
-                cause = "container_not_perceived"
-            elif a not in p_sup:
-                cause = "no_support"
             else:
-                cause = "wrong_container" if p_sup[a][0] == "in" else "on_instead_of_in"
-            self.missed[cause] += 1
-        for a, c in sorted(p_in - t_in):
-            if a not in truth_ids:
-                cause = "unmatched_object"
-            elif c not in truth_ids:
-                cause = "unmatched_container"
-            elif t_sup.get(a, ("", ""))[0] == "in":
-                cause = "wrong_container"
-            elif t_sup.get(a, ("", ""))[0] == "on":
-                cause = "in_instead_of_on"
-            else:
-                cause = "other"
-            self.false[cause] += 1
+                getattr(self, kind)[cause] += 1
 
     def to_dict(self) -> dict[str, Any]:
         """``{"tp", "missed": {cause: n}, "false": {cause: n}}``."""

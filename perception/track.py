@@ -39,6 +39,7 @@ from gsr.perception.geometry import (
     number_anonymous,
 )
 from gsr.perception.relations import is_container, rim_box
+from gsr.perception.spill import carve_neighbours
 
 from gsr.categories import affordances, is_part_category
 from gsr.scene_graph import Edge, Node, SceneGraph
@@ -240,6 +241,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         groups.setdefault(find(i), []).append(instances[i])
     fused = [_merge_group(g, params) for g in groups.values()]
     fused = [f for f in fused if f is not None]
+    fused = carve_neighbours(fused)  # a container's cloud that spilled over its neighbours
     fused = absorb_fragments(merge_duplicates(fused, params), params)
     fused = split_disjoint(fused, params)
     stacked = split_stacked(fused, params)
@@ -247,9 +249,56 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         id(x) for x in fused
     }:  # a container cut: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
-    fused = stacked
+    fused = absorb_object_pieces(stacked, params)
     number_anonymous(fused)
     return fused
+
+
+#: A one-camera detection is a piece of a neighbouring object when this share of its points lies inside
+#: the object's upright box grown by OBJECT_PIECE_MARGIN (m) ...
+OBJECT_PIECE_INSIDE = 0.9
+OBJECT_PIECE_MARGIN = 0.01
+
+
+def absorb_object_pieces(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """One camera's piece of an object that other cameras saw whole joins that object.
+
+    A camera can split one object into two segments (a mug's body and its rim, the rim named ``box`` or
+    ``cube``); fusion keeps one camera's detections apart, so the piece stays an object of its own, lying
+    inside the other — and ``in`` the container the object stands in. A detection that one camera alone
+    saw (X), with nearly all of its points inside the upright box of an object of its colour that several
+    cameras saw (H: movable, no container — a container's pieces are its walls, :func:`absorb_fragments`)
+    and smaller than it, is a piece of H: two objects do not interpenetrate, and a small object lying in a
+    larger object's box of the same colour could only be inside it, which only containers allow."""
+    hosts = [
+        h
+        for h in fused
+        if h.views >= 2
+        and h.label.color is not None
+        and not _no_object(h)
+        and "movable" in affordances(h.label.category)
+        and not is_container(h)
+    ]
+    if not hosts:
+        return fused
+    pieces: dict[int, Instance] = {}
+    for x in fused:
+        if x.views != 1 or _no_object(x, allow_unknown=True) or x.label.color is None:
+            continue
+        volume = float(np.prod(x.size))
+        for h in hosts:
+            if h is x or h.label.color != x.label.color or volume >= float(np.prod(h.size)):
+                continue
+            z = x.points[:, 2]
+            in_z = (z >= h.aabb_min[2] - OBJECT_PIECE_MARGIN) & (z <= h.aabb_max[2] + OBJECT_PIECE_MARGIN)
+            inside = in_z & h.footprint_contains(x.points[:, :2], margin=OBJECT_PIECE_MARGIN)
+            if float(np.mean(inside)) >= OBJECT_PIECE_INSIDE:
+                pieces[id(x)] = h
+                break
+    if not pieces:
+        return fused
+    grown = _grown_by_pieces(fused, hosts, pieces, params)
+    return [grown.get(id(x), x) for x in fused if id(x) not in pieces]
 
 
 #: Two containers are stacked (one resting on the other's rim) when their footprints overlap at this IoU ...
@@ -534,13 +583,21 @@ def _grown_by_pieces(
 
 def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> dict[int, Instance]:
     """One-camera objects that are pieces of a container's walls (see :func:`absorb_fragments`), each to
-    its container; ``rim_of(c)`` gives the box of c's rim (None: no rim to test against)."""
+    its container; ``rim_of(c)`` gives the box of c's rim (None: no rim to test against). A piece that
+    several cameras saw joins only as a wall from the container's base up to its rim, of the container's
+    colour, and only a container that more cameras saw than the piece (a box stacked on a box leaves the
+    lower box's wall corners to two cameras, which name them ``mug``)."""
     pieces: dict[int, Instance] = {}
     for x in fused:
-        if x.views != 1 or _no_object(x, allow_unknown=True):
+        if _no_object(x, allow_unknown=True):
             continue
         for c in sorted(containers, key=lambda c: float(np.prod(c.size))):
             if c is x or float(np.prod(x.size)) >= float(np.prod(c.size)) or id(c) in pieces:
+                continue
+            # several cameras' piece: only a wall of the container's own colour from its base to its rim
+            # (seen by more cameras than the piece: one camera's phantom container absorbs nothing real)
+            several = x.views != 1
+            if several and (x.label.color is None or x.label.color != c.label.color or c.views <= x.views):
                 continue
             lo, hi = c.aabb_min - 0.01, c.aabb_max + 0.01
             if float(np.mean(np.all((x.points >= lo) & (x.points <= hi), axis=1))) < FRAGMENT_INSIDE:
@@ -561,6 +618,8 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
             ):
                 pieces[id(x)] = c  # a wall from the container's base to its rim
                 break
+            if several:
+                continue
             wall_like = x_bottom < c_bottom - FRAGMENT_BELOW_FLOOR or to_rim
             overlap = cloud_overlap(x, c)
             if (wall_like and overlap >= FRAGMENT_OVERLAP) or overlap >= FRAGMENT_ON_SURFACE:

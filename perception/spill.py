@@ -1,0 +1,91 @@
+"""A container's fused cloud that spilled over its neighbours: the neighbours' points carved out of it.
+
+One camera can give a box and what stands against it one segment (a blue mug beside a blue box, a box
+beside a box of another colour seen from the side where they touch in the image); fusion completes that
+segment with the other cameras' views of the box, and the container's cloud then reaches over its
+neighbour. Its box, measured from that cloud, covers the neighbour, which becomes ``in`` it.
+
+The other cameras that segmented the neighbour on its own say where it is: a fused object seen by at
+least :data:`SPILL_CONFIRMED_VIEWS` cameras is an object of its own, and the container's points inside that
+object's upright box are the object's surface, not the container's. They are removed from the container
+(:func:`carve_neighbours`). This is safe for what really lies in the container: the walls around it stay,
+so the container's extent does not change, only the object's own pixels leave the container's cloud.
+What rests on the container (a box stacked on a box, a lid's handle) is not carved: its bottom is at the
+container's top. A carve that would take most of the container (the container inside the object: a box
+standing in a larger box) is not made.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gsr.perception.geometry import Instance, fit_boxes
+
+from gsr.categories import affordances, is_part_category
+
+#: A neighbour is an object of its own when this many cameras saw it (one camera's segment may be a piece
+#: of the container, a wall face it split off).
+SPILL_CONFIRMED_VIEWS = 2
+#: The neighbour's footprint grows by this (m) and its height range by SPILL_Z_MARGIN: the container's
+#: camera sees the neighbour's faces that other cameras did not, a little outside their box.
+SPILL_MARGIN = 0.01
+SPILL_Z_MARGIN = 0.005
+#: A neighbour whose bottom lies above the container's top minus this (m) rests on it: never carved.
+SPILL_ON_TOP = 0.02
+#: At most this share of the container's points is carved, by all neighbours together.
+SPILL_MAX_SHARE = 0.5
+#: A container keeps at least this many points.
+SPILL_MIN_POINTS = 20
+
+_GROUNDS = frozenset({"table", "floor"})
+
+
+def _object(inst: Instance) -> bool:
+    cat = inst.label.category
+    return not is_part_category(cat) and cat not in _GROUNDS
+
+
+def _container(inst: Instance) -> bool:
+    return _object(inst) and "container" in affordances(inst.label.category)
+
+
+def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
+    """Boolean mask over ``container``'s points that lie inside a confirmed neighbour's box (see the
+    module docstring); all False when the carve would be too large."""
+    pts = container.points
+    spilled = np.zeros(len(pts), dtype=bool)
+    c_top = float(np.percentile(pts[:, 2], 98.0))
+    for o in others:
+        if o is container or not _object(o) or o.views < SPILL_CONFIRMED_VIEWS:
+            continue
+        o_bottom = float(np.percentile(o.points[:, 2], 2.0))
+        if o_bottom > c_top - SPILL_ON_TOP:
+            continue  # resting on the container (or above it): its points are not in the container's cloud
+        z_lo, z_hi = float(o.aabb_min[2]) - SPILL_Z_MARGIN, float(o.aabb_max[2]) + SPILL_Z_MARGIN
+        near = (pts[:, 2] >= z_lo) & (pts[:, 2] <= z_hi)
+        if not near.any():
+            continue
+        inside = np.zeros(len(pts), dtype=bool)
+        inside[near] = o.footprint_contains(pts[near, :2], margin=SPILL_MARGIN)
+        spilled |= inside
+    if spilled.mean() > SPILL_MAX_SHARE or (~spilled).sum() < SPILL_MIN_POINTS:
+        return np.zeros(len(pts), dtype=bool)
+    return spilled
+
+
+def carve_neighbours(fused: list[Instance]) -> list[Instance]:
+    """Each container without the points it took from confirmed neighbours (a new instance where points
+    were carved, the others as they are; order kept)."""
+    out = []
+    for inst in fused:
+        if not _container(inst):
+            out.append(inst)
+            continue
+        spilled = spilled_points(inst, fused)
+        if not spilled.any():
+            out.append(inst)
+            continue
+        keep = ~spilled
+        carved = Instance(inst.key, inst.label, inst.points[keep], inst.rgb[keep], views=inst.views)
+        fit_boxes(carved)
+        out.append(carved)
+    return out
