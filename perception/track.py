@@ -249,9 +249,49 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         id(x) for x in fused
     }:  # a container cut: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
-    fused = absorb_object_pieces(stacked, params)
+    fused = absorb_fixture_pieces(absorb_object_pieces(stacked, params), params)
     number_anonymous(fused)
     return fused
+
+
+#: A one-camera piece lying on a fixture's surface: this share of its 1 cm voxels on the fixture's cloud ...
+FIXTURE_PIECE_ON_SURFACE = 0.95
+#: ... and its bottom this far (m) above the fixture's base (what stands beside a fixture on the table,
+#: whose pixels the fixture's segment took, is not a piece of it).
+FIXTURE_PIECE_ABOVE_BASE = 0.02
+
+
+def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """One camera's sliver of a fixture's body (a cabinet's side or a strip of its carcass between two
+    drawers, named ``milk`` or ``microwave``) joins the fixture.
+
+    The other cameras saw that surface as the fixture's: nearly all of the piece's voxels lie on the
+    fixture's cloud (several cameras saw the fixture). An object standing in an open drawer is not on the
+    fixture's surface (its voxels lie above the drawer's floor, in front of the carcass or in its opening),
+    the test :func:`absorb_fragments` makes for an open container's pieces; an object beside the fixture on
+    the table whose pixels the fixture's segment took stands at the fixture's base and stays."""
+    fixtures = [
+        f
+        for f in fused
+        if f.views >= 2 and not _no_object(f) and "movable" not in affordances(f.label.category)
+    ]
+    if not fixtures:
+        return fused
+    pieces: dict[int, Instance] = {}
+    for x in fused:
+        if x.views != 1 or _no_object(x, allow_unknown=True) or any(x is f for f in fixtures):
+            continue
+        x_bottom = float(np.percentile(x.points[:, 2], 2.0))
+        for f in fixtures:
+            if x_bottom < float(np.percentile(f.points[:, 2], 2.0)) + FIXTURE_PIECE_ABOVE_BASE:
+                continue
+            if cloud_overlap(x, f) >= FIXTURE_PIECE_ON_SURFACE:
+                pieces[id(x)] = f
+                break
+    if not pieces:
+        return fused
+    grown = _grown_by_pieces(fused, fixtures, pieces, params)
+    return [grown.get(id(x), x) for x in fused if id(x) not in pieces]
 
 
 #: A one-camera detection is a piece of a neighbouring object when this share of its points lies inside

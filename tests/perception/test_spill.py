@@ -10,7 +10,7 @@ from gsr.perception.evaluate import classify_in_errors
 from gsr.perception.geometry import Instance, fit_boxes
 from gsr.perception.relations import rim_box, supports
 from gsr.perception.spill import carve_neighbours, spilled_points
-from gsr.perception.track import absorb_fragments, absorb_object_pieces
+from gsr.perception.track import absorb_fixture_pieces, absorb_fragments, absorb_object_pieces
 
 from gsr.scene_graph import Edge, Node, SceneGraph
 from tests.perception.test_containment import PARAMS, PLANE, TH, _inst, open_box, solid, table
@@ -114,3 +114,25 @@ def test_in_relations_are_classified_one_by_one():
         ("missed", "cube", "box", "on_instead_of_in"),
         ("false", "mug", "box", "in_instead_of_on"),
     ]
+
+
+def test_one_cameras_sliver_of_a_cabinets_body_joins_it_but_what_stands_beside_or_in_it_does_not():
+    cabinet = solid("cabinet_1", "cabinet", (0.3, -0.2, 0.0), (0.6, 0.15, 0.32), views=3)
+    # a strip of the cabinet's side between two drawer levels, named milk by one camera
+    side = cabinet.points[(np.abs(cabinet.points[:, 0] - 0.3) < 1e-6) & (cabinet.points[:, 2] > 0.14)]
+    sliver = _inst("milk_1", "milk", side[side[:, 2] < 0.22])
+    # the same strip from the table up (a milk carton against the side, its pixels in the cabinet's segment)
+    low = _inst(
+        "milk_2",
+        "milk",
+        cabinet.points[(np.abs(cabinet.points[:, 0] - 0.3) < 1e-6) & (cabinet.points[:, 2] < 0.07)],
+    )
+    # a cube in an open drawer in front of the carcass
+    cube = solid("cube_1", "cube", (0.2, -0.05, 0.15), (0.23, -0.02, 0.18))
+    out = absorb_fixture_pieces([table(), cabinet, sliver, low, cube], PARAMS)
+    assert sorted(i.key for i in out) == ["cabinet_1", "cube_1", "milk_2", "table"]
+    assert len(next(i for i in out if i.key == "cabinet_1").points) == len(cabinet.points) + len(
+        sliver.points
+    )
+    # a cabinet one camera saw takes nothing
+    assert len(absorb_fixture_pieces([table(), _named(cabinet, views=1), sliver], PARAMS)) == 3
