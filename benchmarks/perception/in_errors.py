@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 from gsr.benchmarks.perception.eval import as_truth_ids
-from gsr.benchmarks.perception.node_errors import _scene
+from gsr.benchmarks.perception.node_errors import cached_scene
 from gsr.perception.detect import SHIPPED_MODEL, load_detector
 from gsr.perception.evaluate import ContainmentErrors, Score, classify_in_errors
 from gsr.perception.match import NodeScore, match_nodes
@@ -61,7 +61,7 @@ def detected_scene(
     scene_seed: int, cameras: int, cache: Path | None, detector: Any, tag: str, redetect: bool = False
 ) -> tuple[list[Any], Any, set[str], float]:
     """(detected frames, truth, visible truth ids, detector CPU s) of one scene; cached under ``cache``."""
-    frames, truth, visible = _scene(scene_seed, cameras, cache)
+    frames, truth, visible = cached_scene(scene_seed, cameras, cache)
     path = cache / f"det_{scene_seed}_{cameras}_{tag}.pkl" if cache is not None else None
     if path is not None and path.is_file() and not redetect:
         with path.open("rb") as fh:

@@ -39,7 +39,8 @@ from gsr.perception.rgbd import View, perceive_rgbd
 from gsr.errors import GSRError
 
 
-def _scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any, set[str]]:
+def cached_scene(seed: int, cameras: int, cache: Path | None) -> tuple[list[Any], Any, set[str]]:
+    """Frames, truth and visible truth ids of one skills scene; pickled under ``cache`` (reused)."""
 
     path = cache / f"scene_{seed}_{cameras}.pkl" if cache is not None else None
     if path is not None and path.is_file():
@@ -145,7 +146,7 @@ def _perceive_all(scenes: int, seed: int, cameras: int, cache: Path | None, dete
     out = []
     for ss in np.random.SeedSequence(seed).spawn(scenes):
         scene_seed = int(ss.generate_state(1)[0])
-        frames, truth, visible = _scene(scene_seed, cameras, cache)
+        frames, truth, visible = cached_scene(scene_seed, cameras, cache)
         c0 = time.process_time()
         graph, _ = perceive_rgbd([View(f.rgb, f.depth, f.camera) for f in frames], detector)
         out.append((graph, truth, visible, time.process_time() - c0))
