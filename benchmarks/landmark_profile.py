@@ -7,7 +7,7 @@ process's own (``time.process_time``); ``--timeout`` bounds the search's *wall* 
 
 Usage: python -m gsr.benchmarks.landmark_profile DOMAIN PROBLEM [--timeout 60] [--disjunctive]
        [--no-reasonable] [--graph] [--trace] [--fd] [--progression past-future|accept]
-       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2] [--lifo] [--dovetail N]
+       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2] [--lifo] [--dovetail N] [--type-based]
 
 The search switches are ``gsr.plan.search.LamaOptions``: GSR's defaults (planner ``lama``), or with
 ``--fd`` Fast Downward lama-first's rules (past/future progression, h_FF's preferred operators only,
@@ -111,6 +111,11 @@ def main(argv: list[str] | None = None) -> int:
         type=int,
         help="slices of the main search per slice of the other h_add order's search (0: off)",
     )
+    parser.add_argument(
+        "--type-based",
+        action="store_true",
+        help="a fifth, type-based queue keyed (h_FF, g) (Xie et al. 2014)",
+    )
     parser.add_argument("--trace", action="store_true", help="print each new best h_FF / landmark value")
     parser.add_argument("--graph", action="store_true", help="print every landmark and its predecessors")
     args = parser.parse_args(argv)
@@ -134,6 +139,8 @@ def main(argv: list[str] | None = None) -> int:
         options = replace(options, boost_root=args.boost_root == "on")
     if args.dovetail is not None:
         options = replace(options, dovetail=max(0, args.dovetail))
+    if args.type_based:
+        options = replace(options, type_based=True)
     trace: list | None = [] if args.trace else None
     try:
         out = profile(

@@ -6,6 +6,7 @@ and check the clock every ``CLOCK_EVERY`` expansions.
 
 from __future__ import annotations
 
+import random
 import time
 from array import array
 from collections import deque
@@ -43,6 +44,51 @@ def take_next(queue: list) -> tuple[int, int]:
     else:
         heappop(queue)
     return pid, ops[pos]
+
+
+class TypeBuckets:
+    """Type-based open list (Xie, Müller, Holte and Imai 2014; Fast Downward's
+    ``type_based_open_list.cc``): entries bucketed by a type (a tuple of values); ``pop`` takes a
+    uniformly random bucket, then a uniformly random entry of it, so that states of rarely seen
+    types get expanded too (exploration out of a heuristic's plateaus). Entries are (parent state
+    id, operator) packed into one integer of a per-bucket array; ``random.Random(seed)``: runs
+    repeat."""
+
+    __slots__ = ("buckets", "keys", "n_ops", "rng")
+
+    def __init__(self, n_ops: int, seed: int = 0) -> None:
+        self.buckets: dict[tuple, array] = {}
+        self.keys: list[tuple] = []
+        self.n_ops = max(1, n_ops)
+        self.rng = random.Random(seed)
+
+    def __len__(self) -> int:
+        return len(self.keys)
+
+    def push(self, key: tuple, sid: int, ops) -> None:
+        bucket = self.buckets.get(key)
+        if bucket is None:
+            bucket = self.buckets[key] = array("q")
+            self.keys.append(key)
+        n = self.n_ops
+        base = sid * n
+        bucket.extend(base + op for op in ops)
+
+    def pop(self) -> tuple[int, int]:
+        keys, rng = self.keys, self.rng
+        i = rng.randrange(len(keys))
+        key = keys[i]
+        bucket = self.buckets[key]
+        j = rng.randrange(len(bucket))
+        item = bucket[j]
+        bucket[j] = bucket[-1]
+        bucket.pop()
+        if not bucket:
+            del self.buckets[key]
+            last = keys.pop()
+            if i < len(keys):
+                keys[i] = last
+        return divmod(item, self.n_ops)
 
 
 @dataclass(slots=True)
@@ -255,6 +301,9 @@ class LamaOptions:
       order (``Relaxation.lifo``) takes turns with the main one (after ``m`` turns of the main
       search about ``sqrt(dovetail * m)``), so ties between equally cheap supporters no longer
       decide a problem alone (FD: one search).
+    - ``type_based``: a fifth queue in the alternation, ``TypeBuckets`` keyed (h_FF, g) of the
+      expanded state (type-based exploration, Xie et al. 2014), never boosted; off (measured on
+      transport-sat08 p20: no plan either, docs/performance.md sixth pass).
 
     Measured (docs/performance.md, issue 18's fifth pass): FD's rules solve neither transport-sat08
     p20 nor tidybot-sat11 p01 and lose transport p19 (and, with FD's tie order, need 14,756
@@ -268,6 +317,7 @@ class LamaOptions:
     boost_root: bool = True
     tie_order: tuple[int, int, int, int] = (1, 3, 0, 2)
     dovetail: int = 2
+    type_based: bool = False
 
 
 LAMA_FIRST = LamaOptions()  # what planner "lama" runs
@@ -392,9 +442,15 @@ def _lama_steps(
     if task.is_goal(init):
         res.status = "solved"
         return
-    queues: tuple[list, list, list, list] = ([], [], [], [])  # ff, ff preferred, lm, lm preferred
-    priority = [0, 0, 0, 0]
+    queues: tuple = ([], [], [], [])  # ff, ff preferred, lm, lm preferred (, type-based)
+    priority = [0, 0, 0, 0, 0]
     tie_order = options.tie_order
+    typed = TypeBuckets(len(task.ops)) if options.type_based else None
+    depth = [0]  # g (steps from the start) of each state, the type-based queue's second key
+    if typed is not None:
+        queues += (typed,)
+        tie_order = (*tie_order, 4)
+    q_ff, q_ff_pref, q_lm, q_lm_pref = queues[:4]
     counter = 0
     best = [INF, INF]
     apply, is_goal, ff = task.apply, task.is_goal, relax.ff
@@ -411,12 +467,14 @@ def _lama_steps(
             if which < 0:
                 return
             priority[which] += 1
-            pid, op = take_next(queues[which])
+            pid, op = take_next(queues[which]) if which < 4 else typed.pop()
             state = apply(space.states[pid], op)
             if state in space.ids:
                 continue
             sid = space.add(state, pid, op)
             status.append(progress(status[pid], state))
+            if typed is not None:
+                depth.append(depth[pid] + 1)
             res.generated += 1
             if is_goal(state):
                 res.status, res.ops = "solved", space.path(sid)
@@ -461,11 +519,12 @@ def _lama_steps(
             yield
         if not succ_ops:
             continue
-        q_ff, q_ff_pref, q_lm, q_lm_pref = queues
         counter += 1
         packed = array(OP_IDS, succ_ops)  # shared by both queues (read only)
         heappush(q_ff, (h_ff, counter, 0, sid, packed))
         heappush(q_lm, (h_lm, counter, 0, sid, packed))
+        if typed is not None:
+            typed.push((h_ff, depth[sid]), sid, succ_ops)
         if pref_ff or pref_lm:
             pref = set(pref_ff)
             pref.update(pref_lm)
