@@ -11,8 +11,11 @@ training and evaluation read: the detector itself never sees them.
 
 from __future__ import annotations
 
+import argparse
+import json
 import math
 import random
+import sys
 from collections.abc import Iterator
 from dataclasses import replace
 
@@ -21,12 +24,13 @@ from gsr.benchmarks.perception.eval import skills_scene
 from gsr.benchmarks.suites.gsr_bench_gen import CELLS, LEVELS, generate_cell
 from gsr.benchmarks.suites.libero_suite import load_libero
 from gsr.perception.corrupt import add_depth_noise
-from gsr.perception.detect import RGBDDetector, load_model
+from gsr.perception.detect import SHIPPED_MODEL, RGBDDetector, load_model
 from gsr.perception.frame import Frame
 from gsr.perception.train import TrainConfig, evaluate, save_model, train
 from gsr.skills.build import build_world
 from gsr.skills.camera import CameraSpec, Light, default_views, render_frame
 
+from gsr.errors import GSRError
 from gsr.resources import data_dir
 
 #: Share of scenes taken from the LIBERO tasks (the rest are generated GSR-Bench tasks).
@@ -184,3 +188,41 @@ def run_training(
     meta = dict(model.card)
     meta["heldout"] = heldout
     return meta
+
+
+def compare_heldout(weights: list[str], seed: int = 0, scenes: int = 20) -> dict:
+    """The model card's held-out evaluation for several weight folders on the same frames.
+
+    ``weights``: ``gsr perceive-train`` output folders; ``shipped`` names the shipped weights and ``rules``
+    geometry without weights. Frames are those of the card (``heldout_frames(seed, scenes)``, 4 default
+    views), rendered once by the simulator of the current tree, so weights trained before a rendering
+    change are scored on today's renders beside the new ones."""
+    detectors = {}
+    for w in weights:
+        if w == "rules":
+            detectors[w] = RGBDDetector(None)
+        elif w == "shipped":
+            detectors[w] = RGBDDetector(load_model(SHIPPED_MODEL))
+        else:
+            detectors[w] = RGBDDetector(load_model(w))
+    return evaluate(heldout_frames(seed, scenes), detectors)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m gsr.benchmarks.perception.train_data WEIGHTS... [--seed 0] [--scenes 20]``: JSON report."""
+    ap = argparse.ArgumentParser(description=compare_heldout.__doc__.splitlines()[0])
+    ap.add_argument("weights", nargs="+", help="weight folders, 'shipped' or 'rules'")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the held-out stream (the card's: 0)")
+    ap.add_argument("--scenes", type=int, default=20)
+    args = ap.parse_args(argv)
+    try:
+        report = compare_heldout(args.weights, args.seed, args.scenes)
+    except GSRError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    print(json.dumps(report, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
