@@ -19,13 +19,13 @@ def task():
 
 def test_search_runs_with_grounding_frozen_and_collector_restored(task, monkeypatch) -> None:
     seen = []
-    real = api._plan_grounded
+    real = api.Relaxation  # built once per plan(), right after grounding, for the reachability check
 
     def spy(*args, **kwargs):
         seen.append((gc.isenabled(), gc.get_freeze_count()))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(api, "_plan_grounded", spy)
+    monkeypatch.setattr(api, "Relaxation", spy)
     before = gc.get_freeze_count()
     result = plan_graph(*task)
     assert result.status == "solved"
@@ -47,7 +47,7 @@ def test_collector_restored_when_the_search_raises(task, monkeypatch) -> None:
     def boom(*args, **kwargs):
         raise RuntimeError("search failed")
 
-    monkeypatch.setattr(api, "_plan_grounded", boom)
+    monkeypatch.setattr(api, "Relaxation", boom)
     with pytest.raises(RuntimeError):
         plan_graph(*task)
     assert gc.isenabled() and gc.get_freeze_count() == 0
