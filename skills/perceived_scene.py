@@ -500,12 +500,16 @@ def observable_view(graph: SceneGraph, confirmed: set[str]) -> SceneGraph:
         }
     )
     edges = tuple(e for e in sym.edges if e.source in confirmed)
-    targets = {e.target for e in edges}
-    # an edge's unconfirmed target stays as a bare node (its own states are not confirmed)
+    keep = {n.id for n in sym.nodes if n.id in confirmed} | {e.target for e in edges}
+    # a kept part's object stays too (a drawer's cabinet, transitively), or the part's parent would dangle
+    parent = {n.id: n.parent for n in sym.nodes}
+    for node_id in list(keep):
+        while parent.get(node_id) is not None and parent[node_id] not in keep:
+            node_id = parent[node_id]
+            keep.add(node_id)
+    # an unconfirmed node kept for an edge or a part stays bare (its own states are not confirmed)
     nodes = tuple(
-        n if n.id in confirmed else n.model_copy(update={"states": ()})
-        for n in sym.nodes
-        if n.id in confirmed or n.id in targets
+        n if n.id in confirmed else n.model_copy(update={"states": ()}) for n in sym.nodes if n.id in keep
     )
     return SceneGraph(nodes=nodes, edges=edges)
 

@@ -153,6 +153,18 @@ def test_observable_view_compares_only_what_sensors_confirm() -> None:
     ).is_empty
 
 
+def test_observable_view_keeps_the_object_of_a_confirmed_part() -> None:
+    # a sensor confirms a drawer (open) but not its rack: the rack stays as a bare node, or the
+    # drawer's parent would dangle (this raised pydantic's "parent ... is not a node")
+    rack = _node("rack_3", "rack", states=("open",))
+    drawer = Node(id="rack_3/drawer_3", category="drawer", parent="rack_3", states=("open",))
+    graph = _graph([_node("table", "table"), rack, drawer], [("rack_3", "on", "table")])
+    view = observable_view(graph, {"rack_3/drawer_3"})
+    assert {n.id for n in view.nodes} == {"rack_3", "rack_3/drawer_3"}
+    assert view.node("rack_3").states == () and view.node("rack_3/drawer_3").states == ("open",)
+    assert view.edges == ()  # the rack's own support is not confirmed
+
+
 def test_contradicted_effects_ignore_unobservable_predicates() -> None:
     from gsr.check import check_step
     from gsr.facts import state_from_graph
