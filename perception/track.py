@@ -298,6 +298,9 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
 #: the object's upright box grown by OBJECT_PIECE_MARGIN (m) ...
 OBJECT_PIECE_INSIDE = 0.9
 OBJECT_PIECE_MARGIN = 0.01
+#: ... and its bottom lies this far (m) above the object's: a piece standing on the surface the object
+#: stands on may be a neighbour (a cube against a mug whose segments took some of the cube's pixels).
+OBJECT_PIECE_ABOVE_BASE = 0.01
 
 
 def absorb_object_pieces(fused: list[Instance], params: GeometryParams) -> list[Instance]:
@@ -309,7 +312,9 @@ def absorb_object_pieces(fused: list[Instance], params: GeometryParams) -> list[
     saw (X), with nearly all of its points inside the upright box of an object of its colour that several
     cameras saw (H: movable, no container — a container's pieces are its walls, :func:`absorb_fragments`)
     and smaller than it, is a piece of H: two objects do not interpenetrate, and a small object lying in a
-    larger object's box of the same colour could only be inside it, which only containers allow."""
+    larger object's box of the same colour could only be inside it, which only containers allow. The piece
+    must not reach down to where H stands: H's own box may be too wide, its segments having taken the
+    pixels of a neighbour on the same surface."""
     hosts = [
         h
         for h in fused
@@ -326,9 +331,12 @@ def absorb_object_pieces(fused: list[Instance], params: GeometryParams) -> list[
         if x.views != 1 or _no_object(x, allow_unknown=True) or x.label.color is None:
             continue
         volume = float(np.prod(x.size))
+        x_bottom = float(np.percentile(x.points[:, 2], 2.0))
         for h in hosts:
             if h is x or h.label.color != x.label.color or volume >= float(np.prod(h.size)):
                 continue
+            if x_bottom < float(np.percentile(h.points[:, 2], 2.0)) + OBJECT_PIECE_ABOVE_BASE:
+                continue  # standing where H stands: a neighbour whose pixels H's segments took
             z = x.points[:, 2]
             in_z = (z >= h.aabb_min[2] - OBJECT_PIECE_MARGIN) & (z <= h.aabb_max[2] + OBJECT_PIECE_MARGIN)
             inside = in_z & h.footprint_contains(x.points[:, :2], margin=OBJECT_PIECE_MARGIN)

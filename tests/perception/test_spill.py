@@ -88,6 +88,9 @@ def test_one_cameras_piece_of_a_mug_joins_the_mug_but_a_cube_of_another_colour_b
     # a piece beside the mug, not inside its box, stays an object
     beside = _named(_inst("cube_3", "cube", rim + np.array([0.08, 0.0, 0.0])), "yellow", views=1)
     assert len(absorb_object_pieces([table(), mug, beside], PARAMS)) == 3
+    # a cube standing where the mug stands, inside the mug's box (its segments took the cube's pixels)
+    cube = _named(solid("cube_4", "cube", (0.41, -0.02, 0.008), (0.44, 0.01, 0.038)), "yellow", views=1)
+    assert len(absorb_object_pieces([table(), mug, cube], PARAMS)) == 3
 
 
 def test_in_relations_are_classified_one_by_one():
