@@ -31,7 +31,7 @@ from gsr.perception.detect import load_detector
 from gsr.perception.frame import Frame, InstanceLabel
 from gsr.perception.match import match_nodes
 from gsr.perception.rgbd import View, detect_frames
-from gsr.perception.track import Tracker, rename_graph
+from gsr.perception.track import UNKNOWN, Tracker, rename_graph
 from gsr.skills.camera import RGBD, default_views, labelled_masks, no_masks, render_frame
 from gsr.skills.executor import symbolic_view
 from gsr.skills.sim_graph import scene_graph_from_sim, support_of
@@ -120,6 +120,7 @@ class PerceivedScene:
             to_perceived = {w: p for p, w in self.binding.items()}
             held = {to_perceived[w] for w in held_objects(self.world) if w in to_perceived}
             observed, held = self._keep_grasped_id(observed, held, expected)
+            observed = self._keep_released_id(observed, held, expected)
         observed = with_map_regions(
             observed, self.world, table_only=not self.oracle_masks, previous=self.belief
         )
@@ -149,26 +150,66 @@ class PerceivedScene:
             return observed, held
 
         self.binding[old] = self.binding.pop(new)
+        return self._same_object(observed, new, old), {old}
+
+    def _keep_released_id(
+        self, observed: SceneGraph, held: set[str], expected: SceneGraph | None
+    ) -> SceneGraph:
+        """The object the robot's own step just let go of keeps its id where the step put it.
+
+        Set down in a drawer or a box, an object is partly hidden by the walls and seen from above, so
+        the tracker may not know it again (another size, another colour word) and gives it a fresh id.
+        But the robot knows what it released (held in the belief, not held now) and where the step put
+        it (its ``on``/``in`` edge in the expected graph): one new node of the same kind on or in that
+        place, and no node with the old id, is that object, with what it was and where it is now."""
+        if expected is None or self.belief is None:
+            return observed
+        released = {n.id for n in self.belief.nodes if "held" in n.states} - held
+        if len(released) != 1:
+            return observed
+        (old,) = released
+        ids = {n.id for n in observed.nodes}
+        before = self.belief.node_map().get(old)
+        placed = {
+            (e.relation, e.target) for e in expected.edges if e.source == old and e.relation in ("on", "in")
+        }
+        if old in ids or before is None or not placed:
+            return observed
+        known = {n.id for n in self.belief.nodes}
+        fresh = [
+            n
+            for n in observed.nodes
+            if n.id not in known
+            and n.parent is None
+            and n.category in (before.category, UNKNOWN)
+            and any((e.relation, e.target) in placed for e in observed.edges if e.source == n.id)
+        ]
+        if len(fresh) != 1:
+            return observed
+        if fresh[0].id in self.binding:  # else the released id keeps the body it was bound to
+            self.binding[old] = self.binding.pop(fresh[0].id)
+        return self._same_object(observed, fresh[0].id, old)
+
+    def _same_object(self, observed: SceneGraph, new: str, old: str) -> SceneGraph:
+        """``observed`` with node ``new`` renamed ``old``: what it is from the belief's ``old`` (category,
+        colour ...), where it is and how it looks now (pose, box, states, size) from the cameras."""
         renamed = rename_graph(observed, {new: old})
         before = (self.belief.node_map() if self.belief is not None else {}).get(old)
-        if before is not None:  # what it is stays what the robot picked; where it is comes from the cameras
-            seen = renamed.node(old)
-            geometry = {
-                k: v for k, v in seen.attributes.items() if k.startswith("size_") or k in ("points", "views")
+        if before is None:
+            return renamed
+        seen = renamed.node(old)
+        geometry = {
+            k: v for k, v in seen.attributes.items() if k.startswith("size_") or k in ("points", "views")
+        }
+        kept = before.model_copy(
+            update={
+                "pose": seen.pose,
+                "bbox": seen.bbox,
+                "states": seen.states,
+                "attributes": {**{k: v for k, v in before.attributes.items() if k != "observed"}, **geometry},
             }
-            kept = before.model_copy(
-                update={
-                    "pose": seen.pose,
-                    "bbox": seen.bbox,
-                    "states": seen.states,
-                    "attributes": {
-                        **{k: v for k, v in before.attributes.items() if k != "observed"},
-                        **geometry,
-                    },
-                }
-            )
-            renamed = renamed.with_nodes([kept])
-        return renamed, {old}
+        )
+        return renamed.with_nodes([kept])
 
     def world_id(self, node_id: str) -> str:
         """The world's node id of a perceived node (for the skills), or the id itself when unbound."""

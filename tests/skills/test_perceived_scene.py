@@ -339,3 +339,40 @@ def test_the_object_in_the_gripper_keeps_the_id_of_the_object_the_step_grasped()
     assert scene._keep_grasped_id(lifted, {"mug_3"}, None) == (lifted, {"mug_3"})
     both = _graph([_node("mug_3", "mug"), _node("bottle_1", "bottle")], [])
     assert scene._keep_grasped_id(both, {"mug_3"}, expected) == (both, {"mug_3"})
+
+
+def test_the_object_the_step_released_keeps_its_id_where_the_step_put_it() -> None:
+    from gsr.skills.perceived_scene import PerceivedScene
+
+    scene = PerceivedScene.__new__(PerceivedScene)  # no world needed for the rule itself
+    cab = _node("cabinet_1", "cabinet")
+    drawer = _node("cabinet_1/drawer_3", "drawer", parent="cabinet_1", states=("open",))
+    scene.binding = {"bowl_1": "akita_black_bowl_1", "bowl_4": "akita_black_bowl_1", "milk_1": "cabinet"}
+    scene.belief = _graph(
+        [cab, drawer, _node("bowl_1", "bowl", states=("held",), attributes={"color": "black"})], []
+    )
+    expected = _graph([cab, drawer, _node("bowl_1", "bowl")], [("bowl_1", "in", "cabinet_1/drawer_3")])
+    # in the drawer the bowl is read as another (white, smaller) bowl and a drawer wall as a milk carton
+    seen = _graph(
+        [cab, drawer, _node("bowl_4", "bowl", x=0.4, attributes={"color": "white"}), _node("milk_1", "milk")],
+        [("bowl_4", "in", "cabinet_1/drawer_3"), ("milk_1", "in", "cabinet_1/drawer_3")],
+    )
+    graph = scene._keep_released_id(seen, set(), expected)
+    bowl = graph.node("bowl_1")  # what it is from before, where it is from now
+    assert (
+        bowl.attributes["color"] == "black"
+        and bowl.pose.position.x == 0.4
+        and "bowl_4" not in graph.node_map()
+    )
+    assert any(e.source == "bowl_1" and e.relation == "in" for e in graph.edges)
+    assert scene.binding["bowl_1"] == "akita_black_bowl_1" and "bowl_4" not in scene.binding
+    # still held, not where the step put it, or two candidates: nothing is renamed
+    assert scene._keep_released_id(seen, {"bowl_1"}, expected) == seen
+    elsewhere = _graph([cab, drawer, _node("bowl_4", "bowl")], [])
+    assert scene._keep_released_id(elsewhere, set(), expected) == elsewhere
+    scene.belief = _graph([cab, drawer, _node("bowl_1", "bowl", states=("held",))], [])
+    two = _graph(
+        [cab, drawer, _node("bowl_4", "bowl"), _node("bowl_5", "bowl")],
+        [("bowl_4", "in", "cabinet_1/drawer_3"), ("bowl_5", "in", "cabinet_1/drawer_3")],
+    )
+    assert scene._keep_released_id(two, set(), expected) == two
