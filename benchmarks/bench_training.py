@@ -54,7 +54,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--train-budget",
         type=float,
-        help="Recipe: training CPU seconds in all (default: the recipe's 900 cpu / 1500 gpu).",
+        help="Recipe: train for this many CPU seconds in all instead of the recipe's step counts "
+        "(cpu: 1500 + 750 steps; gpu: by CPU time, 1500 s); the steps then depend on the machine.",
     )
     ap.add_argument(
         "--gsr-bench", type=int, default=6, help="Recipe: GSR-Bench dev tasks per category (0: none)."

@@ -51,10 +51,14 @@ class Recipe:
 
     samples: int  # gsr datagen rows
     recovery: int  # off-plan recovery rows
-    train_seconds: float  # first round, CPU seconds of the training process
+    train_seconds: float  # first round: CPU seconds of the training process (a cap when steps are set)
     dagger_tasks: int  # training tasks the model is rolled out on
-    dagger_seconds: float  # training after the on-policy rows are added
+    dagger_seconds: float  # training after the on-policy rows are added (a cap when steps are set)
     threads: int
+    # steps of each round: the training, and the learning-rate schedule, are the same on every machine;
+    # None: as many steps as the CPU seconds allow (the learning rate then follows CPU time)
+    train_steps: int | None = None
+    dagger_steps: int | None = None
     hidden: int = 128
     layers: int = 3
     heads: int = 4
@@ -65,14 +69,17 @@ class Recipe:
 
 
 RECIPES = {
-    # 15 CPU-minutes of training on one thread: ~16 minutes wall on an idle 2-core machine
+    # 1500 + 750 steps on one thread: ~14 CPU-minutes (0.36-0.44 CPU-s a step on the 2-core development
+    # machine); the CPU seconds are a cap that a slower machine reaches first
     "cpu": Recipe(
         samples=30000,
         recovery=1500,
-        train_seconds=600,
+        train_seconds=1200,
         dagger_tasks=100,
-        dagger_seconds=300,
+        dagger_seconds=600,
         threads=1,
+        train_steps=1500,
+        dagger_steps=750,
     ),
     "gpu": Recipe(
         samples=200000,
@@ -185,7 +192,7 @@ def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str
         None,
         sched1,
         log,
-        None,
+        cfg.train_steps,
         v,
     )
     figures["round1"] = r1.__dict__
@@ -217,7 +224,7 @@ def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str
         opt,
         sched2,
         log,
-        None,
+        cfg.dagger_steps,
         v,
     )
     figures["round2"] = r2.__dict__
@@ -244,7 +251,8 @@ def run_recipe(
 ) -> int:
     """Data, training, task export and the ablation; prints the table and the summary line.
 
-    ``train_budget`` (CPU seconds) replaces the recipe's training time, split 2:1 between the rounds."""
+    ``train_budget`` (CPU seconds) replaces the recipe's step counts by that much training time, split 2:1
+    between the rounds (as many steps as the machine manages in it)."""
     cfg = RECIPES[name]
     if os.environ.get("GSR_RECIPE_SCALE"):  # tests: a tiny version of the same pipeline
         scale = float(os.environ["GSR_RECIPE_SCALE"])
@@ -253,6 +261,8 @@ def run_recipe(
             samples=max(2000, int(cfg.samples * scale)),
             recovery=int(cfg.recovery * scale),
             train_seconds=cfg.train_seconds * scale,
+            train_steps=max(1, int(cfg.train_steps * scale)) if cfg.train_steps else None,
+            dagger_steps=max(1, int(cfg.dagger_steps * scale)) if cfg.dagger_steps else None,
             dagger_tasks=max(2, int(cfg.dagger_tasks * scale)),
             dagger_seconds=cfg.dagger_seconds * scale,
             hidden=32,
@@ -261,7 +271,13 @@ def run_recipe(
             intermediate=64,
         )
     if train_budget is not None:
-        cfg = replace(cfg, train_seconds=train_budget * 2 / 3, dagger_seconds=train_budget / 3)
+        cfg = replace(
+            cfg,
+            train_seconds=train_budget * 2 / 3,
+            dagger_seconds=train_budget / 3,
+            train_steps=None,
+            dagger_steps=None,
+        )
     out.mkdir(parents=True, exist_ok=True)
     data, model_dir = out / "dataset", out / "model"
     report: dict[str, Any] = {"recipe": name, "config": cfg.__dict__, "seed": seed}

@@ -115,3 +115,36 @@ def test_bench_training_recipe_needs_an_output_folder(capsys) -> None:
     with pytest.raises(SystemExit):
         main(["--workers", "1"])
     assert "--recipe" in capsys.readouterr().err
+
+
+def test_a_step_budget_gives_the_same_training_whatever_the_cpu_time(domain, samples) -> None:
+    # with max_steps the learning-rate schedule reads the share of steps done: two runs of one seed are
+    # equal even when one process is slowed down (the CPU seconds are only a cap)
+    import time as _time
+
+    import torch
+
+    from gsr.reason.compact import build_tokenizer
+    from gsr.train.compact import CompactSpec, cosine, fit, new_model
+
+    torch.set_num_threads(1)
+    tok = build_tokenizer(domain)
+    rows = [s for s in samples if s.answer is not None][:16]
+    losses = []
+    for slow in (False, True):
+        model = new_model(tok, CompactSpec(hidden=32, layers=1, heads=2, intermediate=64, context=256), 0)
+
+        def log(_: str, slow: bool = slow) -> None:
+            pass
+
+        def schedule(p: float, slow: bool = slow) -> float:
+            if slow:  # burn CPU time between steps, as a loaded machine would
+                end = _time.process_time() + 0.01
+                while _time.process_time() < end:
+                    pass
+            return cosine()(p)
+
+        report, _ = fit(model, rows, domain, tok.get_vocab(), 5, 0, 4, 3e-3, None, schedule, log, 12)
+        assert report.steps == 12
+        losses.append(report.last_loss)
+    assert losses[0] == losses[1]
