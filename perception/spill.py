@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 from gsr.perception.geometry import Instance, fit_boxes
+from gsr.perception.relations import bottom_z
 
 from gsr.categories import affordances, is_part_category
 
@@ -57,7 +58,7 @@ def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
     for o in others:
         if o is container or not _object(o) or o.views < SPILL_CONFIRMED_VIEWS:
             continue
-        o_bottom = float(np.percentile(o.points[:, 2], 2.0))
+        o_bottom = bottom_z(o)
         if o_bottom > c_top - SPILL_ON_TOP:
             continue  # resting on the container (or above it): its points are not in the container's cloud
         z_lo, z_hi = float(o.aabb_min[2]) - SPILL_Z_MARGIN, float(o.aabb_max[2]) + SPILL_Z_MARGIN

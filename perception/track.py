@@ -38,7 +38,7 @@ from gsr.perception.geometry import (
     fit_boxes,
     number_anonymous,
 )
-from gsr.perception.relations import is_container, rim_box
+from gsr.perception.relations import bottom_z, is_container, rim_box
 from gsr.perception.spill import carve_neighbours
 
 from gsr.categories import affordances, is_part_category
@@ -277,13 +277,14 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
     ]
     if not fixtures:
         return fused
+    bases = [bottom_z(f) for f in fixtures]
     pieces: dict[int, Instance] = {}
     for x in fused:
         if x.views != 1 or _no_object(x, allow_unknown=True) or any(x is f for f in fixtures):
             continue
-        x_bottom = float(np.percentile(x.points[:, 2], 2.0))
-        for f in fixtures:
-            if x_bottom < float(np.percentile(f.points[:, 2], 2.0)) + FIXTURE_PIECE_ABOVE_BASE:
+        x_bottom = bottom_z(x)
+        for f, f_bottom in zip(fixtures, bases, strict=True):
+            if x_bottom < f_bottom + FIXTURE_PIECE_ABOVE_BASE:
                 continue
             if cloud_overlap(x, f) >= FIXTURE_PIECE_ON_SURFACE:
                 pieces[id(x)] = f
@@ -326,16 +327,17 @@ def absorb_object_pieces(fused: list[Instance], params: GeometryParams) -> list[
     ]
     if not hosts:
         return fused
+    bases = [bottom_z(h) for h in hosts]
     pieces: dict[int, Instance] = {}
     for x in fused:
         if x.views != 1 or _no_object(x, allow_unknown=True) or x.label.color is None:
             continue
         volume = float(np.prod(x.size))
-        x_bottom = float(np.percentile(x.points[:, 2], 2.0))
-        for h in hosts:
+        x_bottom = bottom_z(x)
+        for h, h_bottom in zip(hosts, bases, strict=True):
             if h is x or h.label.color != x.label.color or volume >= float(np.prod(h.size)):
                 continue
-            if x_bottom < float(np.percentile(h.points[:, 2], 2.0)) + OBJECT_PIECE_ABOVE_BASE:
+            if x_bottom < h_bottom + OBJECT_PIECE_ABOVE_BASE:
                 continue  # standing where H stands: a neighbour whose pixels H's segments took
             z = x.points[:, 2]
             in_z = (z >= h.aabb_min[2] - OBJECT_PIECE_MARGIN) & (z <= h.aabb_max[2] + OBJECT_PIECE_MARGIN)
@@ -653,8 +655,7 @@ def _wall_pieces(fused: list[Instance], containers: list[Instance], rim_of) -> d
             rim = rim_of(c)
             if rim is None or not rim.footprint_contains(x.center[None, :2], margin=FRAGMENT_RIM_MARGIN)[0]:
                 continue
-            x_bottom = float(np.percentile(x.points[:, 2], 2.0))
-            c_bottom = float(np.percentile(c.points[:, 2], 2.0))
+            x_bottom, c_bottom = bottom_z(x), bottom_z(c)
             # up into the rim band (a measured rim's lower edge) or to within 1 cm of the top
             reach = rim.aabb_max[2] - 0.01 if rim is c else min(rim.aabb_min[2], rim.aabb_max[2] - 0.01)
             to_rim = x.aabb_max[2] >= reach
