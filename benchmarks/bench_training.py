@@ -50,7 +50,13 @@ def main(argv: list[str] | None = None) -> int:
         choices=("cpu", "gpu"),
         help="Generate data, train a compact step model from scratch, evaluate it (needs --out DIR).",
     )
-    ap.add_argument("--seed", type=int, default=0, help="Recipe seed (data, model, naming).")
+    ap.add_argument("--seed", type=int, default=0, help="Recipe seed (data and held-out tasks; model too).")
+    ap.add_argument(
+        "--train-seed",
+        type=int,
+        help="Recipe: seed of the model's initialisation and training order (default --seed): another "
+        "training on the same data and held-out tasks.",
+    )
     ap.add_argument(
         "--train-budget",
         type=float,
@@ -81,6 +87,7 @@ def main(argv: list[str] | None = None) -> int:
             args.repairs,
             args.gsr_bench,
             args.train_budget,
+            args.train_seed,
         )
     if not args.model or not args.tasks:
         ap.error("give --model and --tasks, or --recipe cpu|gpu --out DIR")

@@ -28,16 +28,19 @@ from gsr.datagen.runner import RunConfig, generate_dataset
 from gsr.datagen.tasks import generated_tasks
 from gsr.errors import GSRError
 from gsr.io import write_bytes_atomic, write_text_atomic
+from gsr.pddl.parser import parse_formula
 from gsr.reason.compact import build_tokenizer
 from gsr.resources import load_builtin_domain
 from gsr.task_spec import task_json
 from gsr.train.compact import (
     CompactSpec,
     accuracy,
+    constrained_episodes,
     cosine,
     dataset_samples,
     fit,
     new_model,
+    ranking_accuracy,
     recovery_samples,
     rollout_samples,
     save,
@@ -66,20 +69,27 @@ class Recipe:
     batch_size: int = 32
     lr: float = 2e-3
     format_version: int = 3  # gsr.reason.compact format (FORMATS)
+    group: int = 1  # batches drawn at once and sorted by length (fit's group: less padding)
+    select_every: int = 0  # round 2: score the model every so many steps, keep the best (0: the last)
+    select_rows: int = 200  # validation rows of the selection score (ranking accuracy)
+    dagger_constrained: bool = False  # DAgger also rolls out with constrained decoding
 
 
 RECIPES = {
-    # 1500 + 750 steps on one thread: ~14 CPU-minutes (0.36-0.44 CPU-s a step on the 2-core development
-    # machine); the CPU seconds are a cap that a slower machine reaches first
+    # 2000 + 1000 steps on one thread in length-sorted batches (~0.3 CPU-s a step on the 2-core
+    # development machine); the CPU seconds are a cap that a slower machine reaches first
     "cpu": Recipe(
         samples=30000,
         recovery=1500,
-        train_seconds=1200,
+        train_seconds=1500,
         dagger_tasks=100,
-        dagger_seconds=600,
+        dagger_seconds=750,
         threads=1,
-        train_steps=1500,
-        dagger_steps=750,
+        train_steps=2000,
+        dagger_steps=1000,
+        group=8,
+        select_every=250,
+        dagger_constrained=True,
     ),
     "gpu": Recipe(
         samples=200000,
@@ -146,20 +156,40 @@ def gsr_bench_dev(out: Path, per_category: int) -> int:
     return n
 
 
-def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str, Any]:
-    """Trajectory + recovery rows, first training round, DAgger round, save; the training figures."""
+VAL_ROWS = 100  # validation rows of the reported accuracies (the selection uses the next ones)
+VAL_TASKS = 40  # validation tasks of the reported closed-loop constrained-decoding score
+
+
+def train_model(
+    cfg: Recipe, data: Path, model_dir: Path, seed: int, data_seed: int | None = None
+) -> dict[str, Any]:
+    """Trajectory + recovery rows, first training round, DAgger round, save; the training figures.
+
+    ``seed`` drives the model's initialisation, the row order, the namings and the recovery rows;
+    ``data_seed`` (default ``seed``) picks the validation rows and the DAgger tasks."""
     import torch
 
     torch.set_num_threads(cfg.threads)
     domain = load_builtin_domain()
+    data_seed = seed if data_seed is None else data_seed
     figures: dict[str, Any] = {}
     t0, c0 = time.perf_counter(), time.process_time()
     samples = dataset_samples(data, "train")
-    val = dataset_samples(data, "val")
-    random.Random(seed).shuffle(val)
-    val = val[:100]
+    val_all = dataset_samples(data, "val")
+    random.Random(data_seed).shuffle(val_all)
+    val = val_all[:VAL_ROWS]
+    select_rows = val_all[VAL_ROWS : VAL_ROWS + cfg.select_rows]
+    val_tasks = [(t.initial, parse_formula(t.goal)) for t in generated_tasks(data, "val")]
+    random.Random(data_seed).shuffle(val_tasks)
+    val_tasks = val_tasks[:VAL_TASKS]
     recovery = recovery_samples(samples, cfg.recovery, seed, domain)
-    figures["rows"] = {"trajectory": len(samples), "recovery": len(recovery), "val": len(val)}
+    figures["rows"] = {
+        "trajectory": len(samples),
+        "recovery": len(recovery),
+        "val": len(val),
+        "select": len(select_rows),
+        "val_tasks": len(val_tasks),
+    }
     figures["prepare_seconds"] = round(time.perf_counter() - t0, 1)
     figures["prepare_cpu_seconds"] = round(time.process_time() - c0, 1)
     log(f"rows: {figures['rows']} in {figures['prepare_seconds']} s")
@@ -169,8 +199,10 @@ def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str
     model = new_model(tokenizer, spec, seed)
     device = "cuda" if torch.cuda.is_available() else "cpu"
     model.to(device)
-    total = cfg.train_seconds + cfg.dagger_seconds
-    first = cfg.train_seconds / total
+    if cfg.train_steps and cfg.dagger_steps:
+        first = cfg.train_steps / (cfg.train_steps + cfg.dagger_steps)
+    else:
+        first = cfg.train_seconds / (cfg.train_seconds + cfg.dagger_seconds)
 
     def sched1(p: float) -> float:
         return cosine()(p * first)
@@ -194,17 +226,28 @@ def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str
         log,
         cfg.train_steps,
         v,
+        group=cfg.group,
     )
     figures["round1"] = r1.__dict__
     figures["round1_val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
-    log(f"round 1: {r1}, val next-step accuracy {figures['round1_val_accuracy']}")
-    d0, dc0 = time.perf_counter(), time.process_time()
-    dagger, solved = rollout_samples(
-        model, tokenizer, start_tasks(data, "train", cfg.dagger_tasks, seed), domain, version=v
+    figures["round1_val_ranking"] = round(ranking_accuracy(model, val, domain, tokenizer, v), 3)
+    log(
+        f"round 1: {r1}, val next-step accuracy {figures['round1_val_accuracy']}, "
+        f"ranking accuracy {figures['round1_val_ranking']}"
     )
+    d0, dc0 = time.perf_counter(), time.process_time()
+    tasks = start_tasks(data, "train", cfg.dagger_tasks, data_seed)
+    dagger, solved = rollout_samples(model, tokenizer, tasks, domain, version=v)
+    solved_c = 0
+    if cfg.dagger_constrained:
+        more, solved_c = rollout_samples(
+            model, tokenizer, tasks, domain, max_steps=16, version=v, constrained=True
+        )
+        dagger += more
     figures["dagger"] = {
         "tasks": cfg.dagger_tasks,
         "solved_free": solved,
+        "solved_constrained": solved_c,
         "rows": len(dagger),
         "seconds": round(time.perf_counter() - d0, 1),
         "cpu_seconds": round(time.process_time() - dc0, 1),
@@ -226,16 +269,28 @@ def train_model(cfg: Recipe, data: Path, model_dir: Path, seed: int) -> dict[str
         log,
         cfg.dagger_steps,
         v,
+        group=cfg.group,
+        select=(lambda m: ranking_accuracy(m, select_rows, domain, tokenizer, v))
+        if cfg.select_every
+        else None,
+        select_every=cfg.select_every,
     )
     figures["round2"] = r2.__dict__
     figures["val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
+    figures["val_ranking"] = round(ranking_accuracy(model, val, domain, tokenizer, v), 3)
+    ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v)
+    figures["val_tasks_constrained"] = f"{ok}/{n}"
     figures["train_seconds"] = round(r1.seconds + r2.seconds, 1)
     figures["train_cpu_seconds"] = round(r1.cpu_seconds + r2.cpu_seconds, 1)
     figures["parameters"] = sum(p.numel() for p in model.parameters())
     figures["spec"] = spec_dict(spec)
-    log(f"round 2: {r2}, val next-step accuracy {figures['val_accuracy']}")
+    log(
+        f"round 2: {r2}, val next-step accuracy {figures['val_accuracy']}, ranking accuracy "
+        f"{figures['val_ranking']}, val tasks (constrained) {figures['val_tasks_constrained']}"
+    )
     model.to("cpu")
-    save(model, tokenizer, model_dir, {"recipe": cfg.__dict__, "seed": seed, **figures}, v)
+    info = {"recipe": cfg.__dict__, "seed": seed, "data_seed": data_seed, **figures}
+    save(model, tokenizer, model_dir, info, v)
     return figures
 
 
@@ -248,8 +303,12 @@ def run_recipe(
     repairs: int,
     gsr_bench: int,
     train_budget: float | None = None,
+    train_seed: int | None = None,
 ) -> int:
     """Data, training, task export and the ablation; prints the table and the summary line.
+
+    ``seed`` makes the data (and so the held-out tasks); ``train_seed`` (default ``seed``) the model's
+    initialisation and training order, so several trainings can be measured on the same tasks.
 
     ``train_budget`` (CPU seconds) replaces the recipe's step counts by that much training time, split 2:1
     between the rounds (as many steps as the machine manages in it)."""
@@ -265,6 +324,8 @@ def run_recipe(
             dagger_steps=max(1, int(cfg.dagger_steps * scale)) if cfg.dagger_steps else None,
             dagger_tasks=max(2, int(cfg.dagger_tasks * scale)),
             dagger_seconds=cfg.dagger_seconds * scale,
+            select_every=max(1, int(cfg.select_every * scale)) if cfg.select_every else 0,
+            select_rows=max(8, int(cfg.select_rows * scale)),
             hidden=32,
             layers=1,
             heads=2,
@@ -280,7 +341,8 @@ def run_recipe(
         )
     out.mkdir(parents=True, exist_ok=True)
     data, model_dir = out / "dataset", out / "model"
-    report: dict[str, Any] = {"recipe": name, "config": cfg.__dict__, "seed": seed}
+    train_seed = seed if train_seed is None else train_seed
+    report: dict[str, Any] = {"recipe": name, "config": cfg.__dict__, "seed": seed, "train_seed": train_seed}
     t0 = time.perf_counter()
     if not (data / "manifest.json").is_file():
         generate_dataset(RunConfig(data, cfg.samples, seed=seed), progress=False)
@@ -289,7 +351,7 @@ def run_recipe(
         log(f"{model_dir}: already trained, reusing it")
         report["training"] = json.loads((model_dir / "gsr_training.json").read_text())
     else:
-        report["training"] = train_model(cfg, data, model_dir, seed)
+        report["training"] = train_model(cfg, data, model_dir, train_seed, data_seed=seed)
     sets = {"generated": out / "tasks-generated"}
     report["generated_tasks"] = export_heldout(data, sets["generated"], HELDOUT_TASKS)
     if gsr_bench and gsr_bench_dev(out / "tasks-gsr-bench", gsr_bench):
