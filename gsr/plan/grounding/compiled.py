@@ -236,7 +236,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
             uses_extra = True
             alts = _fluent_alternatives(part, fluent_names, slots)
             if alts is not None:  # a disjunction of fluent literals (pick's on-or-in), inline
-                body.append(f"    choices.append(make_choice([{', '.join(alts)}]))")
+                body.append(_inline_choice(alts))
                 continue
             if type(part) not in (Forall, Exists):
                 body.append(f"    r = key_cnf(simplify({const(part)}, b))")
@@ -299,7 +299,13 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
         body.append(
             "        if len(alts) == 1:\n            pos += alts[0][0]\n            neg += alts[0][1]"
         )
-        body.append("        else:\n            choices.append(make_choice(alts))")
+        # A negative literal among the disjuncts over all variables: an alternative without
+        # positive keys, so the delete relaxation always holds the choice (see _choice).
+        holds = any(
+            type(q) is Not and type(q.formula) is Atom and q.formula.predicate in fluent_names for q in full
+        )
+        make = "(tuple(alts), None)" if holds else "make_choice(alts)"
+        body.append(f"        else:\n            choices.append({make})")
         body.append("        break")
     lines = ["def variant(b):", *head, "    pos = []", "    neg = []"]
     if uses_extra:
@@ -380,19 +386,36 @@ def _forall_literal(
     return positive, f"tuple([({body.predicate!r}, {inner}) for q_ in {name}])"
 
 
-def _fluent_alternatives(part: Formula, fluent_names: set[str], slots: dict[str, str]) -> list[str] | None:
-    """Source of the KeyConj alternatives of a disjunction of fluent literals; None otherwise."""
+def _fluent_alternatives(
+    part: Formula, fluent_names: set[str], slots: dict[str, str]
+) -> list[tuple[bool, str]] | None:
+    """(positive, source of the literal's key) of each disjunct of a disjunction of fluent
+    literals; None for any other formula."""
     if type(part) is not Or:
         return None
     out = []
     for q in part.parts:
         if type(q) is Atom and q.predicate in fluent_names:
-            out.append(f"(({_key_expr(q, slots)},), ())")
+            out.append((True, _key_expr(q, slots)))
         elif type(q) is Not and type(q.formula) is Atom and q.formula.predicate in fluent_names:
-            out.append(f"((), ({_key_expr(q.formula, slots)},))")
+            out.append((False, _key_expr(q.formula, slots)))
         else:
             return None
     return out
+
+
+def _inline_choice(alts: list[tuple[bool, str]]) -> str:
+    """Source appending the Choice of a disjunction of fluent literals: ``_choice`` of its KeyConj
+    alternatives with the relaxed test decided here (None as soon as one literal is negative)."""
+    lines = []
+    conjs = []
+    for k, (positive, key) in enumerate(alts):
+        lines.append(f"    p{k} = ({key},)")
+        conjs.append(f"(p{k}, ())" if positive else f"((), p{k})")
+    positive = all(sign for sign, _ in alts)
+    relax = "(" + "".join(f"p{k}, " for k in range(len(alts))) + ")" if positive else "None"
+    lines.append(f"    choices.append((({''.join(c + ', ' for c in conjs)}), {relax}))")
+    return "\n".join(lines)
 
 
 def bind(factory: Callable, simplify: Simplifier, general: Callable, shared: dict) -> Callable:

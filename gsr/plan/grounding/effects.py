@@ -204,7 +204,7 @@ def ground_group(
         effects.append(_unconditional(lits, binding))
         return
     if split is not None and base is not None and memo is not None:
-        key = (id(group), *(binding.get(v, v) for v in group[5]))
+        key = (id(group), *map(binding.get, group[5], group[5]))
         entry = memo.get(key)
         if entry is None:
             parts: list[EffectPart] = []

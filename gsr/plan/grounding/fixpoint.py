@@ -684,7 +684,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                     missing = next(k for k in v.pos if k not in reached_keys)
                     watch.setdefault(missing, []).append((si, key, binding))
                     watched.add(key)
-                elif not all(relaxed(c, reached_keys) for c in v.core) or (
+                elif (v.core and not all(relaxed(c, reached_keys) for c in v.core)) or (
                     (v.choices or v.pieces) and not v.choices_hold(reached_keys)
                 ):
                     still.append((key, binding))

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from bisect import bisect_left
+from operator import invert
+
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, And, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
@@ -73,8 +76,8 @@ def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[li
         r = _condition_ids(inner, key_ids) if inner else ((), ())
         if not r:
             continue
-        adds = tuple(i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None)
-        dels = tuple(i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None)
+        adds = tuple([i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None])
+        dels = tuple([i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None])
         if adds or dels:
             out.append((r[0], r[1], adds, dels))
     return out, frozenset(i for r0, r1, _, _ in out for i in (*r0, *r1))
@@ -116,39 +119,60 @@ def _cond_table(
 
 
 def _choice_ids(
-    alternatives: tuple[tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]], ...], key_ids: dict[AtomKey, int]
+    alternatives: tuple[tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]], ...],
+    key_ids: dict[AtomKey, int],
+    cache: FormulaCache,
 ) -> list[IdConjunction] | None:
     """A choice's alternatives over atom ids: one needing an unreached atom dropped, an unreached
     atom's negation dropped from its alternative; None when an alternative is left empty (the
-    choice holds)."""
+    choice holds).
+
+    Each alternative is converted once per object (``cache``, by id; the entry keeps it alive): a
+    choice is built per binding, but most of its alternatives come from memoised conjuncts shared
+    by every binding with the same values (pick's ``(forall (?y) (not (on ?y ?from)))`` per ?from).
+    """
     out: list[IdConjunction] = []
-    for pos, neg in alternatives:
-        lits: list[int] = []
-        for k in pos:
-            i = key_ids.get(k)
-            if i is None:
-                break
-            lits.append(i)
-        else:
-            for k in neg:
-                i = key_ids.get(k)
-                if i is not None:
-                    lits.append(~i)
-            if not lits:
-                return None
-            out.append(frozenset(lits))
+    for alt in alternatives:
+        hit = cache.get(id(alt))
+        if hit is None:
+            hit = cache[id(alt)] = (alt, _alternative_ids(alt, key_ids))
+        lits = hit[1]
+        if lits is None:
+            continue  # needs an atom never reached
+        if not lits:
+            return None
+        out.append(lits)  # type: ignore[arg-type]
     return out
 
 
+def _alternative_ids(
+    alt: tuple[tuple[AtomKey, ...], tuple[AtomKey, ...]], key_ids: dict[AtomKey, int]
+) -> IdConjunction | None:
+    """One alternative of a choice over atom ids (see _choice_ids); None when it needs an atom
+    never reached, empty when it holds."""
+    pos, neg = alt
+    lits: list[int] = []
+    for k in pos:
+        i = key_ids.get(k)
+        if i is None:
+            return None
+        lits.append(i)
+    for k in neg:
+        i = key_ids.get(k)
+        if i is not None:
+            lits.append(~i)
+    return frozenset(lits)
+
+
 def _piece_ids(
-    piece: tuple, key_ids: dict[AtomKey, int]
+    piece: tuple, key_ids: dict[AtomKey, int], cache: FormulaCache
 ) -> tuple[list[int], list[list[IdConjunction]]] | None:
     """A memoised key-form conjunct's negative literals and choices over atom ids (its positive
     keys are in the variant's own); None when one of its choices cannot hold."""
     lits = [~i for k in piece[1] if (i := key_ids.get(k)) is not None]
     choices: list[list[IdConjunction]] = []
     for alternatives, _relax in piece[2]:
-        alts = _choice_ids(alternatives, key_ids)
+        alts = _choice_ids(alternatives, key_ids, cache)
         if alts is None:
             continue
         if not alts:
@@ -160,6 +184,16 @@ def _piece_ids(
     return lits, choices
 
 
+def _signed(disjunct: IdConjunction) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """(positive ids, negated ids) of a conjunction of id literals, each sorted ascending: one
+    sort, the negative literals (``~i``, below 0) first in descending order of their ids."""
+    lits = sorted(disjunct)
+    k = bisect_left(lits, 0)
+    if not k:
+        return tuple(lits), ()
+    return tuple(lits[k:]), tuple(map(invert, reversed(lits[:k])))
+
+
 def precondition_dnf(
     v: Variant, key_ids: dict[AtomKey, int], scanned: FormulaCache
 ) -> list[IdConjunction] | None:
@@ -167,29 +201,24 @@ def precondition_dnf(
     the compound conjuncts through fast_dnf, and each of their disjuncts takes the literals (those
     contradicting one drop it; a disjunct that comes to contain another is dropped). None when
     fast_dnf cannot take the compound conjuncts (the general path then takes ``v.pre``)."""
-    lits: list[int] = []
-    for k in v.pos:
-        i = key_ids.get(k)
-        if i is None:
-            return []  # needs an atom never reached
-        lits.append(i)
-    for k in v.neg:
-        i = key_ids.get(k)
-        if i is not None:
-            lits.append(~i)
+    lits = list(map(key_ids.get, v.pos))
+    if None in lits:
+        return []  # needs an atom never reached
+    if v.neg:  # a never-reached atom's negation holds: dropped
+        lits += [~i for i in map(key_ids.get, v.neg) if i is not None]
     if v.choices or v.pieces:  # the compiled path (no compound conjuncts)
         choices: list[list[IdConjunction]] = []
         for piece in v.pieces:  # shared memoised conjuncts: converted once each
             hit = scanned.get(id(piece))
             if hit is None:
-                hit = scanned[id(piece)] = (piece, _piece_ids(piece, key_ids))
+                hit = scanned[id(piece)] = (piece, _piece_ids(piece, key_ids, scanned))
             found = hit[1]
             if found is None:
                 return []
             lits += found[0]  # type: ignore[index]
             choices += found[1]  # type: ignore[index]
         for choice in v.choices:  # built per binding (never shared): converted here
-            alts = _choice_ids(choice[0], key_ids)
+            alts = _choice_ids(choice[0], key_ids, scanned)
             if alts is None:
                 continue  # holds: an alternative needs nothing (its unreached atoms are false)
             if not alts:
@@ -272,13 +301,11 @@ def intern_task(
             add_ids = set(plain_add)
             adds, dels = tuple(sorted(add_ids)), tuple(sorted(set(plain_del) - add_ids))
             for disjunct in disjuncts:
-                pre = tuple(sorted([x for x in disjunct if x >= 0]))
-                neg = tuple(sorted([~x for x in disjunct if x < 0]))
+                pre, neg = _signed(disjunct)
                 ops.add((v.name, v.args, pre, neg, adds, dels, (), cost))
             continue
         for disjunct in disjuncts:
-            pre = tuple(sorted(x for x in disjunct if x >= 0))
-            neg = tuple(sorted(~x for x in disjunct if x < 0))
+            pre, neg = _signed(disjunct)
             pre_set, neg_set = set(pre), set(neg)
             add: set[int] = set(plain_add)
             dele: set[int] = set(plain_del)

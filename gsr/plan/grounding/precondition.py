@@ -8,6 +8,8 @@ parts are therefore cached per formula object (by id; the cache keeps the object
 
 from __future__ import annotations
 
+from operator import invert
+
 from gsr.pddl.model import FALSE, TRUE, And, Atom, Formula, Not, Or
 from gsr.pddl.walk import DNF_LIMIT, Conjunction, to_dnf
 from gsr.plan.grounding.simplify import Simplifier
@@ -212,7 +214,7 @@ def expand_dnf(literals: list[int], choices: list[list[IdConjunction]]) -> list[
     every consistent pick of one alternative per choice with the literals, those containing
     another dropped; None beyond DNF_LIMIT disjuncts (the general path reports it)."""
     base = frozenset(literals)
-    if any(~x in base for x in base):
+    if not base.isdisjoint(map(invert, base)):  # a literal and its negation: no disjunct
         return []
     if not choices:
         return [base]
@@ -223,7 +225,7 @@ def expand_dnf(literals: list[int], choices: list[list[IdConjunction]]) -> list[
         for left in acc:
             for right in alts:
                 merged = left | right
-                if merged in seen or any(~x in merged for x in right):
+                if merged in seen or not merged.isdisjoint(map(invert, right)):
                     continue
                 seen.add(merged)
                 nxt.append(merged)

@@ -90,7 +90,7 @@ class Simplifier:
             elif ((atom.predicate, args) in init) != pos:
                 return None
         conj = frozenset(out)
-        if any((a, not p) in conj for a, p in out):
+        if len(out) > 1 and any((a, not p) in conj for a, p in out):  # an atom and its negation
             return None
         return conj
 
