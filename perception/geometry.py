@@ -201,6 +201,31 @@ _PALETTE_HUES = (
 )
 
 
+#: Palette words with no hue: a pixel this grey, dark or bright names no chromatic colour.
+ACHROMATIC = ("black", "white", "grey")
+
+
+def point_color_names(rgb: np.ndarray) -> np.ndarray:
+    """The palette word of every pixel colour (``(N, 3)`` uint8 -> ``(N,)`` str), by the rule of
+    :func:`color_name` applied to each pixel on its own."""
+    c = rgb.reshape(-1, 3).astype(np.float64) / 255.0
+    r, g, b = c[:, 0], c[:, 1], c[:, 2]
+    mx, mn = c.max(axis=1), c.min(axis=1)
+    sat = np.where(mx > 0, (mx - mn) / np.maximum(mx, 1e-12), 0.0)
+    span = np.maximum(mx - mn, 1e-12)
+    hue = np.where(
+        mx == r,
+        (60.0 * (g - b) / span) % 360.0,
+        np.where(mx == g, 60.0 * (b - r) / span + 120.0, 60.0 * (r - g) / span + 240.0),
+    )
+    hues = np.array([h for _, h in _PALETTE_HUES])
+    words = np.array([w for w, _ in _PALETTE_HUES], dtype=object)
+    names = words[np.argmin(np.abs(hue[:, None] - hues[None, :]), axis=1)]
+    names = np.where((names == "orange") & (mx < 0.55), "brown", names)
+    grey = np.where(mx < 0.25, "black", np.where(mx > 0.75, "white", "grey"))
+    return np.where((sat < 0.25) | (mx < 0.12), grey, names).astype(str)
+
+
 def color_name(rgb: np.ndarray) -> str:
     """The palette word for a set of pixel colours (median colour, by hue/saturation/value)."""
     r, g, b = (np.median(rgb.reshape(-1, 3), axis=0) / 255.0).tolist()

@@ -12,7 +12,8 @@ object's upright box are the object's surface, not the container's. They are rem
 so the container's extent does not change, only the object's own pixels leave the container's cloud.
 What rests on the container (a box stacked on a box, a lid's handle) is not carved: its bottom is at the
 container's top. A carve that would take most of the container (the container inside the object: a box
-standing in a larger box) is not made.
+standing in a larger box, or a box on top of which the neighbour's cloud reaches) is not made; it does not
+keep the other neighbours from being carved.
 """
 
 from __future__ import annotations
@@ -49,17 +50,16 @@ def _container(inst: Instance) -> bool:
     return _object(inst) and "container" in affordances(inst.label.category)
 
 
-def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
-    """Boolean mask over ``container``'s points that lie inside a confirmed neighbour's box (see the
-    module docstring); all False when the carve would be too large."""
+def _neighbour_masks(container: Instance, others: list[Instance]) -> list[tuple[Instance, np.ndarray]]:
+    """Each confirmed neighbour not resting on ``container``, with the mask of the container's points
+    inside its box (footprint grown by SPILL_MARGIN, height range by SPILL_Z_MARGIN); empty masks left out."""
     pts = container.points
-    spilled = np.zeros(len(pts), dtype=bool)
     c_top = float(np.percentile(pts[:, 2], 98.0))
+    out = []
     for o in others:
         if o is container or not _object(o) or o.views < SPILL_CONFIRMED_VIEWS:
             continue
-        o_bottom = bottom_z(o)
-        if o_bottom > c_top - SPILL_ON_TOP:
+        if bottom_z(o) > c_top - SPILL_ON_TOP:
             continue  # resting on the container (or above it): its points are not in the container's cloud
         z_lo, z_hi = float(o.aabb_min[2]) - SPILL_Z_MARGIN, float(o.aabb_max[2]) + SPILL_Z_MARGIN
         near = (pts[:, 2] >= z_lo) & (pts[:, 2] <= z_hi)
@@ -67,19 +67,50 @@ def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
             continue
         inside = np.zeros(len(pts), dtype=bool)
         inside[near] = o.footprint_contains(pts[near, :2], margin=SPILL_MARGIN)
-        spilled |= inside
+        if inside.any():
+            out.append((o, inside))
+    return out
+
+
+def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
+    """Boolean mask over ``container``'s points that lie inside a confirmed neighbour's box (see the
+    module docstring). A neighbour whose box holds most of the container (the container inside it: a box
+    in a larger box) is not carved; all False when the carve would be too large."""
+    pts = container.points
+    spilled = np.zeros(len(pts), dtype=bool)
+    for _, inside in _neighbour_masks(container, others):
+        if inside.mean() <= SPILL_MAX_SHARE:
+            spilled |= inside
     if spilled.mean() > SPILL_MAX_SHARE or (~spilled).sum() < SPILL_MIN_POINTS:
         return np.zeros(len(pts), dtype=bool)
     return spilled
 
 
+def neighbours_read_as_container(container: Instance, others: list[Instance]) -> bool:
+    """Whether a container that one camera alone saw lies mostly (> SPILL_MAX_SHARE of its points) in the
+    boxes of confirmed movable objects that are no containers: that camera's one segment of those objects
+    (a mug and the book beside it read as a ``box``), not a container of its own. A real container's walls
+    lie outside what stands in it; a container inside a larger container, or in a fixture's box (a cube in
+    a cabinet's drawer read as a ``box``), is not counted."""
+    if container.views != 1:
+        return False
+    covered = np.zeros(len(container.points), dtype=bool)
+    for o, inside in _neighbour_masks(container, others):
+        if "movable" in affordances(o.label.category) and not _container(o):
+            covered |= inside
+    return bool(covered.mean() > SPILL_MAX_SHARE)
+
+
 def carve_neighbours(fused: list[Instance]) -> list[Instance]:
     """Each container without the points it took from confirmed neighbours (a new instance where points
-    were carved, the others as they are; order kept)."""
+    were carved, the others as they are; order kept); a one-camera container that is its neighbours
+    read as one (:func:`neighbours_read_as_container`) is left out."""
     out = []
     for inst in fused:
         if not _container(inst):
             out.append(inst)
+            continue
+        if neighbours_read_as_container(inst, fused):
             continue
         spilled = spilled_points(inst, fused)
         if not spilled.any():

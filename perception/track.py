@@ -37,9 +37,11 @@ from gsr.perception.geometry import (
     color_name,
     fit_boxes,
     number_anonymous,
+    point_color_names,
 )
 from gsr.perception.relations import bottom_z, is_container, rim_box
 from gsr.perception.spill import carve_neighbours
+from gsr.perception.view_split import drop_unconfirmed_pieces, split_by_color
 
 from gsr.categories import affordances, is_part_category
 from gsr.scene_graph import Edge, Node, SceneGraph
@@ -158,7 +160,9 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     """Merge detections of one object seen by several cameras (see the module docstring); numbered keys.
 
     Candidate pairs are merged strongest first (voxel overlap; the centre rule counts as ``MERGE_OVERLAP``),
-    and a group never takes two detections of one camera."""
+    and a group never takes two detections of one camera. One camera's segment holding two objects of
+    different colours apart is split first (:func:`gsr.perception.view_split.split_by_color`)."""
+    instances = split_by_color(instances)
     n = len(instances)
     root = list(range(n))
     views_of = {i: {view_of(inst)} for i, inst in enumerate(instances)}
@@ -189,6 +193,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         volume = [float(np.prod(np.maximum(x.aabb_max - x.aabb_min, 0.01))) for x in instances]
         for i, j in zip(*np.nonzero(cand), strict=True):
             same = instances[i].label.category == instances[j].label.category
+            agree = same and instances[i].label.category != UNKNOWN  # two views that named it alike
             if not same and max(volume[i], volume[j]) > CROSS_CATEGORY_VOLUME * min(volume[i], volume[j]):
                 continue  # a small thing touching a big one (a mug by a cabinet) is not the same object
             small, large = (i, j) if len(instances[i].points) <= len(instances[j].points) else (j, i)
@@ -196,7 +201,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             if near[i, j]:
                 overlap = max(overlap, MERGE_OVERLAP)
             if overlap >= MERGE_OVERLAP:
-                pairs.append((float(same), overlap, int(i), int(j)))
+                pairs.append((float(agree), overlap, int(i), int(j)))
     # views that agree on the category first, then the strongest overlap
     for _, _, i, j in sorted(pairs, reverse=True):
         ri, rj = find(i), find(j)
@@ -250,6 +255,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     }:  # a container cut: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
     fused = absorb_fixture_pieces(absorb_object_pieces(stacked, params), params)
+    fused = drop_unconfirmed_pieces(fused)
     number_anonymous(fused)
     return fused
 
@@ -393,6 +399,53 @@ def split_stacked(fused: list[Instance], params: GeometryParams) -> list[Instanc
             if upper is None or lower is None:
                 continue
             out = [upper if x is u else lower if x is low else x for x in out]
+            break
+    return _split_stacked_above(out, params)
+
+
+#: Points above the upper box's bottom are its own when this share of them has its colour (its walls; the
+#: rest is what stands in it, seen with them).
+STACK_COLOR_SHARE = 0.5
+
+
+def _split_stacked_above(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """The other way round: a container whose cloud took a container stacked **on** it is cut at that
+    container's bottom.
+
+    One camera can give the upper box and the box under it one segment named by the upper box's colour;
+    fusion puts it with the lower box's other views, and the lower container then reaches up to the upper
+    rim and holds the upper box. Where another view segmented the upper container on its own (U: footprint
+    overlapping, its bottom well above the fused one's bottom and well below its top) and the fused
+    container's points above U's bottom have U's colour, not the container's own, those points are U's.
+    A box standing in a box rests on the outer box's floor, not well above its bottom: never cut."""
+    out = list(fused)
+    for low in fused:
+        if not any(x is low for x in out) or not _plain_container(low):
+            continue
+        l_top, l_bottom = (
+            float(np.percentile(low.points[:, 2], 98.0)),
+            float(np.percentile(low.points[:, 2], 2.0)),
+        )
+        for up in out:
+            if up is low or not _plain_container(up) or up.label.color in (None, low.label.color):
+                continue
+            bottom = float(np.percentile(up.points[:, 2], 2.0))
+            if not (l_bottom + STACK_REACH <= bottom and bottom <= l_top - STACK_REACH):
+                continue
+            if _footprint_iou(up, low) < STACK_FOOTPRINT_IOU:
+                continue
+            above = low.points[:, 2] > bottom - 0.005
+            if above.sum() < params.min_points or (~above).sum() < params.min_points:
+                continue
+            if np.mean(point_color_names(low.rgb[above]) == up.label.color) < STACK_COLOR_SHARE:
+                continue  # the container's own walls (or what stands in it), not the upper box
+            lower = _combined(
+                low, [_subset(low, ~above)], low.label.category, low.label.color, {}, params, low.views
+            )
+            upper = _join(up, _subset(low, above), params=params, keep_label=True)
+            if upper is None or lower is None:
+                continue
+            out = [lower if x is low else upper if x is up else x for x in out]
             break
     return out
 
