@@ -124,9 +124,10 @@ class Task:
                 freq[f] += 1
         self.by_fact = [[] for _ in self.atoms]
         self.always = []
+        rarest = freq.__getitem__  # ties: the first in ``pre``, the lowest id (ids are ascending)
         for i, o in enumerate(self.ops):
             if o.pre:
-                self.by_fact[min(o.pre, key=lambda f: (freq[f], f))].append(i)
+                self.by_fact[min(o.pre, key=rarest)].append(i)
             else:
                 self.always.append(i)
         # The facts that index some operator: a state's other true facts (visitall's visited

@@ -267,6 +267,7 @@ def intern_task(
     parts_ids: dict[int, tuple[list[EffectPart], list[_PartIds], frozenset[int]]] = {}  # by list
     filtered: dict[tuple, tuple[list[_PartIds], list[_PartIds]]] = {}  # see _filtered_parts
     cond_tables: dict[tuple, tuple] = {}  # see _cond_table
+    unit = problem.metric is None  # every action costs 1 (see _cost)
     for v in fired:
         disjuncts = precondition_dnf(v, key_ids, scanned)
         if disjuncts is None:
@@ -296,7 +297,7 @@ def intern_task(
                 hit = parts_ids[id(parts)] = (parts, *_parts_ids(parts, key_ids))
             if hit[1]:
                 blocks.append((b, hit))
-        cost = _cost(v.schema.costs, v.binding, problem)
+        cost = 1.0 if unit else _cost(v.schema.costs, v.binding, problem)
         if not blocks:  # no conditional effect: the same adds and deletes for every disjunct
             add_ids = set(plain_add)
             adds, dels = tuple(sorted(add_ids)), tuple(sorted(set(plain_del) - add_ids))

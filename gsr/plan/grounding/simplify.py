@@ -293,11 +293,16 @@ class ObjectsByType:
         self.domain, self.objects = domain, objects
         self.cache: dict[tuple[str, ...], list[str]] = {}
         self.sets: dict[tuple[str, ...], frozenset[str]] = {}
+        # The objects by their declared type: a query tests each distinct type once, not each object.
+        self._by_type: dict[str, list[str]] = {}
+        for o, t in objects.items():
+            self._by_type.setdefault(t, []).append(o)
 
     def __call__(self, types: tuple[str, ...]) -> list[str]:
         found = self.cache.get(types)
         if found is None:
-            found = sorted(o for o, t in self.objects.items() if self.domain.is_subtype(t, types))
+            is_subtype = self.domain.is_subtype
+            found = sorted(o for t, os in self._by_type.items() if is_subtype(t, types) for o in os)
             self.cache[types] = found
             self.sets[types] = frozenset(found)
         return found
