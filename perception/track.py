@@ -255,7 +255,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     }:  # a container cut: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
     fused = absorb_fixture_pieces(absorb_object_pieces(stacked, params), params)
-    fused = drop_unconfirmed_pieces(fused)
+    fused = drop_unconfirmed_pieces(drop_duplicate_views(fused))
     number_anonymous(fused)
     return fused
 
@@ -299,6 +299,54 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
         return fused
     grown = _grown_by_pieces(fused, fixtures, pieces, params)
     return [grown.get(id(x), x) for x in fused if id(x) not in pieces]
+
+
+#: A one-camera detection is another camera's view of an object that cameras other than its own saw when
+#: this share of its 1 cm voxels lies on that object's cloud: a movable object's (no container) ...
+DUPLICATE_ON_OBJECT = 0.5
+#: ... or a container's, a part's or a fixture's (what stands in a container touches its walls and floor).
+DUPLICATE_ON_SURFACE = 0.9
+
+
+def drop_duplicate_views(fused: list[Instance]) -> list[Instance]:
+    """One camera's detection of an object that other cameras saw, which fusion did not join, is dropped.
+
+    Fusion joins views of one object by 3D overlap, but not views whose categories differ and whose sizes
+    differ more than ``CROSS_CATEGORY_VOLUME`` (a camera's segment of a red cube with a strip of the box
+    wall beside it, named ``mug``; a sliver of a drawer's front named ``milk``): that camera's detection
+    stays an object of its own, in the container the object stands in. A detection X that one camera saw,
+    most of whose voxels lie on the cloud of an object H that at least two cameras saw, **none of them X's
+    camera**, is that camera's view of H: H already holds what the other cameras saw of it. The share is
+    :data:`DUPLICATE_ON_OBJECT` on a movable object and :data:`DUPLICATE_ON_SURFACE` on a container, part or
+    fixture (an object standing in a box against a wall lies partly on the box's cloud). Parts, grounds
+    and hosts that X's camera saw (two segments of that camera: the piece rules decide) are left alone."""
+    hosts = [h for h in fused if h.views >= 2 and h.label.category not in GROUNDS]
+    if not hosts:
+        return fused
+    cams = {id(h): _cameras(h) for h in hosts}
+    dropped: set[int] = set()
+    for x in fused:
+        if x.views != 1 or _no_object(x, allow_unknown=True):
+            continue
+        mine = _cameras(x)
+        keys = None
+        lo, hi = x.aabb_min - OVERLAP_VOXEL, x.aabb_max + OVERLAP_VOXEL
+        for h in hosts:
+            if h is x or not mine or mine & cams[id(h)]:
+                continue
+            if np.any(h.aabb_min > hi) or np.any(h.aabb_max < lo):
+                continue
+            movable = "movable" in affordances(h.label.category) and not is_container(h)
+            need = (
+                DUPLICATE_ON_OBJECT
+                if movable and not is_part_category(h.label.category)
+                else DUPLICATE_ON_SURFACE
+            )
+            keys = _voxel_keys(x.points) if keys is None else keys
+            if _key_overlap(keys, _voxel_keys(h.points)) >= need:
+                dropped.add(id(x))
+                break
+    return [x for x in fused if id(x) not in dropped]
 
 
 #: A one-camera detection is a piece of a neighbouring object when this share of its points lies inside

@@ -9,7 +9,7 @@ from gsr.perception.frame import InstanceLabel
 from gsr.perception.geometry import Instance, color_name, fit_boxes, point_color_names
 from gsr.perception.relations import supports
 from gsr.perception.spill import carve_neighbours, neighbours_read_as_container, spilled_points
-from gsr.perception.track import fuse_views, split_stacked
+from gsr.perception.track import drop_duplicate_views, fuse_views, split_stacked
 from gsr.perception.view_split import SPLIT_PIECE, color_pieces, drop_unconfirmed_pieces, split_by_color
 
 from tests.perception.test_containment import PARAMS, PLANE, TH, open_box, solid, table
@@ -139,3 +139,28 @@ def test_a_box_that_took_the_box_stacked_on_it_is_cut_at_that_boxs_bottom_but_a_
     small = _coloured("box_2", "box", [(inner, YELLOW)], views=2)
     kept = split_stacked([whole, small], PARAMS)
     assert kept[0] is whole and kept[1] is small
+
+
+def _from(inst: Instance, *cams: int) -> Instance:
+    """``inst`` as fused from detections of the given cameras (its provenance)."""
+    inst.label = InstanceLabel(
+        category=inst.label.category,
+        color=inst.label.color,
+        attributes={"_members": tuple(f"f{c}m{k}" for k, c in enumerate(cams))},
+    )
+    inst.views = len(cams)
+    return inst
+
+
+def test_one_cameras_view_of_an_object_that_only_other_cameras_saw_is_dropped():
+    cube = _from(solid("cube_1", "cube", (0.3, 0.0, 0.0), (0.34, 0.04, 0.04)), 0, 1, 3)
+    # camera 2 saw the cube and a strip beside it and named it a mug: too large to fuse with the cube
+    strip = solid("s", "mug", (0.3, 0.04, 0.0), (0.305, 0.05, 0.04)).points
+    seen = _from(_coloured("mug_1", "mug", [(np.concatenate([cube.points, strip]), RED)]), 2)
+    assert [i.key for i in drop_duplicate_views([cube, seen])] == ["cube_1"]
+    # camera 1 saw the cube: then its second segment there is for the piece rules, not this one
+    assert len(drop_duplicate_views([cube, _from(seen, 1)])) == 2
+    # a cube standing against a box's wall on its floor lies partly on the box's cloud: kept
+    box = _from(open_box("box_1", (0.2, -0.1, 0.0), (0.34, 0.1, 0.085)), 0, 1, 3)
+    inner = _from(solid("cube_2", "cube", (0.295, 0.0, 0.008), (0.335, 0.04, 0.048)), 2)
+    assert len(drop_duplicate_views([box, inner])) == 2
