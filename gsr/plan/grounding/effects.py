@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from gsr.pddl.model import Atom, Formula, Not, TypedVar, is_variable
-from gsr.pddl.walk import Conjunction, to_dnf
+from gsr.pddl.walk import to_dnf
 from gsr.plan.grounding.normalize import Schema
 from gsr.plan.grounding.precondition import AtomKey
 from gsr.plan.grounding.simplify import Simplifier
@@ -17,10 +17,13 @@ from gsr.plan.grounding.simplify import Simplifier
 # by ?from), so its atoms are grounded, and later interned, once for all of them.
 # Effect atoms are (predicate, args) keys (AtomKey), not Atom objects: they are hashed a few times
 # each (reached test, interning) and tuples hash and compare in C; the few that get reached become
-# Atoms then. Look-ups of Atoms go through their keys for the same reason.
-EffectPart = tuple[Conjunction, tuple[tuple[AtomKey, bool], ...]]
-EffectBlock = tuple[Conjunction, list[EffectPart]]
-EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[Atom]]]
+# Atoms then. Look-ups of Atoms go through their keys for the same reason. The conditions (base and
+# inner) are sets of key literals too (KeyConjunction), never Atoms: an Atom hashes through a Python
+# __hash__ each time a set of them is built or probed.
+KeyConjunction = frozenset[tuple[AtomKey, bool]]
+EffectPart = tuple[KeyConjunction, tuple[tuple[AtomKey, bool], ...]]
+EffectBlock = tuple[KeyConjunction, list[EffectPart]]
+EffectMemo = dict[tuple, tuple[list[EffectPart], frozenset[AtomKey]]]
 
 
 @dataclass(slots=True)
@@ -80,7 +83,7 @@ def _key_conj(pos: tuple[AtomKey, ...], neg: tuple[AtomKey, ...]) -> Formula:
     return Simplifier.combine(True, parts)
 
 
-EMPTY: Conjunction = frozenset()
+EMPTY: KeyConjunction = frozenset()
 
 
 Literals = tuple[tuple[Atom, bool], ...]
@@ -133,7 +136,7 @@ def effect_groups(schema: Schema, simplify: Simplifier) -> list[EffectGroup]:
     return out
 
 
-Deferred = tuple[Variant, EffectGroup, dict[str, str], Conjunction]
+Deferred = tuple[Variant, EffectGroup, dict[str, str], KeyConjunction]
 
 
 def ground_effects(
@@ -176,10 +179,10 @@ def group_effects(
     split = group[3]
     base = None
     if split is not None:
-        base = simplify.ground_literals(split[0], v.binding)
+        base = simplify.ground_literal_keys(split[0], v.binding)
         if base is None:
             return  # the condition is false whatever the effect variables are
-        if any(pos and (a.predicate, a.args) not in reached for a, pos in base):
+        if any(pos and k not in reached for k, pos in base):
             deferred.append((v, group, v.binding, base))
             return
     ground_group(group, v.binding, base, simplify, v.effects, memo)  # type: ignore[arg-type]
@@ -188,7 +191,7 @@ def group_effects(
 def ground_group(
     group: EffectGroup,
     binding: dict[str, str],
-    base: Conjunction | None,
+    base: KeyConjunction | None,
     simplify: Simplifier,
     effects: list[EffectBlock],
     memo: EffectMemo | None = None,
@@ -209,7 +212,7 @@ def ground_group(
         if entry is None:
             parts: list[EffectPart] = []
             for b in effect_instances(group, binding, simplify, memo):
-                inner = simplify.ground_literals(split[1], b) if split[1] else frozenset()
+                inner = simplify.ground_literal_keys(split[1], b) if split[1] else frozenset()
                 if inner is None:
                     continue
                 ground = tuple(
@@ -230,16 +233,19 @@ def ground_group(
     own: list[EffectPart] = []
     for b in instances:
         if split is not None and base is not None:  # the common case: a conjunction of literals
-            conj = simplify.ground_literals(split[1], b) if split[1] else base
+            conj = simplify.ground_literal_keys(split[1], b) if split[1] else base
             if conj is None:
                 continue
             if conj is not base:
                 if any((a, not pos) in base for a, pos in conj):
                     continue
                 conj = base | conj
-            conjs: list[Conjunction] = [conj]
+            conjs: list[KeyConjunction] = [conj]
         else:
-            conjs = to_dnf(simplify(condition, b))
+            conjs = [
+                frozenset([((a.predicate, a.args), pos) for a, pos in c])
+                for c in to_dnf(simplify(condition, b))
+            ]
         ground = tuple(
             ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del) for atom, is_del in lits
         )
@@ -301,7 +307,7 @@ def new_adds(
         for inner, atom in adds:
             if atom not in reached:
                 if outer is None:
-                    outer = tuple((a.predicate, a.args) for a, pos in base if pos)
+                    outer = tuple([k for k, pos in base if pos])
                 pending.append((outer + inner, atom))
 
 
@@ -313,6 +319,6 @@ def _adds(parts: list[EffectPart]) -> list[tuple[tuple[AtomKey, ...], AtomKey]]:
         for atom, is_del in ground:
             if not is_del:
                 if keys is None:
-                    keys = tuple((a.predicate, a.args) for a, pos in inner if pos)
+                    keys = tuple([k for k, pos in inner if pos])
                 out.append((keys, atom))
     return out

@@ -699,7 +699,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
         # Deferred effect groups whose binding-level condition is now reached get grounded.
         blocked = []
         for v, group, binding, base in deferred:
-            if any(pos and (a.predicate, a.args) not in reached_keys for a, pos in base):
+            if any(pos and k not in reached_keys for k, pos in base):
                 blocked.append((v, group, binding, base))
                 continue
             start = len(v.effects)

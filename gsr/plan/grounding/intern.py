@@ -8,8 +8,8 @@ from operator import invert
 from gsr.errors import GSRError
 from gsr.pddl.axioms import strata
 from gsr.pddl.model import Action, And, Atom, Axiom, Domain, Formula, Increase, Literal, Problem
-from gsr.pddl.walk import Conjunction, nnf, to_dnf
-from gsr.plan.grounding.effects import EMPTY, EffectPart, Variant
+from gsr.pddl.walk import nnf, to_dnf
+from gsr.plan.grounding.effects import EMPTY, EffectPart, KeyConjunction, Variant
 from gsr.plan.grounding.precondition import AtomKey, FormulaCache, IdConjunction, expand_dnf, fast_dnf, id_dnf
 from gsr.plan.grounding.simplify import ObjectsByType, Simplifier
 from gsr.plan.task import GroundOp, Task
@@ -48,13 +48,13 @@ def _cost(costs: tuple[Increase, ...], binding: dict[str, str], problem: Problem
 
 
 def _condition_ids(
-    cond: Conjunction, ids: dict[AtomKey, int]
+    cond: KeyConjunction, ids: dict[AtomKey, int]
 ) -> tuple[tuple[int, ...], tuple[int, ...]] | tuple[()]:
     """(positive ids, negative ids) of a condition, sorted; () when it needs an unreached atom."""
     pos_ids: list[int] = []
     neg_ids: list[int] = []
-    for a, pos in cond:
-        i = ids.get((a.predicate, a.args))
+    for k, pos in cond:
+        i = ids.get(k)
         if pos:
             if i is None:
                 return ()

@@ -94,6 +94,24 @@ class Simplifier:
             return None
         return conj
 
+    def ground_literal_keys(
+        self, literals: tuple[tuple[Atom, bool], ...], binding: Mapping[str, str]
+    ) -> frozenset[tuple[tuple[str, tuple[str, ...]], bool]] | None:
+        """``ground_literals`` with each fluent atom as its ``(predicate, args)`` key: no Atom is
+        built, and the set hashes its literals in C (effect conditions, gsr.plan.grounding.effects)."""
+        out = []
+        fluent, init = self.fluent, self.init_keys
+        for atom, pos in literals:
+            key = (atom.predicate, tuple(map(binding.get, atom.args, atom.args)))
+            if atom.predicate in fluent:
+                out.append((key, pos))
+            elif (key in init) != pos:
+                return None
+        conj = frozenset(out)
+        if len(out) > 1 and any((k, not p) in conj for k, p in out):  # an atom and its negation
+            return None
+        return conj
+
     def static(self, atom: Atom) -> bool | None:
         """True/False for a ground static atom, None for a fluent one."""
         if atom.predicate in self.fluent:
