@@ -254,6 +254,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
         id(x) for x in fused
     }:  # a container cut: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
+    stacked = join_under_stacked(stacked, params)
     fused = absorb_fixture_pieces(absorb_object_pieces(stacked, params), params)
     fused = drop_unconfirmed_pieces(drop_duplicate_views(fused))
     number_anonymous(fused)
@@ -495,6 +496,51 @@ def _split_stacked_above(fused: list[Instance], params: GeometryParams) -> list[
                 continue
             out = [lower if x is low else upper if x is up else x for x in out]
             break
+    return out
+
+
+#: A container rests on what lies under it when the lower one's top is within this (m) of its bottom ...
+STACK_TOP_GAP = 0.015
+#: ... and over this share of the lower one's points lies inside its footprint grown by STACK_UNDER_MARGIN (m)
+#: (the lower box's wall bands stand at the edge of the upper box's footprint).
+STACK_UNDER_SHARE = 0.5
+STACK_UNDER_MARGIN = 0.03
+
+
+def join_under_stacked(fused: list[Instance], params: GeometryParams) -> list[Instance]:
+    """Two containers of one category and colour that a container stacked on them both rests on are one.
+
+    The box under a stacked box shows the cameras only the bands of its walls below the upper box; one
+    camera sees its front wall, another its back wall, and the pieces share no voxels: fusion makes two
+    boxes of that colour, each completed by other views, both under the upper box, and what stands in the
+    lower box is ``in`` one half or the other. A box stacked on containers (several cameras saw it) rests
+    on one container: the containers of one category and colour whose tops are at its bottom (within
+    :data:`STACK_TOP_GAP`) and that lie under its footprint (:data:`STACK_UNDER_SHARE` of their points inside
+    it, grown by :data:`STACK_UNDER_MARGIN`) are that one container."""
+    out = list(fused)
+    for up in fused:
+        if not any(x is up for x in out) or not _plain_container(up) or up.views < 2:
+            continue
+        u_bottom = bottom_z(up)
+        under: dict[tuple[str, str | None], list[Instance]] = {}
+        for low in out:
+            if low is up or not _plain_container(low) or low.label.color is None:
+                continue
+            if abs(float(np.percentile(low.points[:, 2], 98.0)) - u_bottom) > STACK_TOP_GAP:
+                continue
+            inside = up.footprint_contains(low.points[:, :2], margin=STACK_UNDER_MARGIN)
+            if float(np.mean(inside)) > STACK_UNDER_SHARE:
+                under.setdefault((low.label.category, low.label.color), []).append(low)
+        for halves in under.values():
+            if len(halves) < 2:
+                continue
+            halves = sorted(halves, key=lambda x: (x.views, len(x.points)), reverse=True)
+            joined = _join(*halves, params=params, keep_label=True)
+            if joined is None:
+                continue
+            at = next(k for k, x in enumerate(out) if x is halves[0])
+            out[at] = joined
+            out = [x for x in out if not any(x is h for h in halves[1:])]
     return out
 
 

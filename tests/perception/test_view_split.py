@@ -9,7 +9,7 @@ from gsr.perception.frame import InstanceLabel
 from gsr.perception.geometry import Instance, color_name, fit_boxes, point_color_names
 from gsr.perception.relations import supports
 from gsr.perception.spill import carve_neighbours, neighbours_read_as_container, spilled_points
-from gsr.perception.track import drop_duplicate_views, fuse_views, split_stacked
+from gsr.perception.track import drop_duplicate_views, fuse_views, join_under_stacked, split_stacked
 from gsr.perception.view_split import SPLIT_PIECE, color_pieces, drop_unconfirmed_pieces, split_by_color
 
 from tests.perception.test_containment import PARAMS, PLANE, TH, open_box, solid, table
@@ -164,3 +164,23 @@ def test_one_cameras_view_of_an_object_that_only_other_cameras_saw_is_dropped():
     box = _from(open_box("box_1", (0.2, -0.1, 0.0), (0.34, 0.1, 0.085)), 0, 1, 3)
     inner = _from(solid("cube_2", "cube", (0.295, 0.0, 0.008), (0.335, 0.04, 0.048)), 2)
     assert len(drop_duplicate_views([box, inner])) == 2
+
+
+def test_two_halves_of_the_box_under_a_stacked_box_are_one_box_but_boxes_beside_it_are_not():
+    lower = open_box("l", (0.3, -0.1, 0.0), (0.55, 0.07, 0.085)).points
+    upper = _coloured(
+        "box_1", "box", [(open_box("u", (0.305, -0.095, 0.085), (0.545, 0.065, 0.17)).points, RED)], views=4
+    )
+    # cameras saw the blue box's front and back wall bands below the red box apart: two fused blue boxes
+    front = _coloured("box_2", "box", [(lower[lower[:, 1] < -0.04], BLUE)], views=3)
+    back = _coloured("box_3", "box", [(lower[lower[:, 1] > 0.01], BLUE)], views=2)
+    out = join_under_stacked([upper, front, back], PARAMS)
+    assert [i.key for i in out] == ["box_1", "box_2"]
+    assert out[1].aabb_min[1] == pytest.approx(-0.1) and out[1].aabb_max[1] == pytest.approx(0.07)
+    sup = supports([table(), *out], PLANE, TH)
+    assert sup["box_1"] == ("on", "box_2")
+    # of another colour, or beside the upper box (not under it), they stay two
+    other = _coloured("box_3", "box", [(lower[lower[:, 1] > 0.01], YELLOW)], views=2)
+    assert len(join_under_stacked([upper, front, other], PARAMS)) == 3
+    beside = _coloured("box_3", "box", [(lower[lower[:, 1] > 0.01] + [0.0, 0.2, 0.0], BLUE)], views=2)
+    assert len(join_under_stacked([upper, front, beside], PARAMS)) == 3
