@@ -119,20 +119,21 @@ ArgIndex = dict[tuple[str, int, str], list[tuple[str, ...]]]
 def _index_atom(
     index: dict[str, set[tuple[str, ...]]],
     by_arg: ArgIndex,
-    atom: Atom,
+    predicate: str,
+    args: tuple[str, ...],
     added: dict[str, list[tuple[str, ...]]] | None = None,
 ) -> None:
-    """Add a new atom to the indexes (and, in order of arrival, to ``added``)."""
-    index.setdefault(atom.predicate, set()).add(atom.args)
+    """Add a new atom ``(predicate, args)`` to the indexes (and, in order of arrival, to ``added``)."""
+    index.setdefault(predicate, set()).add(args)
     if added is not None:
-        added.setdefault(atom.predicate, []).append(atom.args)
-    for k, v in enumerate(atom.args):
-        key = (atom.predicate, k, v)
+        added.setdefault(predicate, []).append(args)
+    for k, v in enumerate(args):
+        key = (predicate, k, v)
         found = by_arg.get(key)
         if found is None:
-            by_arg[key] = [atom.args]
+            by_arg[key] = [args]
         else:
-            found.append(atom.args)
+            found.append(args)
 
 
 def schema_bindings(
@@ -575,16 +576,15 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     init = set(problem.init)
     simplify = Simplifier(objects, fluent, init)
 
-    reached: set[Atom] = set(init)
     index: dict[str, set[tuple[str, ...]]] = {}
     by_arg: ArgIndex = {}
     added: dict[str, list[tuple[str, ...]]] = {}  # reached atoms by predicate, in order of arrival
     for a in init:
-        _index_atom(index, by_arg, a, added)
+        _index_atom(index, by_arg, a.predicate, a.args, added)
     if any(atom.predicate == EQUALS for s in schemas for atom in s.join):
         # Equalities of split cases join against (o, o) for every object (never a task atom).
         for o in sorted(objects.objects):
-            _index_atom(index, by_arg, Atom(EQUALS, (o, o)))
+            _index_atom(index, by_arg, EQUALS, (o, o))
     # Static disjunctions as relations over the initial atoms, joined like join atoms (static_join).
     extra: list[tuple[Atom, ...]] = []
     for joins in compiled.static_joins:
@@ -593,7 +593,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
             rel = relation(join, index)
             if rel is not None:
                 for tup in rel:
-                    _index_atom(index, by_arg, Atom(join[0].predicate, tup))
+                    _index_atom(index, by_arg, join[0].predicate, tup)
                 heads.append(join[0])
         extra.append(tuple(heads))
     groups, alternatives, narrow, parts = (
@@ -712,10 +712,8 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
             if key in reached_keys:
                 continue
             if all(c in reached_keys for c in cond):
-                atom = Atom(*key)
-                reached.add(atom)
                 reached_keys.add(key)
-                _index_atom(index, by_arg, atom, added)
+                _index_atom(index, by_arg, key[0], key[1], added)
                 changed = True
                 for si, bkey, binding in watch.pop(key, ()):
                     watched.discard(bkey)
@@ -724,4 +722,4 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
                 waiting.append((cond, key))
         pending = waiting
     _check(deadline)
-    return intern_task(domain, problem, fired, reached, fluent, simplify)
+    return intern_task(domain, problem, fired, reached_keys, fluent, simplify)

@@ -248,15 +248,18 @@ def intern_task(
     domain: Domain,
     problem: Problem,
     fired: list[Variant],
-    reached: set[Atom],
+    reached: set[AtomKey],
     fluent: set[str],
     simplify: Simplifier | None = None,
 ) -> Task:
-    """The Task of the fired actions over the reached fluent atoms (``simplify``: the grounding's,
-    reused for the goal)."""
-    atoms = sorted((a for a in reached if a.predicate in fluent), key=lambda a: (a.predicate, a.args))
-    ids = {a: i for i, a in enumerate(atoms)}
-    key_ids = {(a.predicate, a.args): i for i, a in enumerate(atoms)}
+    """The Task of the fired actions over the reached fluent atoms (``reached``: their
+    ``(predicate, args)`` keys, the initial ones included; ``simplify``: the grounding's, reused for
+    the goal)."""
+    keys = sorted([k for k in reached if k[0] in fluent])  # by (predicate, args), as the atoms
+    key_ids = {k: i for i, k in enumerate(keys)}
+    initial = {(a.predicate, a.args): a for a in problem.init}  # the initial atoms' own objects
+    atoms = [a if (a := initial.get(k)) is not None else Atom(*k) for k in keys]
+    reached_atoms: set[Atom] | None = None  # the general path's prune (built when needed)
     # The operators by their fields (name, args, pre, neg, add, delete, cond, cost): tuples hash and
     # compare in C, so duplicates are dropped and the order is taken without a GroundOp each.
     ops: set[tuple] = set()
@@ -271,7 +274,9 @@ def intern_task(
     for v in fired:
         disjuncts = precondition_dnf(v, key_ids, scanned)
         if disjuncts is None:
-            disjuncts = id_dnf(v.pre, reached, key_ids)
+            if reached_atoms is None:
+                reached_atoms = {Atom(*k) for k in reached}
+            disjuncts = id_dnf(v.pre, reached_atoms, key_ids)
         if not disjuncts:
             continue
         # The variant's effect blocks over atom ids; effects on never-reached atoms, or needing
@@ -351,9 +356,10 @@ def intern_task(
     ]
     init = 0
     for a in problem.init:
-        if a in ids:
-            init |= 1 << ids[a]
-    goals = ground_goal(domain, problem, problem.goal, ids, fluent, simplify)
+        i = key_ids.get((a.predicate, a.args))
+        if i is not None:
+            init |= 1 << i
+    goals = _goal_ids(domain, problem, problem.goal, key_ids, fluent, simplify)
     if not domain.axioms:
         return Task(atoms, ordered, init, goals)
     level = {pred: k for k, preds in enumerate(strata(domain)) for pred in preds}
@@ -382,13 +388,27 @@ def ground_goal(
     ``simplify``: a Simplifier over this problem's objects, ``fluent`` and initial state (the
     grounding's, with its memoised quantifiers); a new one when None.
     """
+    key_ids = {(a.predicate, a.args): i for a, i in ids.items()}
+    return _goal_ids(domain, problem, goal, key_ids, fluent, simplify)
+
+
+def _goal_ids(
+    domain: Domain,
+    problem: Problem,
+    goal: Formula,
+    key_ids: dict[AtomKey, int],
+    fluent: set[str],
+    simplify: Simplifier | None = None,
+) -> list[tuple[tuple[int, ...], tuple[int, ...]]]:
+    """``ground_goal`` with the atom ids by ``(predicate, args)`` key."""
     if simplify is None:
         simplify = Simplifier(ObjectsByType(domain, problem.all_objects(domain)), fluent, problem.init)
     out = []
     for conj in to_dnf(simplify(nnf(goal), {})):
-        if any(pos and a not in ids for a, pos in conj):
+        keyed = [((a.predicate, a.args), pos) for a, pos in conj]
+        if any(pos and k not in key_ids for k, pos in keyed):
             continue
-        pos_ids = tuple(sorted(ids[a] for a, pos in conj if pos))
-        neg_ids = tuple(sorted(ids[a] for a, pos in conj if not pos and a in ids))
+        pos_ids = tuple(sorted(key_ids[k] for k, pos in keyed if pos))
+        neg_ids = tuple(sorted(key_ids[k] for k, pos in keyed if not pos and k in key_ids))
         out.append((pos_ids, neg_ids))
     return out
