@@ -216,8 +216,10 @@ def ground_group(
                 if inner is None:
                     continue
                 ground = tuple(
-                    ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
-                    for atom, is_del in lits
+                    [
+                        ((atom.predicate, tuple(map(b.get, atom.args, atom.args))), is_del)
+                        for atom, is_del in lits
+                    ]
                 )
                 parts.append((inner, ground))
             entry = memo[key] = (parts, frozenset(a for inner, _ in parts for a, _ in inner))

@@ -634,14 +634,15 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
     retry: list[list[tuple[tuple, dict[str, str]]]] = [[] for _ in schemas]
     watch: dict[AtomKey, list[tuple[int, tuple, dict[str, str]]]] = {}
     watched: set[tuple] = set()
+    all_names = [[p.name for p in schema.all_params] for schema in schemas]
     changed = True
     while changed:
         changed = False
         for si, schema in enumerate(schemas):
-            names = [p.name for p in schema.all_params]
+            names = all_names[si]
             # Bindings depend only on the join predicates' atoms: while those did not grow, only
             # the bindings that have not fired yet (and may now) are looked at again.
-            sizes = tuple(len(index.get(p, ())) for p in triggers[si])
+            sizes = tuple([len(index.get(p, ())) for p in triggers[si]])
             old = join_sizes[si]
             candidates = slow[si] + retry[si]
             retry[si] = []
@@ -711,7 +712,7 @@ def ground_task(domain: Domain, problem: Problem, deadline: float | None = None)
         for cond, key in pending:
             if key in reached_keys:
                 continue
-            if all(c in reached_keys for c in cond):
+            if reached_keys.issuperset(cond):
                 reached_keys.add(key)
                 _index_atom(index, by_arg, key[0], key[1], added)
                 changed = True

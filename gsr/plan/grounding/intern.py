@@ -61,7 +61,10 @@ def _condition_ids(
             pos_ids.append(i)
         elif i is not None:
             neg_ids.append(i)
-    return (tuple(sorted(pos_ids)), tuple(sorted(neg_ids)))
+    return (
+        tuple(sorted(pos_ids)) if len(pos_ids) > 1 else tuple(pos_ids),
+        tuple(sorted(neg_ids)) if len(neg_ids) > 1 else tuple(neg_ids),
+    )
 
 
 # An effect part over atom ids: (condition positive ids, condition negative ids, add ids, delete

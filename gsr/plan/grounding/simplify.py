@@ -144,6 +144,9 @@ class Simplifier:
             ):
                 return
         index, has, objects = self.index, self.objects.has, self.objects
+        # When the guards mention every parameter, a binding that matched the last guard is whole:
+        # it is yielded there, without one more generator level per instance.
+        last = len(useful) - 1 if all(any(p.name in g.args for g in useful) for p in params) else -1
 
         def rec(k: int, b: dict[str, str]) -> Iterator[dict[str, str]]:
             if k == len(useful):
@@ -172,7 +175,10 @@ class Simplifier:
                     elif (bound if bound is not None else a) != v:
                         break
                 else:
-                    yield from rec(k + 1, nb)
+                    if k == last:
+                        yield nb
+                    else:
+                        yield from rec(k + 1, nb)
 
         yield from rec(0, dict(binding))
 
