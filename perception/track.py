@@ -249,12 +249,11 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
     fused = carve_neighbours(fused)  # a container's cloud that spilled over its neighbours
     fused = absorb_fragments(merge_duplicates(fused, params), params)
     fused = split_disjoint(fused, params)
-    stacked = split_stacked(fused, params)
+    stacked = join_under_stacked(split_stacked(fused, params), params)
     if {id(x) for x in stacked} != {
         id(x) for x in fused
-    }:  # a container cut: its new walls may have pieces to absorb
+    }:  # a container cut or joined: its new walls may have pieces to absorb
         stacked = absorb_fragments(stacked, params)
-    stacked = join_under_stacked(stacked, params)
     fused = absorb_fixture_pieces(absorb_object_pieces(stacked, params), params)
     fused = drop_unconfirmed_pieces(drop_duplicate_views(fused))
     number_anonymous(fused)
@@ -508,13 +507,14 @@ STACK_UNDER_MARGIN = 0.03
 
 
 def join_under_stacked(fused: list[Instance], params: GeometryParams) -> list[Instance]:
-    """Two containers of one category and colour that a container stacked on them both rests on are one.
+    """Two containers of one colour that a container stacked on them both rests on are one.
 
     The box under a stacked box shows the cameras only the bands of its walls below the upper box; one
     camera sees its front wall, another its back wall, and the pieces share no voxels: fusion makes two
-    boxes of that colour, each completed by other views, both under the upper box, and what stands in the
+    containers of that colour, each completed by other views, both under the upper box, and what stands in the
     lower box is ``in`` one half or the other. A box stacked on containers (several cameras saw it) rests
-    on one container: the containers of one category and colour whose tops are at its bottom (within
+    on one container: the containers of one colour (whatever each camera named them: ``box``,
+    ``lidded_box``, ``cookie_box``) whose tops are at its bottom (within
     :data:`STACK_TOP_GAP`) and that lie under its footprint (:data:`STACK_UNDER_SHARE` of their points inside
     it, grown by :data:`STACK_UNDER_MARGIN`) are that one container."""
     out = list(fused)
@@ -522,7 +522,7 @@ def join_under_stacked(fused: list[Instance], params: GeometryParams) -> list[In
         if not any(x is up for x in out) or not _plain_container(up) or up.views < 2:
             continue
         u_bottom = bottom_z(up)
-        under: dict[tuple[str, str | None], list[Instance]] = {}
+        under: dict[str, list[Instance]] = {}
         for low in out:
             if low is up or not _plain_container(low) or low.label.color is None:
                 continue
@@ -530,7 +530,7 @@ def join_under_stacked(fused: list[Instance], params: GeometryParams) -> list[In
                 continue
             inside = up.footprint_contains(low.points[:, :2], margin=STACK_UNDER_MARGIN)
             if float(np.mean(inside)) > STACK_UNDER_SHARE:
-                under.setdefault((low.label.category, low.label.color), []).append(low)
+                under.setdefault(low.label.color, []).append(low)
         for halves in under.values():
             if len(halves) < 2:
                 continue
