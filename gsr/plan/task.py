@@ -93,10 +93,29 @@ class Task:
 
     def __post_init__(self) -> None:
         self._build_axioms()
-        self.pre_mask = [mask(o.pre) for o in self.ops]
-        self.neg_mask = [mask(o.neg) for o in self.ops]
-        self.add_mask = [mask(o.add) for o in self.ops]
-        self.del_mask = [mask(o.delete) for o in self.ops]
+        # ``mask`` inlined: one pass, no call per mask (4 per operator; ~1/3 of this loop's time).
+        pre_mask: list[int] = []
+        neg_mask: list[int] = []
+        add_mask: list[int] = []
+        del_mask: list[int] = []
+        for o in self.ops:
+            m = 0
+            for i in o.pre:
+                m |= 1 << i
+            pre_mask.append(m)
+            m = 0
+            for i in o.neg:
+                m |= 1 << i
+            neg_mask.append(m)
+            m = 0
+            for i in o.add:
+                m |= 1 << i
+            add_mask.append(m)
+            m = 0
+            for i in o.delete:
+                m |= 1 << i
+            del_mask.append(m)
+        self.pre_mask, self.neg_mask, self.add_mask, self.del_mask = pre_mask, neg_mask, add_mask, del_mask
         # Conditional effects repeat across operators (the cube-counting groups of every pick and
         # place): each distinct one is converted once.
         # Grounding hands many operators the very same cond tuple: converted once per object.

@@ -76,9 +76,19 @@ def _parts_ids(parts: list[EffectPart], key_ids: dict[AtomKey, int]) -> tuple[li
     """Effect parts over atom ids; parts needing, or changing only, never-reached atoms dropped."""
     out: list[_PartIds] = []
     for inner, ground in parts:
-        r = _condition_ids(inner, key_ids) if inner else ((), ())
-        if not r:
-            continue
+        if len(inner) == 1:  # the common one-literal condition (cube counting's count), inline
+            ((k, pos),) = inner
+            i = key_ids.get(k)
+            if pos:
+                if i is None:
+                    continue
+                r = ((i,), ())
+            else:
+                r = ((), (i,) if i is not None else ())
+        else:
+            r = _condition_ids(inner, key_ids) if inner else ((), ())
+            if not r:
+                continue
         adds = tuple([i for a, is_del in ground if not is_del and (i := key_ids.get(a)) is not None])
         dels = tuple([i for a, is_del in ground if is_del and (i := key_ids.get(a)) is not None])
         if adds or dels:
