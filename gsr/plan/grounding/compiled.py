@@ -190,6 +190,17 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
     objects: dict[tuple[str, ...], str] = {}  # object lists by type, read once per problem
     uses_extra = False
 
+    # One-literal alternatives over the action's variables, built once per binding and shared by
+    # the split disjunctions that repeat them (pick's ``(not (in ?o ?from))`` in three of them):
+    # interning then converts one object (gsr.plan.grounding.intern._choice_ids caches by object).
+    locals_: dict[str, str] = {}
+
+    def local(source: str) -> str:
+        name = locals_.get(source)
+        if name is None:
+            name = locals_[source] = f"a{len(locals_)}"
+        return name
+
     def const(obj: object) -> str:
         name = f"C{len(consts)}"
         consts[name] = obj
@@ -286,10 +297,10 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
             body.append("        alts += g")
         for q in full:
             if type(q) is Atom and q.predicate in fluent_names:
-                body.append(f"        alts.append((({_key_expr(q, slots)},), ()))")
+                body.append(f"        alts.append({local(f'(({_key_expr(q, slots)},), ())')})")
                 continue
             if type(q) is Not and type(q.formula) is Atom and q.formula.predicate in fluent_names:
-                body.append(f"        alts.append(((), ({_key_expr(q.formula, slots)},)))")
+                body.append(f"        alts.append({local(f'((), ({_key_expr(q.formula, slots)},))')})")
                 continue
             body.append(f"        g = key_alternatives(simplify({const(q)}, b))")
             body.append("        if g is ALWAYS:\n            break")
@@ -307,6 +318,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
         make = "(tuple(alts), None)" if holds else "make_choice(alts)"
         body.append(f"        else:\n            choices.append({make})")
         body.append("        break")
+    head += [f"    {name} = {source}" for source, name in locals_.items()]
     lines = ["def variant(b):", *head, "    pos = []", "    neg = []"]
     if uses_extra:
         lines.append("    choices = []")
