@@ -158,3 +158,25 @@ def test_compiled_ipc_grounding_equals_the_general_path(monkeypatch, shared_data
     domain = load_domain(find_domain_file(path))
     compiled, general = _both(monkeypatch, domain, load_problem(path, domain))
     assert _fields(compiled) == _fields(general)
+
+
+def test_memo_tables_are_numbered_once_per_domain() -> None:
+    from gsr.plan.grounding import ObjectsByType
+    from gsr.plan.grounding.compiled import bind
+    from gsr.plan.grounding.simplify import Simplifier
+
+    domain = load_builtin_domain("tabletop")
+    tables = grounding_tables(domain)
+    _, graph, goal, _ = long_tabletop_task(2)
+    problem = problem_from_graph(graph, goal, domain=domain)
+    simplify = Simplifier(ObjectsByType(domain, problem.all_objects(domain)), tables.fluent, problem.init)
+    shared: dict = {}
+    for factory in tables.factories:
+        if factory is not None:
+            bind(factory, simplify, lambda b: None, shared)
+    keys = {key for f in tables.factories if f is not None for key in f.memos}
+    # One table per distinct (kind, alpha-renamed conjunct) of all the schemas, found by a small
+    # number (no formula hashed per problem); equal conjuncts of two schemas share it.
+    assert len(shared) == len(keys)
+    assert all(type(k) is int for k in shared)
+    assert sorted(shared) == list(range(len(keys)))

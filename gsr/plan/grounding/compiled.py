@@ -163,7 +163,11 @@ def _term(x: str, slots: dict[str, str]) -> str:
 
 
 def compile_schema(
-    schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: set[str]
+    schema: Schema,
+    parts: list,
+    kinds: tuple[int, ...],
+    fluent_names: set[str],
+    tables: dict[tuple, int] | None = None,
 ) -> Callable | None:
     """The factory of one schema's compiled precondition (see module docstring); None when a
     conjunct mentions a variable that is no parameter (the general path reports it per binding).
@@ -172,20 +176,31 @@ def compile_schema(
     and ``kinds`` the kind codes (generic, skip, fluent, not fluent, distinct, split) in that order.
     The factory takes the per-problem (init keys, simplify, general, shared memo tables) and returns
     ``variant(binding) -> Variant | None``.
+
+    ``tables`` numbers the memo tables by (kind, alpha-renamed conjunct), shared by all the schemas
+    of one domain: the factory looks its tables up by that small number (a formula key would be
+    hashed node by node, through Python ``__hash__``s, on every problem); ``factory.memos`` keeps
+    the (kind, conjunct) keys. Without it, the tables are looked up by those keys.
     """
     try:
-        return _compile(schema, parts, kinds, fluent_names)
+        return _compile(schema, parts, kinds, fluent_names, tables)
     except KeyError:  # an unknown variable in a conjunct's source
         return None
 
 
-def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: set[str]) -> Callable:
+def _compile(
+    schema: Schema,
+    parts: list,
+    kinds: tuple[int, ...],
+    fluent_names: set[str],
+    tables: dict[tuple, int] | None,
+) -> Callable:
     generic, skip, fluent, not_fluent, distinct, _split = kinds
     names = [p.name for p in schema.all_params]
     slots = {n: f"v{k}" for k, n in enumerate(names)}
     head = [f"    {slots[n]} = b[{n!r}]" for n in names]
     body: list[str] = []
-    memos: list[str] = []
+    memos: list[tuple[str, str, tuple]] = []  # (local name, table number's const, key)
     consts: dict[str, object] = {}
     objects: dict[tuple[str, ...], str] = {}  # object lists by type, read once per problem
     uses_extra = False
@@ -216,7 +231,9 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
         place_in's ``(not (exists (?z) (on ?z ?x)))``), and its key's source."""
         canon, order = canonical(part)
         name = f"M{len(memos)}"
-        memos.append((name, const((what, canon))))
+        key = (what, canon)
+        number = key if tables is None else tables.setdefault(key, len(tables))
+        memos.append((name, const(number), key))
         return name, memo_key(order)
 
     for part, free, kind in parts:
@@ -332,7 +349,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
     source = "\n".join(lines)
     factory_src = (
         "def factory(INIT, simplify, general, SHARED):\n"
-        + "".join(f"    {m} = SHARED.setdefault({c}, {{}})\n" for m, c in memos)
+        + "".join(f"    {m} = SHARED.setdefault({c}, {{}})\n" for m, c, _ in memos)
         + "".join(f"    {name} = simplify.objects({types!r})\n" for types, name in objects.items())
         + "\n".join("    " + line for line in source.splitlines())
         + "\n    return variant\n"
@@ -354,7 +371,7 @@ def _compile(schema: Schema, parts: list, kinds: tuple[int, ...], fluent_names: 
     exec(compile(factory_src, f"<compiled precondition of {schema.name}>", "exec"), env)
     factory = env["factory"]
     factory.source = factory_src  # type: ignore[attr-defined]
-    factory.memos = [consts[c] for _, c in memos]  # type: ignore[attr-defined]
+    factory.memos = [key for _, _, key in memos]  # type: ignore[attr-defined]
     return factory  # type: ignore[return-value]
 
 

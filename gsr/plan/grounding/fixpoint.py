@@ -546,8 +546,9 @@ def grounding_tables(domain: Domain) -> GroundingTables:
         compiled.disjunctions.append(disjunction)
         compiled.triggers.append(tuple(a.predicate for a in (*s.join, *disjunction)))
     kinds = (_GENERIC, _SKIP, _FLUENT, _NOT_FLUENT, _DISTINCT, _SPLIT)
+    memo_tables: dict[tuple, int] = {}  # one numbering for all the schemas (shared tables)
     compiled.factories.extend(
-        compile_schema(s, p, kinds, fluent) for s, p in zip(schemas, compiled.parts, strict=True)
+        compile_schema(s, p, kinds, fluent, memo_tables) for s, p in zip(schemas, compiled.parts, strict=True)
     )
     compiled.fires.extend(compile_effects(s, g) for s, g in zip(schemas, compiled.groups, strict=True))
     compiled.static_narrow.extend(
