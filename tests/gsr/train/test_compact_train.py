@@ -117,7 +117,8 @@ def test_bench_training_recipe_needs_an_output_folder(capsys) -> None:
     assert "--recipe" in capsys.readouterr().err
 
 
-def test_a_step_budget_gives_the_same_training_whatever_the_cpu_time(domain, samples) -> None:
+@pytest.mark.parametrize("group", [1, 3])
+def test_a_step_budget_gives_the_same_training_whatever_the_cpu_time(domain, samples, group) -> None:
     # with max_steps the learning-rate schedule reads the share of steps done: two runs of one seed are
     # equal even when one process is slowed down (the CPU seconds are only a cap)
     import time as _time
@@ -144,7 +145,111 @@ def test_a_step_budget_gives_the_same_training_whatever_the_cpu_time(domain, sam
                     pass
             return cosine()(p)
 
-        report, _ = fit(model, rows, domain, tok.get_vocab(), 5, 0, 4, 3e-3, None, schedule, log, 12)
+        report, _ = fit(
+            model, rows, domain, tok.get_vocab(), 5, 0, 4, 3e-3, None, schedule, log, 12, group=group
+        )
         assert report.steps == 12
         losses.append(report.last_loss)
     assert losses[0] == losses[1]
+
+
+def test_fit_keeps_the_weights_of_the_best_selection_score(domain, samples) -> None:
+    """Selection scores the model every few steps and keeps the best weights (the later on a tie)."""
+    import torch
+
+    from gsr.reason.compact import build_tokenizer
+    from gsr.train.compact import CompactSpec, fit, new_model
+
+    torch.set_num_threads(1)
+    tok = build_tokenizer(domain)
+    model = new_model(tok, CompactSpec(hidden=32, layers=1, heads=2, intermediate=64, context=256), 0)
+    snapshots: list[dict] = []
+    peak = [0.1, 0.9, 0.5, 0.9, 0.2]  # the 2nd and 4th evaluations tie: the 4th (step 8) is kept
+
+    def select(m) -> float:
+        snapshots.append({k: v.clone() for k, v in m.state_dict().items()})
+        return peak[len(snapshots) - 1]
+
+    rows = [s for s in samples if s.answer is not None][:40]
+    report, _ = fit(
+        model,
+        rows,
+        domain,
+        tok.get_vocab(),
+        60,
+        0,
+        4,
+        3e-3,
+        log=lambda _: None,
+        max_steps=10,
+        group=2,
+        select=select,
+        select_every=2,
+    )
+    assert [s for s, _ in report.selection] == [2, 4, 6, 8, 10] and report.selected_step == 8
+    kept = model.state_dict()
+    assert all(torch.equal(kept[k], snapshots[3][k]) for k in kept)
+    assert not all(torch.equal(kept[k], snapshots[4][k]) for k in kept)
+
+
+def test_ranking_metric_and_admissible_steps(domain, samples) -> None:
+    """ranking_accuracy counts a row when the planner's step is the best-scored applicable line (what
+    constrained decoding picks); admissible() drops a step whose next state the episode already saw."""
+    from collections import Counter
+
+    import torch
+
+    from gsr.reason.applicable import applicable_steps
+    from gsr.reason.backend import Query
+    from gsr.reason.compact import build_tokenizer
+    from gsr.reason.compact_decode import CompactAnswerer, answer_key
+    from gsr.reason.prompt import Prompt
+    from gsr.reason.step_format import format_step
+    from gsr.train.compact import CompactSpec, admissible, fit, new_model, ranking_accuracy
+
+    torch.set_num_threads(1)
+    tok = build_tokenizer(domain)
+    model = new_model(tok, CompactSpec(hidden=48, layers=2, heads=2, intermediate=96, context=256), 0)
+    rows = random.Random(3).sample([s for s in samples if s.answer is not None], 16)
+    before = ranking_accuracy(model, rows, domain, tok)
+    fit(
+        model,
+        rows,
+        domain,
+        tok.get_vocab(),
+        600,
+        0,
+        8,
+        3e-3,
+        log=lambda _: None,
+        max_steps=120,
+        shuffle_names=False,
+    )
+    after = ranking_accuracy(model, rows, domain, tok)
+    answerer = CompactAnswerer(model, tok)
+    hits = 0
+    for s in rows:
+        lines = tuple(format_step(a) for a in applicable_steps(domain, s.graph))
+        reply = answerer.answer(Query("step", Prompt("", ""), s.graph, domain, "", s.goal, s.history, lines))
+        hits += answer_key(reply) == (s.answer.action, s.answer.args)
+    assert after == hits / len(rows)
+    assert after >= 0.75 and after > before + 0.3, (before, after)
+    # a done row is not counted: ranking is about steps
+    done = [s for s in samples if s.answer is None][:3]
+    assert ranking_accuracy(model, [*rows, *done], domain, tok) == after
+
+    s = rows[0]
+    steps, nexts, lines = admissible(domain, s.graph, Counter())
+    assert lines == tuple(format_step(a) for a in steps) and len(steps) > 1
+    seen = Counter([nexts[0].atoms])
+    _, _, fewer = admissible(domain, s.graph, seen)
+    assert format_step(steps[0]) not in fewer and len(fewer) == len(lines) - 1
+
+
+def test_evaluate_refuses_a_folder_that_is_not_a_compact_model(tmp_path, data, capsys) -> None:
+    from gsr.train.evaluate import main
+
+    (tmp_path / "m").mkdir()
+    assert main(["--data", str(data), str(tmp_path / "m")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: ") and "not a compact-format model" in err and "\n" not in err
