@@ -73,6 +73,9 @@ class Recipe:
     select_every: int = 0  # round 2: score the model every so many steps, keep the best (0: the last)
     select_rows: int = 200  # validation rows of the selection score (ranking accuracy)
     dagger_constrained: bool = False  # DAgger also rolls out with constrained decoding
+    # the saved model's answerer shows at most this many goal literals that do not hold yet (goal
+    # serialisation for goals longer than the training tasks'; None: the whole goal)
+    goal_window: int | None = None
 
 
 RECIPES = {
@@ -90,6 +93,7 @@ RECIPES = {
         group=8,
         select_every=250,
         dagger_constrained=True,
+        goal_window=1,
     ),
     "gpu": Recipe(
         samples=200000,
@@ -278,8 +282,12 @@ def train_model(
     figures["round2"] = r2.__dict__
     figures["val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
     figures["val_ranking"] = round(ranking_accuracy(model, val, domain, tokenizer, v), 3)
-    ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v)
+    ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v, goal_window=cfg.goal_window)
     figures["val_tasks_constrained"] = f"{ok}/{n}"
+    figures["goal_window"] = cfg.goal_window
+    if cfg.goal_window is not None:
+        ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v)
+        figures["val_tasks_constrained_whole_goal"] = f"{ok}/{n}"
     figures["train_seconds"] = round(r1.seconds + r2.seconds, 1)
     figures["train_cpu_seconds"] = round(r1.cpu_seconds + r2.cpu_seconds, 1)
     figures["parameters"] = sum(p.numel() for p in model.parameters())
@@ -290,7 +298,7 @@ def train_model(
     )
     model.to("cpu")
     info = {"recipe": cfg.__dict__, "seed": seed, "data_seed": data_seed, **figures}
-    save(model, tokenizer, model_dir, info, v)
+    save(model, tokenizer, model_dir, info, v, goal_window=cfg.goal_window)
     return figures
 
 

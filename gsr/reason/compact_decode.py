@@ -13,9 +13,20 @@ from collections.abc import Sequence
 from typing import Any
 
 from gsr.errors import ParseError
-from gsr.reason.compact import EOS, UNK, CompactError, action_tokens, answer_step, query_tokens
+from gsr.facts import state_from_graph
+from gsr.pddl.model import And, Atom, Formula, Not
+from gsr.reason.compact import (
+    EOS,
+    UNK,
+    CompactError,
+    action_tokens,
+    answer_step,
+    ground_goal,
+    query_tokens,
+)
 from gsr.reason.prompt import DONE
 from gsr.reason.step_format import format_step, parse_first_step
+from gsr.semantics import holds
 from gsr.step import Step
 
 BEAM = 4
@@ -36,11 +47,40 @@ def answer_key(text: str) -> tuple[str, tuple[str, ...]] | None:
     return step.action, step.args
 
 
-class CompactAnswerer:
-    """A loaded compact-format causal LM that answers :class:`gsr.reason.backend.Query` objects."""
+def window_goal(formula: Formula, graph: Any, domain: Any, limit: int) -> Formula:
+    """Goal serialisation for a model trained on short goals: when the grounded goal is a conjunction of
+    literals of which more than ``limit`` do not hold in ``graph``'s state, the goal the model is shown
+    keeps every literal that holds (so the model sees what not to undo) and only the first ``limit``
+    that do not, in the goal's order; otherwise ``formula`` unchanged. The episode still runs until the
+    whole goal holds: as shown literals come true, the next ones enter the window."""
+    state = state_from_graph(graph, domain)
+    grounded = ground_goal(formula, state, domain)
+    parts = grounded.parts if isinstance(grounded, And) else (grounded,)
+    if not all(isinstance(p, Atom) or (isinstance(p, Not) and isinstance(p.formula, Atom)) for p in parts):
+        return formula
+    open_parts = [p for p in parts if not holds(domain, p, state)]
+    if len(open_parts) <= limit:
+        return formula
+    shown = set(open_parts[:limit])
+    return And(tuple(p for p in parts if p in shown or holds(domain, p, state)))
 
-    def __init__(self, model: Any, tokenizer: Any, device: str = "cpu", version: int = 1) -> None:
+
+class CompactAnswerer:
+    """A loaded compact-format causal LM that answers :class:`gsr.reason.backend.Query` objects.
+
+    ``goal_window`` (None: off) shows the model at most that many goal literals that do not hold yet
+    (:func:`window_goal`), the most its training rows had."""
+
+    def __init__(
+        self,
+        model: Any,
+        tokenizer: Any,
+        device: str = "cpu",
+        version: int = 1,
+        goal_window: int | None = None,
+    ) -> None:
         self.version = version  # the compact format version the model was trained in
+        self.goal_window = goal_window
         self.model = model
         self.tokenizer = tokenizer
         self.device = device
@@ -58,7 +98,10 @@ class CompactAnswerer:
 
     def answer(self, query: Any) -> str:
         """The model's step line for ``query`` (constrained to ``query.allowed`` when given)."""
-        context, naming = query_tokens(query.graph, query.domain, query.goal, query.history, self.version)
+        goal = query.goal
+        if self.goal_window and goal is not None:
+            goal = window_goal(getattr(goal, "formula", goal), query.graph, query.domain, self.goal_window)
+        context, naming = query_tokens(query.graph, query.domain, goal, query.history, self.version)
         prompt = self.ids(context, context=True)
         rejected = {k for k in map(answer_key, getattr(query, "rejected", ()) or ()) if k is not None}
         if query.allowed:

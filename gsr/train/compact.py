@@ -359,11 +359,13 @@ def constrained_episodes(
     domain: Domain,
     max_steps: int = 24,
     version: int = 1,
+    goal_window: int | None = None,
 ) -> tuple[int, int]:
     """Closed-loop episodes under constrained decoding, as the reasoner loop runs them (the admissible
     steps are the applicable ones whose next state the episode has visited least), without the runner:
-    (episodes whose goal held within ``max_steps``, episodes). A selection metric on validation tasks."""
-    answerer = CompactAnswerer(model, tokenizer, version=version)
+    (episodes whose goal held within ``max_steps``, episodes). A selection metric on validation tasks.
+    ``goal_window``: the answerer's goal window (as the model's marker sets it for the backend)."""
+    answerer = CompactAnswerer(model, tokenizer, version=version, goal_window=goal_window)
     solved = episodes = 0
     for graph, goal in tasks:
         episodes += 1
@@ -444,8 +446,17 @@ def rollout_samples(
     return out, solved
 
 
-def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any], version: int = 1) -> None:
-    """Write the folder to a temporary name and rename it to ``out`` (never half-written)."""
+def save(
+    model: Any,
+    tokenizer: Any,
+    out: Path,
+    info: dict[str, Any],
+    version: int = 1,
+    goal_window: int | None = None,
+) -> None:
+    """Write the folder to a temporary name and rename it to ``out`` (never half-written). ``goal_window``
+    goes into the marker: the backend's answerer then shows the model at most that many goal literals
+    that do not hold yet (:func:`gsr.reason.compact_decode.window_goal`)."""
     if out.exists() and any(out.iterdir()):
         raise GSRError(f"{out} exists and is not empty; choose a new output folder")
     tmp = out.with_name(f".{out.name}.tmp")
@@ -454,7 +465,9 @@ def save(model: Any, tokenizer: Any, out: Path, info: dict[str, Any], version: i
     model.save_pretrained(tmp)
     tokenizer.save_pretrained(tmp)
     fmt = {v: k for k, v in FORMATS.items()}[version]  # the format version the model was trained in
-    marker = {"format": fmt, "max_objects": MAX_OBJECTS, "history": HISTORY}
+    marker: dict[str, Any] = {"format": fmt, "max_objects": MAX_OBJECTS, "history": HISTORY}
+    if goal_window is not None:
+        marker["goal_window"] = goal_window
     (tmp / MARKER).write_text(json.dumps(marker, indent=1))
     (tmp / "gsr_training.json").write_text(json.dumps(info, indent=1, default=str))
     if out.exists():

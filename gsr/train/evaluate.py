@@ -5,8 +5,8 @@
 For each model folder (written by the training recipe), one line: free next-step accuracy and ranking
 accuracy (:func:`gsr.train.compact.ranking_accuracy`) on the first ``--rows`` rows of the seed-shuffled
 ``val`` split, and closed-loop constrained decoding on the first ``--tasks`` seed-shuffled ``val`` tasks
-(:func:`gsr.train.compact.constrained_episodes`), with the CPU seconds. The dataset's test split is
-never read. A folder that is not a compact-format model is a one-line error (exit 1).
+(:func:`gsr.train.compact.constrained_episodes`, with the goal window of the model's marker), with
+the CPU seconds. The dataset's test split is never read. A folder that is not a compact-format model is a one-line error (exit 1).
 """
 
 from __future__ import annotations
@@ -45,6 +45,15 @@ def load_compact(folder: Path) -> tuple[Any, Any, int]:
     return model, tokenizer, version
 
 
+def goal_window(folder: Path) -> int | None:
+    """The goal window a compact-format model folder's marker sets (None: none)."""
+    try:
+        window = json.loads((folder / MARKER).read_text(encoding="utf-8")).get("goal_window")
+    except (OSError, ValueError, AttributeError) as exc:
+        raise GSRError(f"{folder}: not a compact-format model ({MARKER}: {exc})") from None
+    return window if isinstance(window, int) and not isinstance(window, bool) and window > 0 else None
+
+
 def evaluate(folder: Path, data: Path, rows: int, tasks: int, seed: int) -> dict[str, Any]:
     """The offline metrics of one model folder on ``data``'s validation split."""
     import torch
@@ -61,13 +70,19 @@ def evaluate(folder: Path, data: Path, rows: int, tasks: int, seed: int) -> dict
     c0 = time.process_time()
     free = accuracy(model, val, domain, tokenizer, version)
     rank = ranking_accuracy(model, val, domain, tokenizer, version)
-    solved, n = constrained_episodes(model, tokenizer, episodes, domain, version=version) if tasks else (0, 0)
+    window = goal_window(folder)
+    solved, n = (
+        constrained_episodes(model, tokenizer, episodes, domain, version=version, goal_window=window)
+        if tasks
+        else (0, 0)
+    )
     return {
         "model": str(folder),
         "val_rows": len(val),
         "free_accuracy": round(free, 3),
         "ranking_accuracy": round(rank, 3),
         "val_tasks_constrained": f"{solved}/{n}",
+        "goal_window": window,
         "cpu_seconds": round(time.process_time() - c0, 1),
     }
 

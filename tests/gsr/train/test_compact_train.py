@@ -11,6 +11,7 @@ from gsr.check import check_step
 from gsr.datagen.runner import RunConfig, generate_dataset
 from gsr.errors import GSRError
 from gsr.facts import state_from_graph
+from gsr.pddl.parser import parse_formula
 from gsr.resources import load_builtin_domain
 
 pytest.importorskip("transformers")
@@ -253,3 +254,22 @@ def test_evaluate_refuses_a_folder_that_is_not_a_compact_model(tmp_path, data, c
     assert main(["--data", str(data), str(tmp_path / "m")]) == 1
     err = capsys.readouterr().err.strip()
     assert err.startswith("error: ") and "not a compact-format model" in err and "\n" not in err
+
+
+def test_long_validation_tasks_join_two_goals_of_a_scene_into_a_longer_plan(data, domain, tmp_path) -> None:
+    from gsr.datagen.tasks import generated_tasks
+    from gsr.plan import api as plan_api
+    from gsr.task_spec import load_task
+    from gsr.train.longval import main
+
+    assert main(["--data", str(data), "--out", str(tmp_path / "lv"), "--count", "2", "--min-plan", "5"]) == 0
+    files = sorted((tmp_path / "lv").glob("*.json"))
+    assert len(files) == 2
+    val_goals = {t.id: t.goal for t in generated_tasks(data, "val")}
+    for path in files:
+        task = load_task(path)
+        first, second = task.metadata["from"]
+        goal = parse_formula(task.goal)
+        assert len(goal.parts) > max(len(parse_formula(val_goals[x]).parts) for x in (first, second))
+        found = plan_api.plan_graph(domain, task.initial, goal, timeout=10.0)
+        assert found.solved and len(found.plan.steps) == task.metadata["plan"] >= 5
