@@ -35,7 +35,7 @@ def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any
         found = info.get("format") if isinstance(info, dict) else info
         known = ", ".join(map(repr, FORMATS))
         raise BackendError(f"{marker}: format {found!r} is not one of {known} (retrain the model)")
-    window = info.get("goal_window")  # most open goal literals of the training rows (None: no window)
+    window = info.get("goal_window")  # open goal literals the model is shown at most (None: all)
     if window is not None and (not isinstance(window, int) or isinstance(window, bool) or window < 1):
         raise BackendError(f"{marker}: goal_window {window!r} is not a positive integer")
     return CompactAnswerer(model, tokenizer, device, FORMATS[info["format"]], window)
