@@ -19,7 +19,7 @@ from gsr.reason.constrained import TokenTrie, completion_ids, step_logits_proces
 from gsr.reason.prompt import Prompt
 
 
-def _compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any:
+def compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any:
     """The compact-format answerer when the folder holds a compact model's marker, else None."""
     import json
     from pathlib import Path
@@ -80,7 +80,7 @@ class TransformersBackend:
         newline = self.tokenizer("\n", add_special_tokens=False)["input_ids"]
         self.terminator = [self.eos] if self.eos is not None else newline[-1:]
         self.last_seconds = 0.0
-        self.compact = _compact_answerer(path, self.model, self.tokenizer, self.device)
+        self.compact = compact_answerer(path, self.model, self.tokenizer, self.device)
 
     def encode(self, prompt: Prompt) -> list[int]:
         """Prompt token ids (chat template when used); left-truncated to fit the model's context."""

@@ -347,7 +347,8 @@ def admissible(
     return steps, nexts, lines
 
 
-def _pick(steps: Sequence[Step], reply: str) -> int | None:
+def picked_index(steps: Sequence[Step], reply: str) -> int | None:
+    """Index of the step in ``steps`` that the model's ``reply`` names, or None when it names none."""
     key = answer_key(reply)
     return next((i for i, s in enumerate(steps) if (s.action, s.args) == key), None)
 
@@ -383,7 +384,7 @@ def constrained_episodes(
             if not steps:
                 break
             query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-            k = _pick(steps, answerer.answer(query))
+            k = picked_index(steps, answerer.answer(query))
             if k is None:
                 break
             graph = graph_with_state(graph, nexts[k])
@@ -426,7 +427,7 @@ def rollout_samples(
             if constrained:
                 steps, nexts, lines = admissible(domain, graph, seen)
                 query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-                k = _pick(steps, answerer.answer(query)) if steps else None
+                k = picked_index(steps, answerer.answer(query)) if steps else None
                 if k is None:
                     break
                 graph = graph_with_state(graph, nexts[k])

@@ -37,7 +37,7 @@ from gsr.scene_graph import SceneGraph
 from gsr.semantics import goal_holds, holds
 from gsr.step import Step
 from gsr.task_spec import load_task
-from gsr.train.compact import _pick, admissible, dataset_samples
+from gsr.train.compact import admissible, dataset_samples, picked_index
 from gsr.train.evaluate import load_compact
 
 
@@ -126,7 +126,7 @@ def episode(
             break
         lengths.append(context_length(graph, goal, tuple(history), domain, answerer.version))
         query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-        k = _pick(steps, answerer.answer(query))
+        k = picked_index(steps, answerer.answer(query))
         if k is None:
             break
         graph = graph_with_state(graph, nexts[k])

@@ -88,7 +88,7 @@ def test_the_marker_sets_the_backend_window_and_a_bad_one_is_refused(domain, tmp
     pytest.importorskip("transformers")
     from gsr.reason.backend import BackendError
     from gsr.reason.compact import MARKER, build_tokenizer
-    from gsr.reason.hf_backend import _compact_answerer
+    from gsr.reason.hf_backend import compact_answerer
     from gsr.train.compact import CompactSpec, new_model, save
     from gsr.train.evaluate import goal_window
 
@@ -96,13 +96,13 @@ def test_the_marker_sets_the_backend_window_and_a_bad_one_is_refused(domain, tmp
     model = new_model(tok, CompactSpec(hidden=16, layers=1, heads=2, intermediate=32, context=128), 0)
     save(model, tok, tmp_path / "w", {}, 3, goal_window=1)
     save(model, tok, tmp_path / "plain", {}, 3)
-    assert _compact_answerer(str(tmp_path / "w"), model, tok, "cpu").goal_window == 1
-    assert _compact_answerer(str(tmp_path / "plain"), model, tok, "cpu").goal_window is None
+    assert compact_answerer(str(tmp_path / "w"), model, tok, "cpu").goal_window == 1
+    assert compact_answerer(str(tmp_path / "plain"), model, tok, "cpu").goal_window is None
     assert goal_window(tmp_path / "w") == 1 and goal_window(tmp_path / "plain") is None
     marker = tmp_path / "w" / MARKER
     marker.write_text(json.dumps({**json.loads(marker.read_text()), "goal_window": 0}))
     with pytest.raises(BackendError, match="goal_window 0 is not a positive integer"):
-        _compact_answerer(str(tmp_path / "w"), model, tok, "cpu")
+        compact_answerer(str(tmp_path / "w"), model, tok, "cpu")
 
 
 def test_joined_goals_keep_each_conjunct_once_in_order() -> None:
