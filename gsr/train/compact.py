@@ -353,6 +353,29 @@ def picked_index(steps: Sequence[Step], reply: str) -> int | None:
     return next((i for i, s in enumerate(steps) if (s.action, s.args) == key), None)
 
 
+def constrained_choice(
+    answerer: CompactAnswerer,
+    domain: Domain,
+    graph: SceneGraph,
+    goal: Formula,
+    history: Sequence[Step],
+    choices: tuple[list[Step], list[Any], tuple[str, ...]],
+    seen: Counter[frozenset],
+) -> tuple[int, SceneGraph, Any] | None:
+    """One constrained-decoding step over :func:`admissible`'s ``choices``: the model picks among the
+    admissible lines; (the picked step's index, the graph after it, its state), the state counted in
+    ``seen``; None when the model names no admissible step."""
+    steps, nexts, lines = choices
+    query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
+    k = picked_index(steps, answerer.answer(query))
+    if k is None:
+        return None
+    graph = graph_with_state(graph, nexts[k])
+    state = state_from_graph(graph, domain)
+    seen[state.atoms] += 1
+    return k, graph, state
+
+
 def constrained_episodes(
     model: Any,
     tokenizer: Any,
@@ -380,17 +403,14 @@ def constrained_episodes(
                 break
             if len(history) == max_steps:
                 break
-            steps, nexts, lines = admissible(domain, graph, seen)
-            if not steps:
+            choices = admissible(domain, graph, seen)
+            if not choices[0]:
                 break
-            query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-            k = picked_index(steps, answerer.answer(query))
-            if k is None:
+            picked = constrained_choice(answerer, domain, graph, goal, history, choices, seen)
+            if picked is None:
                 break
-            graph = graph_with_state(graph, nexts[k])
-            state = state_from_graph(graph, domain)
-            seen[state.atoms] += 1
-            history.append(Step(steps[k].action, steps[k].args))
+            k, graph, state = picked
+            history.append(Step(choices[0][k].action, choices[0][k].args))
     return solved, episodes
 
 
@@ -425,14 +445,16 @@ def rollout_samples(
                 solved += 1
                 break
             if constrained:
-                steps, nexts, lines = admissible(domain, graph, seen)
-                query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-                k = picked_index(steps, answerer.answer(query)) if steps else None
-                if k is None:
+                choices = admissible(domain, graph, seen)
+                picked = (
+                    constrained_choice(answerer, domain, graph, goal, history, choices, seen)
+                    if choices[0]
+                    else None
+                )
+                if picked is None:
                     break
-                graph = graph_with_state(graph, nexts[k])
-                seen[state_from_graph(graph, domain).atoms] += 1
-                history.append(steps[k])
+                graph = picked[1]
+                history.append(choices[0][picked[0]])
                 continue
             reply = answerer.answer(Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history)))
             try:

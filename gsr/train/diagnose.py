@@ -28,16 +28,14 @@ from gsr.pddl.model import And, Atom, Domain, Formula
 from gsr.pddl.parser import parse_formula
 from gsr.pddl.walk import subformulas
 from gsr.plan import api as plan_api
-from gsr.reason.backend import Query
 from gsr.reason.compact import Naming, context_tokens, ground_goal, scene_objects
 from gsr.reason.compact_decode import CompactAnswerer
-from gsr.reason.prompt import Prompt
 from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.semantics import goal_holds, holds
 from gsr.step import Step
 from gsr.task_spec import load_task
-from gsr.train.compact import admissible, dataset_samples, picked_index
+from gsr.train.compact import admissible, constrained_choice, dataset_samples
 from gsr.train.evaluate import load_compact
 
 
@@ -121,18 +119,15 @@ def episode(
             break
         if len(history) == max_steps:
             break
-        steps, nexts, lines = admissible(domain, graph, seen)
-        if not steps:
+        choices = admissible(domain, graph, seen)
+        if not choices[0]:
             break
         lengths.append(context_length(graph, goal, tuple(history), domain, answerer.version))
-        query = Query("step", Prompt("", ""), graph, domain, "", goal, tuple(history), lines)
-        k = picked_index(steps, answerer.answer(query))
-        if k is None:
+        picked = constrained_choice(answerer, domain, graph, goal, history, choices, seen)
+        if picked is None:
             break
-        graph = graph_with_state(graph, nexts[k])
-        state = state_from_graph(graph, domain)
-        seen[state.atoms] += 1
-        step = Step(steps[k].action, steps[k].args)
+        k, graph, state = picked
+        step = Step(choices[0][k].action, choices[0][k].args)
         history.append(step)
         after = plan_steps(domain, graph, goal)
         if first_wrong is None and left is not None and (after is None or len(after) >= len(left)):
