@@ -227,20 +227,8 @@ def point_color_names(rgb: np.ndarray) -> np.ndarray:
 
 
 def color_name(rgb: np.ndarray) -> str:
-    """The palette word for a set of pixel colours (median colour, by hue/saturation/value)."""
-    r, g, b = (np.median(rgb.reshape(-1, 3), axis=0) / 255.0).tolist()
-    mx, mn = max(r, g, b), min(r, g, b)
-    sat = 0.0 if mx == 0 else (mx - mn) / mx
-    if sat < 0.25 or mx < 0.12:
-        return "black" if mx < 0.25 else ("white" if mx > 0.75 else "grey")
-    if mx == r:
-        hue = (60.0 * (g - b) / (mx - mn)) % 360.0
-    elif mx == g:
-        hue = 60.0 * (b - r) / (mx - mn) + 120.0
-    else:
-        hue = 60.0 * (r - g) / (mx - mn) + 240.0
-    name = min(_PALETTE_HUES, key=lambda p: abs(p[1] - hue))[0]
-    if name == "orange" and mx < 0.55:
-        name = "brown"
+    """The palette word for a set of pixel colours (median colour, by hue/saturation/value: the rule of
+    :func:`point_color_names`)."""
+    name = str(point_color_names(np.median(rgb.reshape(-1, 3), axis=0).reshape(1, 3))[0])
     assert name in COLORS
     return name
