@@ -2,7 +2,8 @@
 
 Grounds the 30 generated tabletop-long tasks (seed 0), the 40 shipped LIBERO tasks and 14 IPC dev
 problems, and records per problem a SHA-256 of the ground task (atoms, operators with their
-conditional effects, axioms, initial state and goal DNF) with its operator and atom counts; plans
+conditional effects, axioms, initial state and goal DNF) with its operator and atom counts, and one
+of its delete relaxation's unary operators (``Relaxation``, unit costs); plans
 the 70 tabletop/LIBERO tasks with ``lazy-ff`` and records each plan's steps and expansions. Run it
 with two trees and compare the files:
 
@@ -28,6 +29,7 @@ from gsr.errors import GSRError
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan
 from gsr.plan.grounding import ground_task
+from gsr.plan.heuristics import Relaxation
 
 from .bench_planner import PDDL, tabletop_tasks
 
@@ -61,6 +63,16 @@ def task_digest(task) -> dict:
     return {"hash": h.hexdigest(), "operators": len(task.ops), "atoms": len(task.atoms)}
 
 
+def relaxation_digest(task) -> str:
+    """SHA-256 of the unary operators the delete relaxation builds for ``task`` (unit costs, as the
+    greedy planners use): facts, preconditions, adds, costs, owners, complements."""
+    relax = Relaxation(task, unit=True)
+    h = hashlib.sha256()
+    h.update(repr((relax.n_facts, sorted(relax.comp.items()), relax.goal_stop)).encode())
+    h.update(repr((relax.pre, relax.add, relax.cost, relax.owner)).encode())
+    return h.hexdigest()
+
+
 def problems(ipc: bool = True):
     """(set, name, domain, problem) of the checked problems."""
     for domain_set in ("tabletop-long", "libero"):
@@ -84,7 +96,8 @@ def collect(ipc: bool = True, plans: bool = True) -> dict:
         key = f"{domain_set}/{name}"
         start = time.process_time()
         task = ground_task(domain, problem)
-        out["grounding"][key] = {**task_digest(task), "cpu_s": round(time.process_time() - start, 3)}
+        cpu = round(time.process_time() - start, 3)
+        out["grounding"][key] = {**task_digest(task), "relaxation": relaxation_digest(task), "cpu_s": cpu}
         if plans and domain_set in ("tabletop-long", "libero"):
             result = plan(domain, problem, planner="lazy-ff", timeout=60)
             steps = [str(s) for s in result.plan.steps] if result.plan is not None else None
