@@ -77,23 +77,32 @@ class Relaxation:
         # h(cond)) <= c + max(h(pre), h(cond))), so it stays admissible.
         users: dict[tuple[tuple[int, ...], tuple[int, ...]], list[int]] = {}
         keys: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]] | None] = {}  # per distinct effect
-        by_tuple: dict[int, list] = {}  # grounding shares cond tuples between operators
+        # Grounding shares cond tuples between operators: the operators of each distinct tuple (in
+        # order of first use), so that each effect's users are extended once per tuple.
+        sharing: dict[int, tuple[tuple, list[int]]] = {}
         for i, o in enumerate(task.ops):
-            targets = by_tuple.get(id(o.cond))
-            if targets is None:
-                targets = by_tuple[id(o.cond)] = []
-                for ce in o.cond:
-                    if ce in keys:
-                        ukey = keys[ce]
-                    else:
-                        cp, cn, ca, cd = ce
-                        ga = (*ca, *(comp[d] for d in cd if d in comp))
-                        ukey = keys[ce] = ((*cp, *(comp[a] for a in cn if a in comp)), ga) if ga else None
-                    if ukey is not None:
-                        targets.append(users.setdefault(ukey, []))
-            for ops_of in targets:
-                if not ops_of or ops_of[-1] != i:
-                    ops_of.append(i)
+            if o.cond:
+                found = sharing.get(id(o.cond))
+                if found is None:
+                    sharing[id(o.cond)] = (o.cond, [i])
+                else:
+                    found[1].append(i)
+        merged: dict[int, list[int]] = {}  # users lists extended more than once (to sort, dedupe)
+        for cond, ops_of_cond in sharing.values():
+            for ce in cond:
+                if ce in keys:
+                    ukey = keys[ce]
+                else:
+                    cp, cn, ca, cd = ce
+                    ga = (*ca, *[comp[d] for d in cd if d in comp])
+                    ukey = keys[ce] = ((*cp, *[comp[a] for a in cn if a in comp]), ga) if ga else None
+                if ukey is not None:
+                    ops_of = users.setdefault(ukey, [])
+                    if ops_of:
+                        merged[id(ops_of)] = ops_of
+                    ops_of += ops_of_cond
+        for ops_of in merged.values():  # ascending, each operator once (as one pass over the ops gives)
+            ops_of[:] = sorted(set(ops_of))
         aux_of: dict[tuple[int, ...], int] = {}  # operator set -> its "one of them fired" fact
         aux_adds: dict[int, list[int]] = {}
         for (gp, ga), ops_of in users.items():
@@ -108,9 +117,14 @@ class Relaxation:
             add.append(ga)
             cost.append(0)
             owner.append(-1)  # the relaxed plan reaches the operator through the aux fact's supporter
+        true_pre = (self.true_fact,)
         for i, o in enumerate(task.ops):
-            base_pre = (*o.pre, *(comp[a] for a in o.neg if a in comp)) or (self.true_fact,)
-            base_add = (*o.add, *(comp[d] for d in o.delete if d in comp), *aux_adds.get(i, ()))
+            # (Tuples from lists: a generator per operator cost more than the lists.)
+            if o.neg:
+                base_pre = (*o.pre, *[comp[a] for a in o.neg if a in comp]) or true_pre
+            else:
+                base_pre = o.pre or true_pre
+            base_add = (*o.add, *[comp[d] for d in o.delete if d in comp], *aux_adds.get(i, ()))
             if base_add:
                 pre.append(base_pre)
                 add.append(base_add)
@@ -136,9 +150,10 @@ class Relaxation:
         self.goal_stop = self.goal_fact if len(task.goals) == 1 else -1
         self.npre = [len(p) for p in pre]
         self.pre_of: list[list[int]] = [[] for _ in range(self.n_facts)]
+        pre_of = self.pre_of
         for u, p in enumerate(pre):
             for f in p:
-                self.pre_of[f].append(u)
+                pre_of[f].append(u)
         self._achievers: list[list[int]] | None = None  # LM-cut only: built on first use
         self._inf = [INF] * self.n_facts
         self._none = [-1] * self.n_facts
@@ -230,9 +245,10 @@ class Relaxation:
         if self._jit is not None or numba:
             self._jit_open = False
         if self._jit is not None and relax_jit.c_library() is not None:
-            from gsr.plan.relax_c import CSuccessors
+            from gsr.plan.relax_c import CRelaxation, CSuccessors
 
-            self.applicable = CSuccessors(self.task, relax_jit.c_library()).applicable
+            shared = self._jit if isinstance(self._jit, CRelaxation) else None
+            self.applicable = CSuccessors(self.task, relax_jit.c_library(), shared).applicable
 
     def hadd(self, state: int) -> tuple[list[float], list[int]]:
         """h_add costs of all facts (stopping once G is settled) and each fact's best supporter."""
