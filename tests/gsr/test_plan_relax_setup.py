@@ -79,3 +79,11 @@ def test_shared_operator_arrays_give_the_same_successors() -> None:
     for _ in range(200):
         state = rng.getrandbits(6)
         assert shared.applicable(state) == own.applicable(state) == task.applicable(state)
+
+
+def test_ground_operators_hash_and_compare_by_their_fields() -> None:
+    a = GroundOp("pick", ("x", "t"), 1.0, (0, 2), (1,), (3,), (0,), ((((1,), (), (2,), ())),))
+    b = GroundOp("pick", ("x", "t"), 1.0, (0, 2), (1,), (3,), (0,), ((((1,), (), (2,), ())),))
+    assert a == b and hash(a) == hash(b) and len({a, b}) == 1
+    assert a != GroundOp("pick", ("x", "t"), 1.0, (0, 2), (1,), (3,), (0,))
+    assert str(a) == "(pick x t)"
