@@ -181,7 +181,7 @@ def supports(
         containers = [
             (r, b)
             for r, b in containers
-            if r >= th.in_ratio and not _within(b, a) and not _unconfirmed_container(b, a)
+            if r >= th.in_ratio and not _within(b, a) and not _unconfirmed_container(b, a, by_key)
         ]
         if containers:
             # the innermost container wins (highest floor: a mug in a box that stands in a drawer is in the
@@ -254,14 +254,57 @@ def _opening_holding(
     return best
 
 
-def _unconfirmed_container(b: Instance, a: Instance) -> bool:
+def _unconfirmed_container(b: Instance, a: Instance, by_key: dict[str, Instance]) -> bool:
     """B, a detection no labelled mask names, was seen by one camera only while A was seen by several.
 
     A container is larger and sticks out more than what it holds: cameras that see A in it see its rim
     or walls too. One camera's segment that swallowed A's pixels and its neighbours' (a phantom `box`
     around a cube on the table) is seen by that camera alone; it holds nothing the others saw. A part
-    inferred from its object (``views == 0``: a closed drawer no camera shows) is not judged here."""
-    return b.label.id is None and b.views == 1 and a.views >= 2
+    inferred from its object (``views == 0``: a closed drawer no camera shows) is not judged here, nor is
+    a drawer attached to an object that several cameras saw (:func:`attached_part`): a pulled-out drawer
+    shows its front and inside to the cameras facing the object's front, often to one alone, and what
+    stands in it is seen from above by others."""
+    if b.label.id is not None or b.views != 1 or a.views < 2:
+        return False
+    parent = by_key.get(b.label.parent) if b.label.parent is not None else None
+    if parent is None or parent.views < 2 or not attached_part(b, parent):
+        return True
+    # drawers do not nest: a "drawer" inside another part of its object and below that part's top is what
+    # stands in that part (a drawer level seen inside a box read over two levels reaches the box's top)
+    return any(
+        p is not b
+        and p.label.parent == b.label.parent
+        and _box_share(b, p) >= PART_NESTED_SHARE
+        and b.aabb_max[2] < p.aabb_max[2] - PART_NESTED_BELOW_TOP
+        for p in by_key.values()
+    )
+
+
+#: A part lies within this distance (m) of its object's box (a drawer slides out of its object's front).
+PART_ATTACHED_GAP = 0.02
+
+
+#: A part whose box lies this much (volume share, boxes grown 1 cm) in another part of its object is nested.
+PART_NESTED_SHARE = 0.9
+#: ... with its top this far (m) under that part's top: what stands in a drawer stays below its walls' top.
+PART_NESTED_BELOW_TOP = 0.015
+
+
+def _box_share(inner: Instance, outer: Instance) -> float:
+    """Share of ``inner``'s axis-aligned box inside ``outer``'s grown by 1 cm."""
+    lo = np.maximum(inner.aabb_min, outer.aabb_min - 0.01)
+    hi = np.minimum(inner.aabb_max, outer.aabb_max + 0.01)
+    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+    return inter / float(np.prod(np.maximum(inner.aabb_max - inner.aabb_min, 1e-3)))
+
+
+def attached_part(part: Instance, parent: Instance) -> bool:
+    """The part's box touches its object's (axis-aligned boxes within :data:`PART_ATTACHED_GAP`) and its
+    height centre lies in the object's height range: a drawer is a slab of its object, pulled out or not."""
+    gap = np.maximum(part.aabb_min - parent.aabb_max, parent.aabb_min - part.aabb_max)
+    if np.any(gap[:2] > PART_ATTACHED_GAP):
+        return False
+    return bool(parent.aabb_min[2] <= part.center[2] <= parent.aabb_max[2])
 
 
 def _may_hold(a: Instance, b: Instance, closed: frozenset[str], th: RelationThresholds) -> bool:

@@ -39,7 +39,7 @@ from gsr.perception.geometry import (
     number_anonymous,
     point_color_names,
 )
-from gsr.perception.relations import bottom_z, is_container, rim_box
+from gsr.perception.relations import RelationThresholds, bottom_z, in_ratio, is_container, rim_box, top_z
 from gsr.perception.spill import carve_neighbours
 from gsr.perception.view_split import drop_unconfirmed_pieces, split_by_color
 
@@ -275,7 +275,12 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
     fixture's cloud (several cameras saw the fixture). An object standing in an open drawer is not on the
     fixture's surface (its voxels lie above the drawer's floor, in front of the carcass or in its opening),
     the test :func:`absorb_fragments` makes for an open container's pieces; an object beside the fixture on
-    the table whose pixels the fixture's segment took stands at the fixture's base and stays."""
+    the table whose pixels the fixture's segment took stands at the fixture's base and stays.
+
+    A one-camera detection *named* a fixture (a shaded patch of a cabinet's front read as a ``microwave``,
+    down to the table) joins a larger fixture that holds it (:data:`FIXTURE_PIECE_INSIDE` of its points in
+    the fixture's upright box, grown :data:`FIXTURE_PIECE_MARGIN`) wherever it stands: furniture and
+    appliances do not stand inside one another, and what stands in a drawer is movable."""
     fixtures = [
         f
         for f in fused
@@ -289,7 +294,11 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
         if x.views != 1 or _no_object(x, allow_unknown=True) or any(x is f for f in fixtures):
             continue
         x_bottom = bottom_z(x)
+        named_fixture = _fixture(x)
         for f, f_bottom in zip(fixtures, bases, strict=True):
+            if named_fixture and _fixture_holds(f, x):
+                pieces[id(x)] = f
+                break
             if x_bottom < f_bottom + FIXTURE_PIECE_ABOVE_BASE:
                 continue
             if cloud_overlap(x, f) >= FIXTURE_PIECE_ON_SURFACE:
@@ -299,6 +308,28 @@ def absorb_fixture_pieces(fused: list[Instance], params: GeometryParams) -> list
         return fused
     grown = _grown_by_pieces(fused, fixtures, pieces, params)
     return [grown.get(id(x), x) for x in fused if id(x) not in pieces]
+
+
+#: A one-camera detection named a fixture is a piece of a larger fixture with this share of its points in the
+#: fixture's upright box grown by FIXTURE_PIECE_MARGIN (m): the pull bars on a cabinet's front stand off it
+#: by 1.5 cm and more (gsr.perception.recognize_parts), and a shaded patch of the front takes them along.
+FIXTURE_PIECE_INSIDE = 0.9
+FIXTURE_PIECE_MARGIN = 0.02
+
+
+def _fixture(inst: Instance) -> bool:
+    """Furniture or an appliance: a named object that is not movable (cabinet, stove, microwave, rack)."""
+    return not _no_object(inst) and "movable" not in affordances(inst.label.category)
+
+
+def _fixture_holds(f: Instance, x: Instance) -> bool:
+    """``x`` is smaller than the fixture ``f`` and lies (``FIXTURE_PIECE_INSIDE``) in its upright box."""
+    if float(np.prod(x.size)) >= float(np.prod(f.size)):
+        return False
+    z = x.points[:, 2]
+    in_z = (z >= f.aabb_min[2] - FIXTURE_PIECE_MARGIN) & (z <= f.aabb_max[2] + FIXTURE_PIECE_MARGIN)
+    inside = in_z & f.footprint_contains(x.points[:, :2], margin=FIXTURE_PIECE_MARGIN)
+    return float(np.mean(inside)) >= FIXTURE_PIECE_INSIDE
 
 
 #: A one-camera detection is another camera's view of an object that cameras other than its own saw when
@@ -829,6 +860,56 @@ def along_walls(x: Instance, rim: Instance) -> float:
     :data:`FRAGMENT_WALL_BAND` inside the nearest edge of its footprint, or outside it."""
     local = np.abs((x.points[:, :2] - rim.center[:2]) @ rim.axes.T) - rim.size[:2] / 2.0
     return float(np.mean(np.max(local, axis=1) >= -FRAGMENT_WALL_BAND))
+
+
+#: A one-camera object in a container whose top reaches within this much (m) of the container's top ...
+WALL_PIECE_TOP = 0.01
+#: ... spanning this share of the container's height (a wall runs from the floor to the rim) ...
+WALL_PIECE_SPAN = 0.5
+#: ... with this share of its points along the container's walls (:func:`along_walls`) is a wall piece.
+WALL_PIECE_ALONG = 0.5
+
+
+def drop_wall_pieces(instances: list[Instance], th: RelationThresholds) -> list[Instance]:
+    """One camera's detection lying in a container (the ``in`` test of :func:`gsr.perception.relations.
+    supports`: ``in_ratio``, its bottom not under the container's floor), reaching the container's top
+    (within :data:`WALL_PIECE_TOP`), as tall as a wall (:data:`WALL_PIECE_SPAN` of the container's height)
+    and lying along its walls (:data:`WALL_PIECE_ALONG`) is a piece of the container's walls that no piece
+    rule joined, and is dropped.
+
+    What stands in a container stays below its walls' top: the walls hide it from the side cameras
+    unless it rises above them, and then the other cameras see it too. A band of wall from the floor to
+    the rim seen by one camera alone (a lidded box's side named ``cookie_box``, whose measured top is the
+    open lid's tab; a drawer's side named ``milk``) lies along the walls and reaches the top. Anonymous
+    detections only (no labelled mask); parts and grounds are never dropped. Call after the parts have
+    their objects (drawers are containers)."""
+    containers = [c for c in instances if is_container(c) and c.label.category not in GROUNDS]
+    if not containers:
+        return instances
+    tops = {id(c): top_z(c) for c in containers}
+    rims = {id(c): (c if (r := rim_box(c)) is None else r) for c in containers}
+    dropped: set[int] = set()
+    for x in instances:
+        if x.views != 1 or x.label.id is not None or x.label.parent is not None:
+            continue
+        if is_part_category(x.label.category) or x.label.category in GROUNDS:
+            continue
+        x_top = x_bottom = None
+        for c in containers:
+            if c is x or float(np.prod(x.size)) >= float(np.prod(c.size)):
+                continue
+            if np.any(x.aabb_min > c.aabb_max + 0.01) or np.any(x.aabb_max < c.aabb_min - 0.01):
+                continue
+            x_top = top_z(x) if x_top is None else x_top
+            if x_top < tops[id(c)] - WALL_PIECE_TOP or x.size[2] < WALL_PIECE_SPAN * c.size[2]:
+                continue
+            x_bottom = bottom_z(x) if x_bottom is None else x_bottom
+            if x_bottom < bottom_z(c) - th.in_floor or in_ratio(x, c, th) < th.in_ratio:
+                continue
+            if along_walls(x, rims[id(c)]) >= WALL_PIECE_ALONG:
+                dropped.add(id(x))
+                break
+    return [x for x in instances if id(x) not in dropped] if dropped else instances
 
 
 def absorb_part_fragments(
