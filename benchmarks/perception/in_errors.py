@@ -13,6 +13,10 @@ A development tool: the figures are ``perceive-eval``'s when the detector code a
 cache was made with (``--redetect`` runs the detector again). Usage::
 
     python -m gsr.benchmarks.perception.in_errors --seed 5 --scenes 20 --cache /tmp/c [--weights DIR] [--json]
+        [--first N]
+
+``--first N`` scores scenes N .. scenes-1 of the stream only (a range of scenes kept apart as a check, or
+scenes added to the development set later), the same scenes as a longer run's.
 """
 
 from __future__ import annotations
@@ -103,8 +107,10 @@ def run(
     cache: Path | None,
     weights: str | Path | None = None,
     redetect: bool = False,
+    first: int = 0,
 ) -> dict[str, Any]:
-    """Perceive the cached detections of the stream's scenes; scores and every ``in`` relation's class."""
+    """Perceive the cached detections of the stream's scenes (from scene ``first`` on); scores and every
+    ``in`` relation's class."""
     detector = load_detector(weights)
     tag = weights_tag(weights)
     nodes, score, errors = NodeScore(), Score(), ContainmentErrors()
@@ -112,6 +118,8 @@ def run(
     det_cpu = fuse_cpu = 0.0
     frames_n = 0
     for i, ss in enumerate(np.random.SeedSequence(seed).spawn(scenes)):
+        if i < first:
+            continue
         scene_seed = int(ss.generate_state(1)[0])
         detected, truth, visible, cpu = detected_scene(scene_seed, cameras, cache, detector, tag, redetect)
         det_cpu += cpu
@@ -154,6 +162,7 @@ def run(
     return {
         "seed": seed,
         "scenes": scenes,
+        "first": first,
         "cameras": cameras,
         "weights": tag,
         "nodes": nodes.to_dict(),
@@ -171,7 +180,8 @@ def run(
 def format_report(report: dict[str, Any]) -> str:
     n, on, inn, err = report["nodes"], report["on"], report["in"], report["in_errors"]
     lines = [
-        f"seed {report['seed']}, {report['scenes']} scenes, {report['cameras']} cameras, weights {report['weights']}",
+        f"seed {report['seed']}, scenes {report.get('first', 0)}-{report['scenes'] - 1}, {report['cameras']} cameras, "
+        f"weights {report['weights']}",
         f"nodes F1 {n['f1']:.3f}  on F1 {on['f1']:.3f}  in P/R/F1 {inn['precision']:.3f}/{inn['recall']:.3f}/"
         f"{inn['f1']:.3f} (tp {inn['tp']} fp {inn['fp']} fn {inn['fn']})  CPU ms/frame detector "
         f"{report['cpu_ms_per_frame']['detector']} pipeline {report['cpu_ms_per_frame']['pipeline']}",
@@ -201,10 +211,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--cache", type=Path, default=None, help="folder for rendered scenes and detections")
     ap.add_argument("--weights", default=None, help="a `gsr perceive-train` folder (default: shipped)")
     ap.add_argument("--redetect", action="store_true", help="run the detector again (refresh the cache)")
+    ap.add_argument("--first", type=int, default=0, help="score scenes FIRST .. scenes-1 of the stream only")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     try:
-        report = run(args.scenes, args.seed, args.cameras, args.cache, args.weights, args.redetect)
+        if not 0 <= args.first < args.scenes:
+            raise GSRError(
+                f"--first {args.first} must lie in 0 .. {args.scenes - 1} (--scenes {args.scenes})"
+            )
+        report = run(
+            args.scenes, args.seed, args.cameras, args.cache, args.weights, args.redetect, args.first
+        )
     except GSRError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
