@@ -53,9 +53,9 @@ class Simplifier:
         # static atom need not be built at all.
         self.init_keys = frozenset((a.predicate, a.args) for a in self.init)
         self.index: dict[str, list[tuple[str, ...]]] = {}
-        for atom in sorted(self.init, key=lambda a: (a.predicate, a.args)):
-            if atom.predicate not in self.fluent:
-                self.index.setdefault(atom.predicate, []).append(atom.args)
+        for predicate, args in sorted(self.init_keys):  # the keys sort in C, as the Atoms by key
+            if predicate not in self.fluent:
+                self.index.setdefault(predicate, []).append(args)
         # Keyed by id(); the formula is kept in the value so that the id stays valid.
         self._quant: dict[int, tuple[Formula, tuple[str, ...], tuple[Atom, ...]]] = {}
         self._memo: dict[tuple, Formula] = {}
