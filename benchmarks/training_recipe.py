@@ -45,6 +45,7 @@ from gsr.train.compact import (
     rollout_samples,
     save,
     spec_dict,
+    windowed_samples,
 )
 
 
@@ -76,6 +77,10 @@ class Recipe:
     # the saved model's answerer shows at most this many goal literals that do not hold yet (goal
     # serialisation for goals longer than the training tasks'; None: the whole goal)
     goal_window: int | None = None
+    # training rows, selection rows and DAgger rollouts seen through goal_window as decoding sees them
+    # (gsr.train.compact.windowed_samples: the windowed goal, labelled for it by the planner)
+    train_window: bool = False
+    goal_order: str = "goal"  # the order open goal literals enter the window (compact_decode.GOAL_ORDERS)
 
 
 RECIPES = {
@@ -187,6 +192,19 @@ def train_model(
     random.Random(data_seed).shuffle(val_tasks)
     val_tasks = val_tasks[:VAL_TASKS]
     recovery = recovery_samples(samples, cfg.recovery, seed, domain)
+    rows = samples + recovery
+    window = cfg.goal_window if cfg.train_window else None
+    if window is not None:
+        w0 = time.process_time()
+        whole = rows
+        rows = windowed_samples(rows, domain, window, cfg.goal_order)
+        select_rows = windowed_samples(select_rows, domain, window, cfg.goal_order)
+        figures["windowed_rows"] = {
+            "changed": len(rows) - len({id(r) for r in whole} & {id(r) for r in rows}),
+            "dropped": len(whole) - len(rows),
+            "cpu_seconds": round(time.process_time() - w0, 1),
+        }
+        log(f"rows seen through goal window {window}: {figures['windowed_rows']}")
     figures["rows"] = {
         "trajectory": len(samples),
         "recovery": len(recovery),
@@ -214,7 +232,6 @@ def train_model(
     def sched2(p: float) -> float:
         return cosine()(first + p * (1 - first))
 
-    rows = samples + recovery
     v = cfg.format_version
     r1, opt = fit(
         model,
@@ -241,11 +258,22 @@ def train_model(
     )
     d0, dc0 = time.perf_counter(), time.process_time()
     tasks = start_tasks(data, "train", cfg.dagger_tasks, data_seed)
-    dagger, solved = rollout_samples(model, tokenizer, tasks, domain, version=v)
+    order = cfg.goal_order
+    dagger, solved = rollout_samples(
+        model, tokenizer, tasks, domain, version=v, goal_window=window, goal_order=order
+    )
     solved_c = 0
     if cfg.dagger_constrained:
         more, solved_c = rollout_samples(
-            model, tokenizer, tasks, domain, max_steps=16, version=v, constrained=True
+            model,
+            tokenizer,
+            tasks,
+            domain,
+            max_steps=16,
+            version=v,
+            constrained=True,
+            goal_window=window,
+            goal_order=order,
         )
         dagger += more
     figures["dagger"] = {
@@ -282,9 +310,15 @@ def train_model(
     figures["round2"] = r2.__dict__
     figures["val_accuracy"] = round(accuracy(model, val, domain, tokenizer, v), 3)
     figures["val_ranking"] = round(ranking_accuracy(model, val, domain, tokenizer, v), 3)
-    ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v, goal_window=cfg.goal_window)
+    if window is not None:  # the same val rows through the window, labelled for the windowed goal
+        val_w = windowed_samples(val, domain, window, cfg.goal_order)
+        figures["val_ranking_window"] = round(ranking_accuracy(model, val_w, domain, tokenizer, v), 3)
+    ok, n = constrained_episodes(
+        model, tokenizer, val_tasks, domain, version=v, goal_window=cfg.goal_window, goal_order=cfg.goal_order
+    )
     figures["val_tasks_constrained"] = f"{ok}/{n}"
     figures["goal_window"] = cfg.goal_window
+    figures["goal_order"] = cfg.goal_order
     if cfg.goal_window is not None:
         ok, n = constrained_episodes(model, tokenizer, val_tasks, domain, version=v)
         figures["val_tasks_constrained_whole_goal"] = f"{ok}/{n}"
@@ -298,7 +332,7 @@ def train_model(
     )
     model.to("cpu")
     info = {"recipe": cfg.__dict__, "seed": seed, "data_seed": data_seed, **figures}
-    save(model, tokenizer, model_dir, info, v, goal_window=cfg.goal_window)
+    save(model, tokenizer, model_dir, info, v, goal_window=cfg.goal_window, goal_order=cfg.goal_order)
     return figures
 
 

@@ -47,18 +47,49 @@ def answer_key(text: str) -> tuple[str, tuple[str, ...]] | None:
     return step.action, step.args
 
 
-def window_goal(formula: Formula, graph: Any, domain: Any, limit: int) -> Formula:
+GOAL_ORDERS = ("goal", "dependencies")  # the orders in which open goal literals enter a goal window
+
+
+def _after(p: Formula, q: Formula) -> bool:
+    """Whether goal literal ``p`` waits for ``q`` in the dependency order: a negative literal waits for
+    every positive one (closing or switching off comes last: reaching a positive literal may need the
+    container open again), and a positive literal waits for a positive one that moves the object ``p``
+    puts something on or in (``(on a b)`` after ``(in b c)``: the base is placed first)."""
+    if isinstance(p, Not):
+        return not isinstance(q, Not)
+    if isinstance(q, Not) or not isinstance(p, Atom) or not isinstance(q, Atom) or not q.args:
+        return False
+    return q.args[0] in p.args[1:]
+
+
+def dependency_order(literals: Sequence[Formula]) -> list[Formula]:
+    """``literals`` (goal literals) with each one after the literals it waits for (:func:`_after`); ties
+    and cycles keep the goal's order. Read from the goal alone, so the order does not change as the state
+    does (a window whose order moved with the state could hide the literal the model is working on)."""
+    rest, out = list(literals), []
+    while rest:
+        pick = next((p for p in rest if not any(q is not p and _after(p, q) for q in rest)), rest[0])
+        out.append(pick)
+        rest.remove(pick)
+    return out
+
+
+def window_goal(formula: Formula, graph: Any, domain: Any, limit: int, order: str = "goal") -> Formula:
     """Goal serialisation for a model trained on short goals: when the grounded goal is a conjunction of
     literals of which more than ``limit`` do not hold in ``graph``'s state, the goal the model is shown
     keeps every literal that holds (so the model sees what not to undo) and only the first ``limit``
-    that do not, in the goal's order; otherwise ``formula`` unchanged. The episode still runs until the
-    whole goal holds: as shown literals come true, the next ones enter the window."""
+    that do not, in the goal's order (``order="goal"``) or in :func:`dependency_order` over the whole
+    goal (``"dependencies"``), listed in the goal's order; otherwise ``formula`` unchanged. The episode
+    still runs until the whole goal holds: as shown literals come true, the next ones enter the window."""
+    if order not in GOAL_ORDERS:
+        raise ValueError(f"goal order {order!r} is not one of {', '.join(GOAL_ORDERS)}")
     state = state_from_graph(graph, domain)
     grounded = ground_goal(formula, state, domain)
     parts = grounded.parts if isinstance(grounded, And) else (grounded,)
     if not all(isinstance(p, Atom) or (isinstance(p, Not) and isinstance(p.formula, Atom)) for p in parts):
         return formula
-    open_parts = [p for p in parts if not holds(domain, p, state)]
+    ranked = dependency_order(parts) if order == "dependencies" else parts
+    open_parts = [p for p in ranked if not holds(domain, p, state)]
     if len(open_parts) <= limit:
         return formula
     shown = set(open_parts[:limit])
@@ -69,7 +100,8 @@ class CompactAnswerer:
     """A loaded compact-format causal LM that answers :class:`gsr.reason.backend.Query` objects.
 
     ``goal_window`` (None: off) shows the model at most that many goal literals that do not hold yet
-    (:func:`window_goal`), the most its training rows had."""
+    (:func:`window_goal`), the most its training rows had; ``goal_order`` is the order in which open
+    literals enter the window (:data:`GOAL_ORDERS`)."""
 
     def __init__(
         self,
@@ -78,9 +110,13 @@ class CompactAnswerer:
         device: str = "cpu",
         version: int = 1,
         goal_window: int | None = None,
+        goal_order: str = "goal",
     ) -> None:
+        if goal_order not in GOAL_ORDERS:
+            raise CompactError(f"goal order {goal_order!r} is not one of {', '.join(GOAL_ORDERS)}")
         self.version = version  # the compact format version the model was trained in
         self.goal_window = goal_window
+        self.goal_order = goal_order
         self.model = model
         self.tokenizer = tokenizer
         self.device = device
@@ -100,7 +136,8 @@ class CompactAnswerer:
         """The model's step line for ``query`` (constrained to ``query.allowed`` when given)."""
         goal = query.goal
         if self.goal_window and goal is not None:
-            goal = window_goal(getattr(goal, "formula", goal), query.graph, query.domain, self.goal_window)
+            formula = getattr(goal, "formula", goal)
+            goal = window_goal(formula, query.graph, query.domain, self.goal_window, self.goal_order)
         context, naming = query_tokens(query.graph, query.domain, goal, query.history, self.version)
         prompt = self.ids(context, context=True)
         rejected = {k for k in map(answer_key, getattr(query, "rejected", ()) or ()) if k is not None}

@@ -14,7 +14,7 @@ from typing import Any
 
 from gsr.reason.backend import BackendError, Query
 from gsr.reason.compact import FORMATS, MARKER, CompactError
-from gsr.reason.compact_decode import CompactAnswerer
+from gsr.reason.compact_decode import GOAL_ORDERS, CompactAnswerer
 from gsr.reason.constrained import TokenTrie, completion_ids, step_logits_processor
 from gsr.reason.prompt import Prompt
 
@@ -38,7 +38,10 @@ def compact_answerer(path: str, model: Any, tokenizer: Any, device: str) -> Any:
     window = info.get("goal_window")  # open goal literals the model is shown at most (None: all)
     if window is not None and (not isinstance(window, int) or isinstance(window, bool) or window < 1):
         raise BackendError(f"{marker}: goal_window {window!r} is not a positive integer")
-    return CompactAnswerer(model, tokenizer, device, FORMATS[info["format"]], window)
+    order = info.get("goal_order", "goal")  # the order open goal literals enter the window in
+    if order not in GOAL_ORDERS:
+        raise BackendError(f"{marker}: goal_order {order!r} is not one of {', '.join(GOAL_ORDERS)}")
+    return CompactAnswerer(model, tokenizer, device, FORMATS[info["format"]], window, order)
 
 
 class TransformersBackend:

@@ -50,7 +50,7 @@ from gsr.reason.compact import (
     context_tokens,
     scene_objects,
 )
-from gsr.reason.compact_decode import CompactAnswerer, answer_key
+from gsr.reason.compact_decode import CompactAnswerer, answer_key, window_goal
 from gsr.reason.prompt import Prompt
 from gsr.reason.step_format import format_step, parse_first_step
 from gsr.scene_graph import SceneGraph
@@ -135,6 +135,27 @@ def recovery_samples(
         ok, step = label(domain, graph, base.goal)
         if ok:
             out.append(Sample(graph, base.goal, tuple(history), step, "recovery"))
+    return out
+
+
+def windowed_samples(
+    samples: Sequence[Sample], domain: Domain, limit: int, order: str = "goal"
+) -> list[Sample]:
+    """The rows as a model decoding with a goal window of ``limit`` sees them
+    (:func:`gsr.reason.compact_decode.window_goal`): a row with more than ``limit`` open goal literals gets
+    the windowed goal (every holding literal, the first ``limit`` open ones in ``order``) and the planner's
+    first step
+    for that goal, so training and decoding show the model the same goals and the label serves a shown
+    literal. Other rows are kept as they are; a windowed row the planner cannot label is dropped."""
+    out: list[Sample] = []
+    for s in samples:
+        shown = window_goal(s.goal, s.graph, domain, limit, order)
+        if shown is s.goal:
+            out.append(s)
+            continue
+        ok, step = label(domain, s.graph, shown)
+        if ok:
+            out.append(Sample(s.graph, shown, s.history, step, s.source))
     return out
 
 
@@ -384,12 +405,16 @@ def constrained_episodes(
     max_steps: int = 24,
     version: int = 1,
     goal_window: int | None = None,
+    goal_order: str = "goal",
 ) -> tuple[int, int]:
     """Closed-loop episodes under constrained decoding, as the reasoner loop runs them (the admissible
     steps are the applicable ones whose next state the episode has visited least), without the runner:
     (episodes whose goal held within ``max_steps``, episodes). A selection metric on validation tasks.
-    ``goal_window``: the answerer's goal window (as the model's marker sets it for the backend)."""
-    answerer = CompactAnswerer(model, tokenizer, version=version, goal_window=goal_window)
+    ``goal_window``, ``goal_order``: the answerer's goal window and order (as the model's marker sets them
+    for the backend)."""
+    answerer = CompactAnswerer(
+        model, tokenizer, version=version, goal_window=goal_window, goal_order=goal_order
+    )
     solved = episodes = 0
     for graph, goal in tasks:
         episodes += 1
@@ -423,11 +448,17 @@ def rollout_samples(
     budget: float | None = None,
     version: int = 1,
     constrained: bool = False,
+    goal_window: int | None = None,
+    goal_order: str = "goal",
 ) -> tuple[list[Sample], int]:
     """DAgger: run the model (free decoding, no checker; or, ``constrained``, choosing among the
     admissible steps as constrained decoding does) on ``tasks``; label every visited state with the
-    planner. Returns (samples, episodes the model solved on its own)."""
-    answerer = CompactAnswerer(model, tokenizer, version=version)
+    planner. Returns (samples, episodes the model solved on its own). With ``goal_window`` the model
+    decodes through that window (``goal_order``) and each visited state is labelled for (and keeps) the
+    windowed goal (:func:`windowed_samples`' rows)."""
+    answerer = CompactAnswerer(
+        model, tokenizer, version=version, goal_window=goal_window, goal_order=goal_order
+    )
     out: list[Sample] = []
     solved = 0
     start = time.perf_counter()
@@ -437,10 +468,11 @@ def rollout_samples(
         history: list[Step] = []
         seen: Counter[frozenset] = Counter([state_from_graph(graph, domain).atoms])
         for _ in range(max_steps):
-            ok, want = label(domain, graph, goal)
+            shown = window_goal(goal, graph, domain, goal_window, goal_order) if goal_window else goal
+            ok, want = label(domain, graph, shown)
             if not ok:
                 break
-            out.append(Sample(graph, goal, tuple(history), want, "dagger"))
+            out.append(Sample(graph, shown, tuple(history), want, "dagger"))
             if want is None:
                 solved += 1
                 break
@@ -476,10 +508,12 @@ def save(
     info: dict[str, Any],
     version: int = 1,
     goal_window: int | None = None,
+    goal_order: str = "goal",
 ) -> None:
     """Write the folder to a temporary name and rename it to ``out`` (never half-written). ``goal_window``
     goes into the marker: the backend's answerer then shows the model at most that many goal literals
-    that do not hold yet (:func:`gsr.reason.compact_decode.window_goal`)."""
+    that do not hold yet (:func:`gsr.reason.compact_decode.window_goal`), entering in ``goal_order``
+    (written only when it is not the goal's own order, so such markers read as before)."""
     if out.exists() and any(out.iterdir()):
         raise GSRError(f"{out} exists and is not empty; choose a new output folder")
     tmp = out.with_name(f".{out.name}.tmp")
@@ -491,6 +525,8 @@ def save(
     marker: dict[str, Any] = {"format": fmt, "max_objects": MAX_OBJECTS, "history": HISTORY}
     if goal_window is not None:
         marker["goal_window"] = goal_window
+    if goal_order != "goal":
+        marker["goal_order"] = goal_order
     (tmp / MARKER).write_text(json.dumps(marker, indent=1))
     (tmp / "gsr_training.json").write_text(json.dumps(info, indent=1, default=str))
     if out.exists():

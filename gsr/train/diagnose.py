@@ -29,7 +29,7 @@ from gsr.pddl.parser import parse_formula
 from gsr.pddl.walk import subformulas
 from gsr.plan import api as plan_api
 from gsr.reason.compact import Naming, context_tokens, ground_goal, scene_objects
-from gsr.reason.compact_decode import CompactAnswerer
+from gsr.reason.compact_decode import GOAL_ORDERS, CompactAnswerer
 from gsr.resources import load_builtin_domain
 from gsr.scene_graph import SceneGraph
 from gsr.semantics import goal_holds, holds
@@ -142,11 +142,18 @@ def episode(
 
 
 def task_lines(
-    model_dir: Path, tasks_dir: Path, domain: Domain, max_steps: int, goal_window: int | None = None
+    model_dir: Path,
+    tasks_dir: Path,
+    domain: Domain,
+    max_steps: int,
+    goal_window: int | None = None,
+    goal_order: str = "goal",
 ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
     """One line per task file, and the tasks' length profile along the planner trajectories."""
     model, tokenizer, version = load_compact(model_dir)
-    answerer = CompactAnswerer(model, tokenizer, version=version, goal_window=goal_window)
+    answerer = CompactAnswerer(
+        model, tokenizer, version=version, goal_window=goal_window, goal_order=goal_order
+    )
     files = sorted(tasks_dir.glob("*.json"))
     if not files:
         raise GSRError(f"{tasks_dir}: no task files")
@@ -179,6 +186,7 @@ def task_lines(
         "open_goal_literals_at_start": profile(opened),
         "solved": sum(x["solved"] for x in out),
         "goal_window": goal_window,
+        "goal_order": goal_order,
     }
     return out, summary
 
@@ -194,6 +202,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--goal-window", type=int, help="Show the model at most N open goal literals (default: off)."
     )
+    ap.add_argument(
+        "--goal-order",
+        choices=GOAL_ORDERS,
+        default="goal",
+        help="Order in which open goal literals enter the window (default: the goal's).",
+    )
     ap.add_argument("--no-train-profile", action="store_true", help="Skip the training rows' profile.")
     args = ap.parse_args(argv)
     import torch
@@ -204,7 +218,9 @@ def main(argv: list[str] | None = None) -> int:
         _, _, version = load_compact(args.model)
         if not args.no_train_profile:
             print(json.dumps(train_profile(args.data, domain, version, args.rows or None)), flush=True)
-        lines, summary = task_lines(args.model, args.tasks, domain, args.max_steps, args.goal_window)
+        lines, summary = task_lines(
+            args.model, args.tasks, domain, args.max_steps, args.goal_window, args.goal_order
+        )
         print(json.dumps(summary), flush=True)
         for line in lines:
             print(json.dumps(line), flush=True)

@@ -273,3 +273,32 @@ def test_long_validation_tasks_join_two_goals_of_a_scene_into_a_longer_plan(data
         assert len(goal.parts) > max(len(parse_formula(val_goals[x]).parts) for x in (first, second))
         found = plan_api.plan_graph(domain, task.initial, goal, timeout=10.0)
         assert found.solved and len(found.plan.steps) == task.metadata["plan"] >= 5
+
+
+def test_evaluate_runs_long_tasks_with_the_markers_or_the_given_goal_order(
+    data, domain, tmp_path, capsys
+) -> None:
+    import json
+
+    from gsr.datagen.tasks import generated_tasks
+    from gsr.reason.compact import build_tokenizer
+    from gsr.task_spec import task_json
+    from gsr.train.compact import CompactSpec, new_model, save
+    from gsr.train.evaluate import main
+
+    tok = build_tokenizer(domain)
+    model = new_model(tok, CompactSpec(hidden=16, layers=1, heads=2, intermediate=32, context=256), 0)
+    save(model, tok, tmp_path / "m", {}, 3, goal_window=1, goal_order="dependencies")
+    (tmp_path / "lv").mkdir()
+    for t in generated_tasks(data, "val")[:2]:
+        (tmp_path / "lv" / f"{t.id}.json").write_text(task_json(t))
+    args = ["--data", str(data), "--rows", "4", "--tasks", "1", "--long-tasks", str(tmp_path / "lv")]
+    assert main([*args, str(tmp_path / "m")]) == 0
+    line = json.loads(capsys.readouterr().out)
+    assert line["long_tasks_constrained"].endswith("/2") and line["val_tasks_constrained"].endswith("/1")
+    assert (line["goal_window"], line["goal_order"]) == (1, "dependencies")
+    assert main([*args, "--goal-order", "goal", "--goal-window", "2", str(tmp_path / "m")]) == 0
+    line = json.loads(capsys.readouterr().out)
+    assert (line["goal_window"], line["goal_order"]) == (2, "goal")
+    assert main([*args[:-2], "--long-tasks", str(tmp_path / "none"), str(tmp_path / "m")]) == 1
+    assert "no task files" in capsys.readouterr().err

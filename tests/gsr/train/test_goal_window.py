@@ -112,3 +112,58 @@ def test_joined_goals_keep_each_conjunct_once_in_order() -> None:
     assert [str(p) for p in joined.parts] == [
         str(p) for p in parse_formula("(and (on a b) (in c d) (on e f))").parts
     ]
+
+
+def test_dependency_order_places_bases_first_and_negative_literals_last() -> None:
+    from gsr.reason.compact_decode import dependency_order
+
+    goal = parse_formula(
+        "(and (not (open box)) (on spoon plate) (in cube box) (in plate box) (on cup plate) (turned_on lamp))"
+    )
+    order = [str(p) for p in dependency_order(goal.parts)]
+    # (in plate box) moves the plate that two literals put things on: it comes before them; the negative
+    # literal comes after every positive one; the rest keep the goal's order
+    expected = (
+        "(and (in cube box) (in plate box) (on spoon plate) (on cup plate) (turned_on lamp) (not (open box)))"
+    )
+    assert order == [str(p) for p in parse_formula(expected).parts]
+    # a cycle keeps the goal's order
+    cycle = parse_formula("(and (on a b) (on b a))")
+    assert [str(p) for p in dependency_order(cycle.parts)] == [str(p) for p in cycle.parts]
+
+
+def test_the_dependency_order_shows_the_base_literal_first(domain, graph) -> None:
+    # goal order would show (on cube1 red_box) first, though red_box must go into blue_box before
+    goal = parse_formula("(and (on cube1 red_box) (in red_box blue_box) (on cube2 table))")
+    shown = window_goal(goal, graph, domain, 1, "dependencies")
+    assert [str(p) for p in shown.parts] == [str(parse_formula("(in red_box blue_box)"))]
+    assert [str(p) for p in window_goal(goal, graph, domain, 1).parts] == [
+        str(parse_formula("(on cube1 red_box)"))
+    ]
+    with pytest.raises(ValueError, match="goal order 'random'"):
+        window_goal(goal, graph, domain, 1, "random")
+
+
+def test_the_marker_sets_the_goal_order_and_a_bad_one_is_refused(domain, tmp_path) -> None:
+    pytest.importorskip("transformers")
+    from gsr.errors import GSRError
+    from gsr.reason.backend import BackendError
+    from gsr.reason.compact import MARKER, build_tokenizer
+    from gsr.reason.hf_backend import compact_answerer
+    from gsr.train.compact import CompactSpec, new_model, save
+    from gsr.train.evaluate import goal_order
+
+    tok = build_tokenizer(domain)
+    model = new_model(tok, CompactSpec(hidden=16, layers=1, heads=2, intermediate=32, context=128), 0)
+    save(model, tok, tmp_path / "dep", {}, 3, goal_window=1, goal_order="dependencies")
+    save(model, tok, tmp_path / "plain", {}, 3, goal_window=1)
+    assert "goal_order" not in json.loads((tmp_path / "plain" / MARKER).read_text())  # old markers unchanged
+    assert compact_answerer(str(tmp_path / "dep"), model, tok, "cpu").goal_order == "dependencies"
+    assert compact_answerer(str(tmp_path / "plain"), model, tok, "cpu").goal_order == "goal"
+    assert goal_order(tmp_path / "dep") == "dependencies" and goal_order(tmp_path / "plain") == "goal"
+    marker = tmp_path / "dep" / MARKER
+    marker.write_text(json.dumps({**json.loads(marker.read_text()), "goal_order": "random"}))
+    with pytest.raises(BackendError, match="goal_order 'random' is not one of goal, dependencies"):
+        compact_answerer(str(tmp_path / "dep"), model, tok, "cpu")
+    with pytest.raises(GSRError, match="goal_order 'random'"):
+        goal_order(tmp_path / "dep")
