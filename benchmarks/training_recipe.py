@@ -99,6 +99,7 @@ RECIPES = {
         select_every=250,
         dagger_constrained=True,
         goal_window=1,
+        goal_order="dependencies",
     ),
     "gpu": Recipe(
         samples=200000,
