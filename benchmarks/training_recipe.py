@@ -40,6 +40,7 @@ from gsr.train.compact import (
     dataset_samples,
     fit,
     new_model,
+    planner_samples,
     ranking_accuracy,
     recovery_samples,
     rollout_samples,
@@ -47,6 +48,7 @@ from gsr.train.compact import (
     spec_dict,
     windowed_samples,
 )
+from gsr.train.longval import long_tasks
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,11 @@ class Recipe:
     # (gsr.train.compact.windowed_samples: the windowed goal, labelled for it by the planner)
     train_window: bool = False
     goal_order: str = "goal"  # the order open goal literals enter the window (compact_decode.GOAL_ORDERS)
+    # longer training tasks: this many joined train tasks (two train goals of one scene, plans longer than
+    # any train task's: gsr.train.longval.long_tasks on the train split) add the planner's episodes as rows,
+    # seen through goal_window in goal_order as decoding sees them (compact.planner_samples); 0: none
+    joined_tasks: int = 0
+    joined_timeout: float = 1.0  # planner seconds per candidate pair (conflicting goals are unsolvable)
 
 
 RECIPES = {
@@ -194,6 +201,18 @@ def train_model(
     val_tasks = val_tasks[:VAL_TASKS]
     recovery = recovery_samples(samples, cfg.recovery, seed, domain)
     rows = samples + recovery
+    if cfg.joined_tasks:
+        j0 = time.process_time()
+        long = long_tasks(data, cfg.joined_tasks, data_seed, split="train", timeout=cfg.joined_timeout)
+        starts = [(t.initial, parse_formula(t.goal)) for t in long]
+        joined = planner_samples(starts, domain, cfg.goal_window, cfg.goal_order)
+        rows = rows + joined
+        figures["joined"] = {
+            "tasks": len(long),
+            "rows": len(joined),
+            "cpu_seconds": round(time.process_time() - j0, 1),
+        }
+        log(f"joined train tasks: {figures['joined']}")
     window = cfg.goal_window if cfg.train_window else None
     if window is not None:
         w0 = time.process_time()

@@ -159,6 +159,34 @@ def windowed_samples(
     return out
 
 
+def planner_samples(
+    tasks: Iterable[tuple[SceneGraph, Formula]],
+    domain: Domain,
+    goal_window: int | None = None,
+    goal_order: str = "goal",
+    max_steps: int = 40,
+) -> list[Sample]:
+    """Rows of the planner's own episodes on ``tasks`` (the recipe's joined training tasks): from each
+    start, the goal as decoding shows it (through ``goal_window`` in ``goal_order``, else the whole goal),
+    labelled with the planner's first step for that goal, which is then taken, until the whole goal holds
+    (a ``done`` row). An episode the planner cannot continue keeps the rows it has."""
+    out: list[Sample] = []
+    for graph, goal in tasks:
+        history: list[Step] = []
+        for _ in range(max_steps + 1):
+            shown = window_goal(goal, graph, domain, goal_window, goal_order) if goal_window else goal
+            ok, step = label(domain, graph, shown)
+            if not ok:
+                break
+            out.append(Sample(graph, shown, tuple(history), step, "joined"))
+            nxt = None if step is None else _apply(domain, graph, step)
+            if nxt is None:
+                break
+            graph = nxt
+            history.append(step)
+    return out
+
+
 def _key(step: Step | None) -> tuple | None:
     return None if step is None else (step.action, step.args)
 

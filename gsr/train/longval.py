@@ -8,6 +8,9 @@ planner solves it in at least ``--min-plan`` steps (default: one more than the l
 plan, so every kept task is longer than anything trained on). The kept tasks are written as TaskSpec
 files (category ``long-val``), each atomically, for ``bench_training.py --tasks`` or
 ``python -m gsr.train.diagnose``.
+
+The same joining on the ``train`` split (``long_tasks(..., split="train")``, category ``long-train``) makes
+the recipe's optional longer training tasks (``Recipe.joined_tasks``); no other split is ever joined.
 """
 
 from __future__ import annotations
@@ -43,13 +46,25 @@ def joined_goal(first: str, second: str) -> Formula:
     return And(tuple(parts))
 
 
-def long_tasks(data: Path, count: int, seed: int, min_plan: int | None = None) -> list[TaskSpec]:
-    """Up to ``count`` joined validation tasks whose plans have at least ``min_plan`` steps."""
+def long_tasks(
+    data: Path,
+    count: int,
+    seed: int,
+    min_plan: int | None = None,
+    split: str = "val",
+    timeout: float = 10.0,
+) -> list[TaskSpec]:
+    """Up to ``count`` joined tasks of ``split`` (validation by default; ``train`` for the recipe's
+    longer training tasks, never another split) whose plans have at least ``min_plan`` steps; a pair
+    the planner does not solve within ``timeout`` seconds (most such pairs have conflicting goals) is
+    skipped."""
+    if split not in ("val", "train"):
+        raise GSRError(f"joined tasks come from the val or train split, not {split!r}")
     domain = load_builtin_domain()
     if min_plan is None:
         min_plan = 1 + max((t.metadata.get("horizon", 0) for t in generated_tasks(data, "train")), default=0)
     scenes: dict[str, list[TaskSpec]] = {}
-    for t in generated_tasks(data, "val"):
+    for t in generated_tasks(data, split):
         # one scene: the same objects (the tasks of a scene start from different arrangements of them)
         scenes.setdefault(" ".join(sorted(n.id for n in t.initial.nodes)), []).append(t)
     pairs = [(a, b) for group in scenes.values() for i, a in enumerate(group) for b in group[i + 1 :]]
@@ -61,14 +76,14 @@ def long_tasks(data: Path, count: int, seed: int, min_plan: int | None = None) -
         goal = joined_goal(a.goal, b.goal)
         if len(_parts(goal)) <= max(len(_parts(parse_formula(x.goal))) for x in (a, b)):
             continue  # one goal contains the other
-        found = plan_api.plan_graph(domain, a.initial, goal, timeout=10.0)
+        found = plan_api.plan_graph(domain, a.initial, goal, timeout=timeout)
         if not found.solved or found.plan is None or len(found.plan.steps) < min_plan:
             continue
         out.append(
             TaskSpec(
                 id=f"long-{a.id}+{b.id.rsplit('-', 1)[-1]}",
                 suite="gsr-datagen",
-                category="long-val",
+                category=f"long-{split}",
                 instructions=(f"{a.instructions[0]} {b.instructions[0]}",),
                 initial=a.initial,
                 goal=write_formula(goal),
