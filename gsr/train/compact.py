@@ -425,6 +425,46 @@ def constrained_choice(
     return k, graph, state
 
 
+@dataclass(frozen=True)
+class ConstrainedEpisode:
+    """One closed-loop episode under constrained decoding: ``graphs`` the scene before each step and
+    after the last (``len(steps) + 1``), ``steps`` the model's picks, ``end`` why it stopped:
+    ``"solved"`` (the goal holds), ``"max_steps"``, ``"no_admissible"`` (no applicable step) or
+    ``"no_pick"`` (the model named no admissible step; a decision was made in ``graphs[-1]``)."""
+
+    graphs: list[SceneGraph]
+    steps: list[Step]
+    end: str
+
+
+def constrained_episode(
+    answerer: CompactAnswerer, domain: Domain, graph: SceneGraph, goal: Formula, max_steps: int
+) -> ConstrainedEpisode:
+    """Run one episode as the reasoner loop does under constrained decoding (the admissible steps are
+    the applicable ones whose next state the episode has visited least), until the goal holds,
+    ``max_steps`` steps, no admissible step or no pick: the episode of :func:`constrained_episodes`
+    and of ``gsr.train.diagnose``."""
+    graphs = [graph]
+    steps: list[Step] = []
+    seen: Counter[frozenset] = Counter()
+    state = state_from_graph(graph, domain)
+    seen[state.atoms] += 1
+    while True:
+        if goal_holds(domain, goal, state):
+            return ConstrainedEpisode(graphs, steps, "solved")
+        if len(steps) == max_steps:
+            return ConstrainedEpisode(graphs, steps, "max_steps")
+        choices = admissible(domain, graph, seen)
+        if not choices[0]:
+            return ConstrainedEpisode(graphs, steps, "no_admissible")
+        picked = constrained_choice(answerer, domain, graph, goal, steps, choices, seen)
+        if picked is None:
+            return ConstrainedEpisode(graphs, steps, "no_pick")
+        k, graph, state = picked
+        steps.append(Step(choices[0][k].action, choices[0][k].args))
+        graphs.append(graph)
+
+
 def constrained_episodes(
     model: Any,
     tokenizer: Any,
@@ -446,24 +486,7 @@ def constrained_episodes(
     solved = episodes = 0
     for graph, goal in tasks:
         episodes += 1
-        history: list[Step] = []
-        seen: Counter[frozenset] = Counter()
-        state = state_from_graph(graph, domain)
-        seen[state.atoms] += 1
-        for _ in range(max_steps + 1):
-            if goal_holds(domain, goal, state):
-                solved += 1
-                break
-            if len(history) == max_steps:
-                break
-            choices = admissible(domain, graph, seen)
-            if not choices[0]:
-                break
-            picked = constrained_choice(answerer, domain, graph, goal, history, choices, seen)
-            if picked is None:
-                break
-            k, graph, state = picked
-            history.append(Step(choices[0][k].action, choices[0][k].args))
+        solved += constrained_episode(answerer, domain, graph, goal, max_steps).end == "solved"
     return solved, episodes
 
 

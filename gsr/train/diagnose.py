@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections import Counter
 from pathlib import Path
 from statistics import mean
 from typing import Any
@@ -35,7 +34,7 @@ from gsr.scene_graph import SceneGraph
 from gsr.semantics import goal_holds, holds
 from gsr.step import Step
 from gsr.task_spec import load_task
-from gsr.train.compact import admissible, constrained_choice, dataset_samples
+from gsr.train.compact import constrained_episode, dataset_samples
 from gsr.train.evaluate import load_compact
 
 
@@ -104,41 +103,33 @@ def train_profile(data: Path, domain: Domain, version: int, limit: int | None) -
 def episode(
     answerer: CompactAnswerer, domain: Domain, graph: SceneGraph, goal: Formula, max_steps: int
 ) -> dict[str, Any]:
-    """A constrained episode with the planner's remaining plan length after every step."""
-    history: list[Step] = []
-    seen: Counter[frozenset] = Counter()
-    state = state_from_graph(graph, domain)
-    seen[state.atoms] += 1
-    left = plan_steps(domain, graph, goal)
+    """A constrained episode (:func:`gsr.train.compact.constrained_episode`) with the query length of
+    every decision and the first step after which the planner's remaining plan is not shorter."""
+    run = constrained_episode(answerer, domain, graph, goal, max_steps)
+    decisions = len(run.steps) + (run.end == "no_pick")
+    lengths = [
+        context_length(run.graphs[i], goal, tuple(run.steps[:i]), domain, answerer.version)
+        for i in range(decisions)
+    ]
     first_wrong: dict[str, Any] | None = None
-    solved = False
-    lengths = []
-    while True:
-        if goal_holds(domain, goal, state):
-            solved = True
-            break
-        if len(history) == max_steps:
-            break
-        choices = admissible(domain, graph, seen)
-        if not choices[0]:
-            break
-        lengths.append(context_length(graph, goal, tuple(history), domain, answerer.version))
-        picked = constrained_choice(answerer, domain, graph, goal, history, choices, seen)
-        if picked is None:
-            break
-        k, graph, state = picked
-        step = Step(choices[0][k].action, choices[0][k].args)
-        history.append(step)
-        after = plan_steps(domain, graph, goal)
-        if first_wrong is None and left is not None and (after is None or len(after) >= len(left)):
+    left = plan_steps(domain, run.graphs[0], goal)
+    for i, step in enumerate(run.steps):
+        after = plan_steps(domain, run.graphs[i + 1], goal)
+        if left is not None and (after is None or len(after) >= len(left)):
             first_wrong = {
-                "index": len(history) - 1,
+                "index": i,
                 "step": [step.action, *step.args],
                 "planner": [left[0].action, *left[0].args] if left else None,
                 "plan_left_before": len(left),
             }
+            break
         left = after
-    return {"solved": solved, "steps": len(history), "first_wrong": first_wrong, "context_tokens": lengths}
+    return {
+        "solved": run.end == "solved",
+        "steps": len(run.steps),
+        "first_wrong": first_wrong,
+        "context_tokens": lengths,
+    }
 
 
 def task_lines(

@@ -302,3 +302,40 @@ def test_evaluate_runs_long_tasks_with_the_markers_or_the_given_goal_order(
     assert (line["goal_window"], line["goal_order"]) == (2, "goal")
     assert main([*args[:-2], "--long-tasks", str(tmp_path / "none"), str(tmp_path / "m")]) == 1
     assert "no task files" in capsys.readouterr().err
+
+
+class _ScriptedAnswerer:
+    """Answers every step query with the ``pick``-th admissible line (None: a line that names no step)."""
+
+    version = 1
+
+    def __init__(self, pick: int | None) -> None:
+        self.pick = pick
+        self.queries = 0
+
+    def answer(self, query) -> str:
+        self.queries += 1
+        return "(no_such_step a b)" if self.pick is None else query.allowed[self.pick]
+
+
+def test_constrained_episode_records_graphs_steps_and_why_it_stopped(samples, domain) -> None:
+    from gsr.semantics import goal_holds
+    from gsr.train.compact import constrained_episode
+
+    s = next(s for s in samples if s.answer is not None and not s.history)
+    run = constrained_episode(_ScriptedAnswerer(0), domain, s.graph, s.goal, max_steps=2)
+    assert len(run.graphs) == len(run.steps) + 1 and run.graphs[0] is s.graph
+    if run.end == "solved":
+        assert goal_holds(domain, s.goal, state_from_graph(run.graphs[-1], domain))
+    else:
+        assert run.end == "max_steps" and len(run.steps) == 2
+    for before, step, after in zip(run.graphs[:-1], run.steps, run.graphs[1:], strict=True):
+        assert check_step(domain, state_from_graph(before, domain), step).ok
+        assert state_from_graph(after, domain).atoms != state_from_graph(before, domain).atoms
+
+    silent = _ScriptedAnswerer(None)
+    run = constrained_episode(silent, domain, s.graph, s.goal, max_steps=5)
+    assert (run.end, run.steps, len(run.graphs), silent.queries) == ("no_pick", [], 1, 1)
+
+    done = constrained_episode(_ScriptedAnswerer(0), domain, s.graph, parse_formula("(and)"), max_steps=5)
+    assert (done.end, done.steps) == ("solved", [])
