@@ -60,6 +60,15 @@ class Instance:
         return np.all(np.abs(local) <= half, axis=1)
 
 
+def box_contains_share(inner: Instance, outer: Instance, margin: float = 0.0) -> float:
+    """Share of ``inner``'s axis-aligned box volume inside ``outer``'s, grown by ``margin`` (m) on every
+    side (a degenerate inner box counts as at least 1 mm per side)."""
+    lo = np.maximum(inner.aabb_min, outer.aabb_min - margin)
+    hi = np.minimum(inner.aabb_max, outer.aabb_max + margin)
+    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
+    return inter / float(np.prod(np.maximum(inner.aabb_max - inner.aabb_min, 1e-3)))
+
+
 def pixel_rays(camera: Camera, stride: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Per-pixel normalised image coordinates ``(x/z, y/z)`` on the strided grid (:meth:`Camera.rays`)."""
     return camera.rays(stride)

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 from gsr.perception.articulation import label_affordances
-from gsr.perception.geometry import Instance, fit_boxes, plane_height
+from gsr.perception.geometry import Instance, box_contains_share, fit_boxes, plane_height
 
 from gsr.categories import affordances, is_part_category
 
@@ -274,7 +274,7 @@ def _unconfirmed_container(b: Instance, a: Instance, by_key: dict[str, Instance]
     return any(
         p is not b
         and p.label.parent == b.label.parent
-        and _box_share(b, p) >= PART_NESTED_SHARE
+        and box_contains_share(b, p, PART_NESTED_MARGIN) >= PART_NESTED_SHARE
         and b.aabb_max[2] < p.aabb_max[2] - PART_NESTED_BELOW_TOP
         for p in by_key.values()
     )
@@ -284,18 +284,12 @@ def _unconfirmed_container(b: Instance, a: Instance, by_key: dict[str, Instance]
 PART_ATTACHED_GAP = 0.02
 
 
-#: A part whose box lies this much (volume share, boxes grown 1 cm) in another part of its object is nested.
+#: A part whose box lies this much (volume share) in another part of its object's box grown by
+#: PART_NESTED_MARGIN (m) is nested ...
 PART_NESTED_SHARE = 0.9
+PART_NESTED_MARGIN = 0.01
 #: ... with its top this far (m) under that part's top: what stands in a drawer stays below its walls' top.
 PART_NESTED_BELOW_TOP = 0.015
-
-
-def _box_share(inner: Instance, outer: Instance) -> float:
-    """Share of ``inner``'s axis-aligned box inside ``outer``'s grown by 1 cm."""
-    lo = np.maximum(inner.aabb_min, outer.aabb_min - 0.01)
-    hi = np.minimum(inner.aabb_max, outer.aabb_max + 0.01)
-    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
-    return inter / float(np.prod(np.maximum(inner.aabb_max - inner.aabb_min, 1e-3)))
 
 
 def attached_part(part: Instance, parent: Instance) -> bool:

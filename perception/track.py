@@ -33,6 +33,7 @@ import numpy as np
 from gsr.perception.geometry import (
     GeometryParams,
     Instance,
+    box_contains_share,
     clean_points,
     color_name,
     fit_boxes,
@@ -94,14 +95,6 @@ def _key_overlap(mine: np.ndarray, theirs: np.ndarray) -> float:
     pos = np.clip(np.searchsorted(theirs, near), 0, theirs.size - 1)
     hit = (theirs[pos] == near).reshape(mine.size, -1).any(axis=1)
     return float(hit.mean())
-
-
-def _box_contains_share(inner: Instance, outer: Instance) -> float:
-    """Share of the inner instance's box volume inside the outer one's box (both axis-aligned)."""
-    lo, hi = np.maximum(inner.aabb_min, outer.aabb_min), np.minimum(inner.aabb_max, outer.aabb_max)
-    inter = float(np.prod(np.clip(hi - lo, 0.0, None)))
-    vol = float(np.prod(np.maximum(inner.aabb_max - inner.aabb_min, 1e-3)))
-    return inter / vol
 
 
 def _candidates(instances: list[Instance]) -> tuple[np.ndarray, np.ndarray]:
@@ -223,7 +216,7 @@ def fuse_views(instances: list[Instance], params: GeometryParams) -> list[Instan
             x, y = instances[i], instances[j]
             if x.label.category != y.label.category:
                 continue
-            share = max(_box_contains_share(x, y), _box_contains_share(y, x))
+            share = max(box_contains_share(x, y), box_contains_share(y, x))
             ri, rj = find(i), find(j)
             if ri != rj and share >= FIXTURE_NESTED:
                 root[rj] = ri
@@ -1067,10 +1060,7 @@ def assign_parts(
             continue
         best, share = None, PART_IN_PARENT
         for obj in objects:
-            grown = dataclasses.replace(
-                obj, aabb_min=obj.aabb_min - _PART_MARGIN, aabb_max=obj.aabb_max + _PART_MARGIN
-            )
-            s = _box_contains_share(part, grown)
+            s = box_contains_share(part, obj, _PART_MARGIN)
             if s > share or (best is not None and s == share and obj.size.prod() > best.size.prod()):
                 best, share = obj, s
         if best is not None:
@@ -1213,7 +1203,7 @@ def _inside(a: Instance, b: Instance) -> bool:
     """A's box lies (``PART_NESTED``) inside B's and is a piece of it, not one of its levels."""
     if float(np.prod(a.size[:2])) > PART_PIECE_FOOTPRINT * float(np.prod(b.size[:2])):
         return False
-    return _box_contains_share(a, b) >= PART_NESTED
+    return box_contains_share(a, b) >= PART_NESTED
 
 
 def _nested(a: Instance, b: Instance) -> bool:
@@ -1235,7 +1225,7 @@ def _content_read_as_part(a: Instance, b: Instance) -> Instance | None:
     for inner, outer in ((a, b), (b, a)):
         if (
             inner.views <= outer.views
-            and _box_contains_share(inner, outer) >= CONTENT_INSIDE
+            and box_contains_share(inner, outer) >= CONTENT_INSIDE
             and float(np.prod(inner.size)) < float(np.prod(outer.size))
         ):
             return inner

@@ -88,3 +88,15 @@ def test_a_pulled_out_drawer_one_camera_saw_holds_what_several_cameras_saw_in_it
     inner = _drawer("cabinet_1/drawer_3", (0.12, -0.08, 0.237), (0.2, 0.0, 0.269), views=1)
     sup = supports([table(), cabinet, outer, inner, cube], PLANE, TH)
     assert sup["cube_1"] == ("in", "cabinet_1/drawer_2")
+
+
+def test_box_contains_share_measures_the_inner_box_inside_the_outer_one_grown_by_the_margin():
+    from gsr.perception.geometry import box_contains_share
+
+    outer = solid("box_1", "box", (0.0, 0.0, 0.0), (0.1, 0.1, 0.1))
+    inside = solid("cube_1", "cube", (0.02, 0.02, 0.0), (0.06, 0.06, 0.04))
+    half_out = solid("cube_2", "cube", (0.08, 0.02, 0.0), (0.12, 0.06, 0.04))  # half of x beyond the wall
+    assert box_contains_share(inside, outer) == 1.0
+    assert abs(box_contains_share(half_out, outer) - 0.5) < 1e-9
+    assert abs(box_contains_share(half_out, outer, 0.01) - 0.75) < 1e-9  # the wall moved out by 1 cm
+    assert box_contains_share(outer, inside) < 0.2  # not symmetric: the share of the inner box's volume
