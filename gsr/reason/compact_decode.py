@@ -92,8 +92,8 @@ def window_goal(formula: Formula, graph: Any, domain: Any, limit: int, order: st
     open_parts = [p for p in ranked if not holds(domain, p, state)]
     if len(open_parts) <= limit:
         return formula
-    shown = set(open_parts[:limit])
-    return And(tuple(p for p in parts if p in shown or holds(domain, p, state)))
+    hidden = set(open_parts[limit:]).difference(open_parts[:limit])  # (a literal may repeat)
+    return And(tuple(p for p in parts if p not in hidden))
 
 
 class CompactAnswerer:
