@@ -7,7 +7,10 @@ compiled grounding code and the C kernels are cached after the first); the secon
 30 tasks. The difference of the two totals over 30 is the figure:
 
     .venv/bin/python -m gsr.benchmarks.planner_callgrind [--tasks 30] [--ground-only]
-    PYTHONPATH=/tmp/old .venv/bin/python -m gsr.benchmarks.planner_callgrind   # another tree
+    (cd /tmp/old && PYTHONPATH=/tmp/old /path/to/repo/.venv/bin/python -m gsr.benchmarks.planner_callgrind)
+
+(another tree, unpacked with ``git archive``: run from its folder, since ``python -m`` puts the working
+directory first on ``sys.path``; the output names the ``gsr.plan`` it counted)
 
 ``--ground-only`` counts ``ground_task`` instead of ``plan``. ``--ipc SET/PROBLEM.pddl`` counts one
 grounding of that reference problem instead (its parsing subtracted). Needs ``valgrind`` on PATH.
@@ -24,6 +27,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import gsr.plan as gsr_plan
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan
 from gsr.plan.grounding import ground_task
@@ -101,6 +105,7 @@ def main(argv: list[str] | None = None) -> int:
     total = _count(passed, measured=True)
     calls = 1 if args.ipc else args.tasks
     what = f"ground_task({args.ipc})" if args.ipc else ("ground_task" if args.ground_only else "plan")
+    print(f"gsr.plan from {Path(gsr_plan.__file__).parent}")
     print(f"set-up {setup / 1e6:.2f} M, with calls {total / 1e6:.2f} M instructions")
     print(f"{(total - setup) / calls / 1e6:.2f} M instructions per {what} call ({calls} calls)")
     return 0

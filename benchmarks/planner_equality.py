@@ -7,11 +7,16 @@ of its delete relaxation's unary operators (``Relaxation``, unit costs); plans
 the 70 tabletop/LIBERO tasks with ``lazy-ff`` and records each plan's steps and expansions. Run it
 with two trees and compare the files:
 
-    PYTHONPATH=/tmp/old .venv/bin/python -m gsr.benchmarks.planner_equality --out /tmp/old.json
+    git archive OLD | tar -x -C /tmp/old     # the other tree, unpacked
+    (cd /tmp/old && GSR_SHARED_DATA=$PWD/../shared/data PYTHONPATH=/tmp/old \
+        /path/to/repo/.venv/bin/python -m gsr.benchmarks.planner_equality --out /tmp/old.json)
     .venv/bin/python -m gsr.benchmarks.planner_equality --out /tmp/new.json --compare /tmp/old.json
 
-(``PYTHONPATH`` picks the tree whose ``gsr.plan`` is checked; this module only uses the public
-``ground_task`` and ``plan``.) ``--compare`` exits 1 and names the problems that differ.
+Run the other tree's command *from that tree's folder*: ``python -m`` puts the working directory first
+on ``sys.path``, so run from this repository the command checks this tree whatever ``PYTHONPATH`` says
+(the first output line names the ``gsr.plan`` it used). Set ``GSR_SHARED_DATA`` there, as the reference
+folder is found relative to the working directory. This module only uses the public ``ground_task`` and
+``plan``. ``--compare`` exits 1 and names the problems that differ.
 ``GSR_GROUND_COMPILED=0`` checks the general grounding path. The IPC problems are those of
 docs/performance.md's grounding passes; a missing reference folder skips them with a note.
 """
@@ -25,6 +30,7 @@ import sys
 import time
 from pathlib import Path
 
+import gsr.plan as gsr_plan
 from gsr.errors import GSRError
 from gsr.pddl.parser import load_domain, load_problem
 from gsr.plan import plan
@@ -137,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     steps = sum(len(p["steps"] or ()) for p in found["plans"].values())
     expanded = sum(p["expanded"] for p in found["plans"].values())
     ops = sum(g["operators"] for g in found["grounding"].values())
+    print(f"gsr.plan from {Path(gsr_plan.__file__).parent}")
     print(
         f"{len(found['grounding'])} groundings ({ops} operators), {len(found['plans'])} plans "
         f"({steps} steps, {expanded} expansions) -> {args.out}"
