@@ -169,7 +169,11 @@ def all_features(seg: Segments) -> np.ndarray:
 
 def rule_category(feat: np.ndarray) -> str:
     """The shape rule used without a trained model (coarse; documented as such)."""
-    major, minor, height = feat[2], feat[3], feat[4]
+    return shape_category(float(feat[2]), float(feat[3]), float(feat[4]))
+
+
+def shape_category(major: float, minor: float, height: float) -> str:
+    """The coarse shape rule on an object's major and minor horizontal extent and height (m)."""
     if height > 0.25 or major > 0.35:
         return "cabinet" if height > 0.2 and major < 0.8 else UNKNOWN
     if height < 0.035 and major > 0.1:

@@ -1,0 +1,142 @@
+"""Objects standing in an open container that the detector left in the container's segment.
+
+Seen from a high camera through a container's mouth, an object standing on the container's floor shows
+its top and the upper part of its sides, but the detector can give those pixels to the container: an
+object of the container's own colour has no colour edge against the walls around it (a blue cube in a
+blue box), and a small, partly hidden one of another colour (a mug's rim over a wall) has too few pixels
+to be a segment of its own. Fusion then makes one container whose cloud holds the object, and the object
+and its ``in`` relation are lost.
+
+An empty open container's cloud is its walls (their tops, inner and outer faces: all within a wall's
+thickness of the rim's edges or outside them) and its floor (at its base). Its points **away from the
+walls and above the floor** are what stands in it. :func:`objects_in_containers` cuts them out: for each
+open container (a measured rim: :func:`gsr.perception.relations.rim_box`) that several cameras saw, the
+points of its cloud inside the rim's footprint shrunk by :data:`INNER_WALL_BAND`, higher than
+:data:`INNER_ABOVE_FLOOR` over its base and on no other object's cloud, fall into pieces on a 1 cm grid
+(26-connected); each piece with :data:`INNER_MIN_POINTS` points, spanning :data:`INNER_MIN_HEIGHT` in
+height, reaching down to within :data:`INNER_REACH_FLOOR` of the floor band (it stands on the floor, not
+hangs from a wall) and with the footprint of an object (:data:`INNER_MIN_WIDTH`) becomes an object of its
+own, ``unknown`` (no detector named it) with its colour from its points, and leaves the container's cloud.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+from gsr.perception.frame import InstanceLabel
+from gsr.perception.geometry import Instance, fit_boxes, point_color_names
+from gsr.perception.recognize import shape_category
+from gsr.perception.relations import bottom_z, is_container, rim_box, top_z
+from gsr.perception.track import GROUNDS, UNKNOWN, cloud_overlap
+from scipy import ndimage
+
+from gsr.categories import is_part_category
+
+#: Points within this much (m) inside the rim's edges, or outside them, are the walls.
+INNER_WALL_BAND = 0.02
+#: Points less than this much (m) above the container's base are its floor.
+INNER_ABOVE_FLOOR = 0.015
+#: A container whose rim band has more than this share of its points away from the walls is closed (a lid).
+INNER_MOUTH_COVERED = 0.3
+#: Grid of the connectivity test (m).
+INNER_VOXEL = 0.01
+#: A piece kept as an object has at least this many points ...
+INNER_MIN_POINTS = 30
+#: ... spans at least this much (m) in height ...
+INNER_MIN_HEIGHT = 0.01
+#: ... and reaches down to within this much (m) above the floor band (it stands on the floor) ...
+INNER_REACH_FLOOR = 0.02
+#: ... and is at least this wide (m) along its shorter horizontal extent.
+INNER_MIN_WIDTH = 0.02
+#: A piece with this share of its 1 cm voxels on another object's cloud is that object's.
+INNER_ON_OTHER = 0.5
+
+
+def _next_unknown(instances: list[Instance]) -> int:
+    n = 0
+    for x in instances:
+        head, _, tail = x.key.partition("_")
+        if head == UNKNOWN and tail.isdigit():
+            n = max(n, int(tail))
+    return n + 1
+
+
+def _pieces(points: np.ndarray) -> list[np.ndarray]:
+    """Index arrays of the 26-connected pieces of ``points`` on the :data:`INNER_VOXEL` grid."""
+    cells = np.floor(points / INNER_VOXEL).astype(np.int64)
+    lo = cells.min(axis=0)
+    cells -= lo
+    shape = tuple(int(v) + 1 for v in cells.max(axis=0))
+    grid = np.zeros(shape, dtype=bool)
+    grid[cells[:, 0], cells[:, 1], cells[:, 2]] = True
+    labels, n = ndimage.label(grid, structure=np.ones((3, 3, 3), dtype=bool))
+    of_point = labels[cells[:, 0], cells[:, 1], cells[:, 2]]
+    return [np.nonzero(of_point == k)[0] for k in range(1, n + 1)]
+
+
+def objects_in_containers(instances: list[Instance]) -> list[Instance]:
+    """New ``unknown`` objects cut out of open containers' clouds (see the module docstring); the
+    containers lose those points. Anonymous (no-oracle) instances only: a labelled mask is never cut."""
+    containers = [
+        c
+        for c in instances
+        if is_container(c)
+        and c.label.id is None
+        and c.label.category not in GROUNDS
+        and not is_part_category(c.label.category)
+        and c.views >= 2
+    ]
+    if not containers:
+        return instances
+    next_id = _next_unknown(instances)
+    added: list[Instance] = []
+    for c in containers:
+        rim = rim_box(c)
+        if rim is None:
+            continue
+        local = np.abs((c.points[:, :2] - rim.center[:2]) @ rim.axes.T) - rim.size[:2] / 2.0
+        in_band = c.points[:, 2] >= float(rim.aabb_min[2])
+        if float(np.mean(np.max(local[in_band], axis=1) < -INNER_WALL_BAND)) > INNER_MOUTH_COVERED:
+            continue  # the rim band is a lid or a cover over the mouth, not wall tops: a closed container
+        base = bottom_z(c)
+        inner = (np.max(local, axis=1) < -INNER_WALL_BAND) & (c.points[:, 2] > base + INNER_ABOVE_FLOOR)
+        if int(inner.sum()) < INNER_MIN_POINTS:
+            continue
+        idx = np.nonzero(inner)[0]
+        taken = np.zeros(len(c.points), dtype=bool)
+        for piece in _pieces(c.points[idx]):
+            if len(piece) < INNER_MIN_POINTS:
+                continue
+            sel = idx[piece]
+            pts = c.points[sel]
+            z = pts[:, 2]
+            if float(z.max() - z.min()) < INNER_MIN_HEIGHT:
+                continue
+            if float(z.min()) > base + INNER_ABOVE_FLOOR + INNER_REACH_FLOOR:
+                continue
+            obj = Instance(
+                f"{UNKNOWN}_{next_id}", InstanceLabel(category=UNKNOWN), pts, c.rgb[sel], views=c.views
+            )
+            fit_boxes(obj)
+            if float(np.min(obj.size[:2])) < INNER_MIN_WIDTH:
+                continue
+            if any(
+                o is not c and o.label.category not in GROUNDS and cloud_overlap(obj, o) >= INNER_ON_OTHER
+                for o in instances
+            ):
+                continue
+            names = Counter(point_color_names(obj.rgb).tolist())
+            major, minor = sorted(obj.size[:2].tolist(), reverse=True)
+            obj.label = InstanceLabel(
+                category=shape_category(major, minor, top_z(obj) - base),
+                color=names.most_common(1)[0][0],
+                attributes={"inferred_from": c.key},
+            )
+            taken[sel] = True
+            added.append(obj)
+            next_id += 1
+        if taken.any():
+            c.points, c.rgb = c.points[~taken], c.rgb[~taken]
+            fit_boxes(c)
+    return instances + added if added else instances
