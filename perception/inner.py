@@ -16,7 +16,12 @@ points of its cloud inside the rim's footprint shrunk by :data:`INNER_WALL_BAND`
 (26-connected); each piece with :data:`INNER_MIN_POINTS` points, spanning :data:`INNER_MIN_HEIGHT` in
 height, reaching down to within :data:`INNER_REACH_FLOOR` of the floor band (it stands on the floor, not
 hangs from a wall) and with the footprint of an object (:data:`INNER_MIN_WIDTH`) becomes an object of its
-own, ``unknown`` (no detector named it) with its colour from its points, and leaves the container's cloud.
+own, named by the coarse shape rule (:func:`gsr.perception.recognize.shape_category` on its extent and
+its height over the container's base; ``unknown`` where the rule names nothing) with its colour from its
+points, and leaves the container's cloud.
+
+The converse, :func:`pieces_in_closed`: nothing inside a *closed* container is seen, so one camera's
+detection of the container's colour that lies in it is a patch of the container itself, and is dropped.
 """
 
 from __future__ import annotations
@@ -25,7 +30,7 @@ from collections import Counter
 
 import numpy as np
 from gsr.perception.frame import InstanceLabel
-from gsr.perception.geometry import Instance, fit_boxes, point_color_names
+from gsr.perception.geometry import Instance, color_name, fit_boxes, point_color_names
 from gsr.perception.recognize import shape_category
 from gsr.perception.relations import bottom_z, is_container, rim_box, top_z
 from gsr.perception.track import GROUNDS, UNKNOWN, cloud_overlap
@@ -140,3 +145,31 @@ def objects_in_containers(instances: list[Instance]) -> list[Instance]:
             c.points, c.rgb = c.points[~taken], c.rgb[~taken]
             fit_boxes(c)
     return instances + added if added else instances
+
+
+def pieces_in_closed(
+    instances: list[Instance], support: dict[str, tuple[str, str]], closed: frozenset[str]
+) -> list[Instance]:
+    """One camera's anonymous detection of a closed container's colour that the support test put *in*
+    that container, dropped: nothing inside a closed container is seen (a lid lifted by what stands in it
+    shows that object, of its own colour), so it is a patch of the container's own walls or lid that one
+    camera segmented apart (a lidded box's side named ``cookie_box``). ``support``:
+    :func:`gsr.perception.relations.supports` of ``instances`` with ``closed``."""
+    by_key = {x.key: x for x in instances}
+    dropped: set[int] = set()
+    for x in instances:
+        rel = support.get(x.key)
+        if rel is None or rel[0] != "in" or rel[1] not in closed:
+            continue
+        c = by_key.get(rel[1])
+        if c is None or x.views != 1 or x.label.id is not None or x.label.parent is not None:
+            continue
+        if is_part_category(x.label.category) or _colour(x) != _colour(c):
+            continue
+        dropped.add(id(x))
+    return [x for x in instances if id(x) not in dropped] if dropped else instances
+
+
+def _colour(x: Instance) -> str:
+    """The colour word its node will carry: the label's, else named from its points."""
+    return x.label.color or str(x.label.attributes.get("color") or color_name(x.rgb))

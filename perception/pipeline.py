@@ -19,7 +19,7 @@ from gsr.perception.geometry import (
     number_anonymous,
     support_plane,
 )
-from gsr.perception.inner import objects_in_containers
+from gsr.perception.inner import objects_in_containers, pieces_in_closed
 from gsr.perception.instances import build_instances
 from gsr.perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
 from gsr.perception.track import assign_parts, drop_wall_pieces
@@ -59,6 +59,10 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     states = part_states(instances, params.articulation)
     closed = frozenset(k for k, (st, _) in states.items() if "closed" in st)
     support = supports(instances, plane, params.relations, closed)
+    kept = pieces_in_closed(instances, support, closed)  # a closed box's own patch, seen by one camera
+    if len(kept) < len(instances):
+        instances = kept
+        support = supports(instances, plane, params.relations, closed)
     kps = keypoints(instances, segments, params.articulation)
     edges = [(a, rel, b) for a, (rel, b) in support.items()]
     if params.descriptive:

@@ -7,7 +7,7 @@ import dataclasses
 
 import numpy as np
 from gsr.perception.geometry import Instance, fit_boxes
-from gsr.perception.inner import objects_in_containers
+from gsr.perception.inner import objects_in_containers, pieces_in_closed
 from gsr.perception.relations import supports
 from gsr.perception.track import along_walls
 
@@ -76,3 +76,19 @@ def test_a_thin_strip_or_a_piece_hanging_from_the_rim_is_no_object():
     # a piece high in the box, not standing on its floor (a lid's tab leaning in)
     hanging = solid("x", "cube", (0.35, -0.05, 0.06), (0.40, 0.0, 0.08))
     assert len(objects_in_containers([table(), _box_holding(hanging)])) == 2
+
+
+def test_one_cameras_patch_of_a_closed_boxs_colour_in_it_is_dropped_but_not_another_colour_or_two_views():
+    box = _coloured(open_box("lidded_box_1", (0.3, -0.1, 0.0), (0.46, 0.06, 0.12), views=3), color="blue")
+    patch = _coloured(solid("cookie_box_1", "cookie_box", (0.35, -0.05, 0.008), (0.40, 0.0, 0.05)))
+    book = _coloured(solid("book_1", "book", (0.38, -0.05, 0.008), (0.40, 0.0, 0.05)), rgb=(220, 200, 30))
+    insts = [table(), box, patch, book]
+    support = {"cookie_box_1": ("in", "lidded_box_1"), "book_1": ("in", "lidded_box_1")}
+    closed = frozenset({"lidded_box_1"})
+    assert [x.key for x in pieces_in_closed(insts, support, closed)] == ["table", "lidded_box_1", "book_1"]
+    # an open box, or the patch seen by two cameras, or a labelled mask: kept
+    assert len(pieces_in_closed(insts, support, frozenset())) == 4
+    two = _coloured(solid("cookie_box_1", "cookie_box", (0.35, -0.05, 0.008), (0.40, 0.0, 0.05), views=2))
+    assert len(pieces_in_closed([table(), box, two, book], support, closed)) == 4
+    labelled = _coloured(patch, id="cookie_box_1")
+    assert len(pieces_in_closed([table(), box, labelled, book], support, closed)) == 4
