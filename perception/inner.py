@@ -22,6 +22,8 @@ points, and leaves the container's cloud.
 
 The converse, :func:`pieces_in_closed`: nothing inside a *closed* container is seen, so one camera's
 detection of the container's colour that lies in it is a patch of the container itself, and is dropped.
+And :func:`parts_read_on_objects`: one camera's drawer lying inside another object's box (of its colour,
+several cameras) is that object read as a part, and is dropped.
 """
 
 from __future__ import annotations
@@ -30,13 +32,13 @@ from collections import Counter
 
 import numpy as np
 from gsr.perception.frame import InstanceLabel
-from gsr.perception.geometry import Instance, color_name, fit_boxes, point_color_names
+from gsr.perception.geometry import Instance, box_contains_share, color_name, fit_boxes, point_color_names
 from gsr.perception.recognize import shape_category
 from gsr.perception.relations import bottom_z, is_container, rim_box, top_z
 from gsr.perception.track import GROUNDS, UNKNOWN, cloud_overlap
 from scipy import ndimage
 
-from gsr.categories import is_part_category
+from gsr.categories import affordances, is_part_category
 
 #: Points within this much (m) inside the rim's edges, or outside them, are the walls.
 INNER_WALL_BAND = 0.02
@@ -173,3 +175,34 @@ def pieces_in_closed(
 def _colour(x: Instance) -> str:
     """The colour word its node will carry: the label's, else named from its points."""
     return x.label.color or str(x.label.attributes.get("color") or color_name(x.rgb))
+
+
+#: A one-camera part lying this share (of its box) inside another object's box is that object's view.
+PART_ON_OBJECT = 0.9
+
+
+def parts_read_on_objects(instances: list[Instance]) -> list[Instance]:
+    """One camera's anonymous part (a drawer) whose box lies :data:`PART_ON_OBJECT` inside the box of an
+    object of its colour that several cameras saw, and that is neither its parent nor a fixture or ground,
+    is that camera's view of the object misread as a part (a blue lidded box beside a cabinet read as an
+    open drawer of the cabinet, with what stands on the box "in" it), and is dropped: a drawer lies in its
+    own cabinet, and a pulled-out one stands out in front of it, in no other object."""
+    hosts = [
+        o
+        for o in instances
+        if o.views >= 2
+        and o.label.category not in GROUNDS
+        and not is_part_category(o.label.category)
+        and "movable" in affordances(o.label.category)
+    ]
+    dropped: set[int] = set()
+    for p in instances:
+        if p.views != 1 or p.label.id is not None or not is_part_category(p.label.category):
+            continue
+        for o in hosts:
+            if o.key == p.label.parent or _colour(o) != _colour(p):
+                continue
+            if box_contains_share(p, o) >= PART_ON_OBJECT:
+                dropped.add(id(p))
+                break
+    return [x for x in instances if id(x) not in dropped] if dropped else instances

@@ -19,7 +19,7 @@ from gsr.perception.geometry import (
     number_anonymous,
     support_plane,
 )
-from gsr.perception.inner import objects_in_containers, pieces_in_closed
+from gsr.perception.inner import objects_in_containers, parts_read_on_objects, pieces_in_closed
 from gsr.perception.instances import build_instances
 from gsr.perception.relations import GROUND_CATEGORIES, RelationThresholds, descriptive_relations, supports
 from gsr.perception.track import assign_parts, drop_wall_pieces
@@ -55,6 +55,7 @@ def perceive(frames: Frame | list[Frame], params: PerceptionParams | None = None
     instances += hidden_drawers(instances, frame_list)  # closed drawers no camera shows (no-oracle only)
     instances = drop_wall_pieces(instances, params.relations)  # one camera's wall bands in a container
     instances = objects_in_containers(instances)  # what stands in an open box, left in the box's segment
+    instances = parts_read_on_objects(instances)  # one camera's view of a box read as a drawer
     world_to_robot = None if params.world_to_robot is None else np.asarray(params.world_to_robot, float)
     states = part_states(instances, params.articulation)
     closed = frozenset(k for k, (st, _) in states.items() if "closed" in st)

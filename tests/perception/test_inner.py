@@ -7,7 +7,7 @@ import dataclasses
 
 import numpy as np
 from gsr.perception.geometry import Instance, fit_boxes
-from gsr.perception.inner import objects_in_containers, pieces_in_closed
+from gsr.perception.inner import objects_in_containers, parts_read_on_objects, pieces_in_closed
 from gsr.perception.relations import supports
 from gsr.perception.track import along_walls
 
@@ -92,3 +92,20 @@ def test_one_cameras_patch_of_a_closed_boxs_colour_in_it_is_dropped_but_not_anot
     assert len(pieces_in_closed([table(), box, two, book], support, closed)) == 4
     labelled = _coloured(patch, id="cookie_box_1")
     assert len(pieces_in_closed([table(), box, labelled, book], support, closed)) == 4
+
+
+def test_one_cameras_drawer_lying_in_a_box_of_its_colour_is_that_box_but_a_pulled_drawer_stays():
+    cabinet = solid("cabinet_1", "cabinet", (0.0, 0.2, 0.0), (0.3, 0.5, 0.33), views=4)
+    box = _coloured(open_box("lidded_box_1", (0.3, -0.1, 0.0), (0.46, 0.06, 0.12), views=2))
+    misread = _coloured(open_box("cabinet_1/drawer_1", (0.301, -0.098, 0.01), (0.459, 0.058, 0.12)))
+    misread.label = dataclasses.replace(misread.label, category="drawer", parent="cabinet_1")
+    pulled = _coloured(open_box("cabinet_1/drawer_2", (-0.2, 0.22, 0.2), (0.05, 0.48, 0.3)))
+    pulled.label = dataclasses.replace(pulled.label, category="drawer", parent="cabinet_1")
+    out = parts_read_on_objects([table(), cabinet, box, misread, pulled])
+    assert [x.key for x in out] == ["table", "cabinet_1", "lidded_box_1", "cabinet_1/drawer_2"]
+    # seen by two cameras, or of another colour: kept
+    misread.views = 2
+    assert len(parts_read_on_objects([table(), cabinet, box, misread])) == 4
+    misread.views = 1
+    red = _coloured(misread, rgb=(200, 30, 30))
+    assert len(parts_read_on_objects([table(), cabinet, box, red])) == 4
