@@ -35,6 +35,10 @@ SPILL_Z_MARGIN = 0.005
 SPILL_ON_TOP = 0.02
 #: At most this share of the container's points is carved, by all neighbours together.
 SPILL_MAX_SHARE = 0.5
+#: A container that several cameras saw is its neighbours read as one only with this share of its points
+#: in their boxes (two touching cubes of one colour read as a ``box`` by three cameras): nothing of it is
+#: wall or floor of its own.
+SPILL_WHOLE_SHARE = 0.9
 #: A container keeps at least this many points.
 SPILL_MIN_POINTS = 20
 
@@ -88,17 +92,17 @@ def spilled_points(container: Instance, others: list[Instance]) -> np.ndarray:
 
 def neighbours_read_as_container(container: Instance, others: list[Instance]) -> bool:
     """Whether a container that one camera alone saw lies mostly (> SPILL_MAX_SHARE of its points) in the
-    boxes of confirmed movable objects that are no containers: that camera's one segment of those objects
-    (a mug and the book beside it read as a ``box``), not a container of its own. A real container's walls
+    boxes of confirmed movable objects that are no containers, or one that several cameras saw lies in them
+    whole (SPILL_WHOLE_SHARE): those objects read as one segment (a mug and the book beside it read as a
+    ``box``), not a container of its own. A real container's walls
     lie outside what stands in it; a container inside a larger container, or in a fixture's box (a cube in
     a cabinet's drawer read as a ``box``), is not counted."""
-    if container.views != 1:
-        return False
     covered = np.zeros(len(container.points), dtype=bool)
     for o, inside in _neighbour_masks(container, others):
         if "movable" in affordances(o.label.category) and not _container(o):
             covered |= inside
-    return bool(covered.mean() > SPILL_MAX_SHARE)
+    share = float(covered.mean())
+    return share > SPILL_MAX_SHARE if container.views == 1 else share >= SPILL_WHOLE_SHARE
 
 
 def carve_neighbours(fused: list[Instance]) -> list[Instance]:

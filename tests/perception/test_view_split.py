@@ -112,6 +112,15 @@ def test_a_container_one_camera_saw_over_confirmed_objects_is_those_objects_read
     box = open_box("box_2", (0.15, -0.1, 0.0), (0.35, 0.07, 0.085), views=1)
     inner = solid("mug_2", "mug", (0.2, -0.03, 0.008), (0.25, 0.02, 0.058), views=2)
     assert not neighbours_read_as_container(box, [box, inner])
+    # several cameras' "box" that lies whole in two touching cubes' boxes is the cubes; a real box that
+    # several cameras saw, with both cubes standing in it, is not
+    left = solid("cube_1", "cube", (0.2, -0.03, 0.2), (0.25, 0.02, 0.25), views=3)
+    right = solid("cube_2", "cube", (0.2, 0.02, 0.2), (0.25, 0.07, 0.25), views=3)
+    pair = solid("box_4", "box", (0.2, -0.03, 0.2), (0.25, 0.07, 0.25), views=3)
+    assert neighbours_read_as_container(pair, [pair, left, right])
+    assert not neighbours_read_as_container(pair, [pair, left])
+    holder = open_box("box_5", (0.15, -0.1, 0.19), (0.35, 0.12, 0.27), views=3)
+    assert not neighbours_read_as_container(holder, [holder, left, right])
     # a box in a fixture's box (a cube in a drawer read as a box) is not its neighbours either
     cabinet = solid("cabinet_1", "cabinet", (0.1, -0.2, 0.0), (0.4, 0.2, 0.3), views=4)
     cube = solid("box_3", "box", (0.2, -0.03, 0.15), (0.24, 0.01, 0.19), views=1)
