@@ -621,13 +621,15 @@ def split_disjoint(fused: list[Instance], params: GeometryParams) -> list[Instan
             continue
         at = next(k for k, x in enumerate(out) if x is inst)
         out[at : at + 1] = kept
+        now: dict[int, Instance] = {}  # a neighbour already joined by an earlier piece: its joined self
         for p, o in zip(pieces, on, strict=True):
             if o is None:
                 continue
-            joined = _join(o, p, params=params, keep_label=True)
+            cur = now.get(id(o), o)
+            joined = _join(cur, p, params=params, keep_label=True)
             if joined is not None:
-                out[next(k for k, x in enumerate(out) if x is o)] = joined
-                others = [joined if x is o else x for x in others]
+                out[next(k for k, x in enumerate(out) if x is cur)] = joined
+                now[id(o)] = joined
     return out
 
 

@@ -368,6 +368,23 @@ def test_one_segment_holding_two_cubes_apart_is_two_cubes_but_a_cube_and_a_floor
     assert len(split_disjoint([_inst("d", "cube", np.concatenate([a, c]))], PARAMS)) == 1
 
 
+def test_two_pieces_of_a_split_object_on_one_neighbour_both_join_it():
+    from gsr.perception.track import split_disjoint
+
+    # three cubes apart in one segment; the second and third are also fused as one object of their own (a
+    # neighbour whose cloud holds both): each joins it in turn (the second join found the neighbour gone)
+    a = solid("x", "cube", [0.0, 0.0, 0.2], [0.04, 0.04, 0.23]).points
+    b = solid("x", "cube", [0.0, 0.07, 0.2], [0.04, 0.11, 0.23]).points
+    c = solid("x", "cube", [0.0, 0.14, 0.2], [0.04, 0.18, 0.23]).points
+    merged = _inst("cube_f0m1", "cube", np.concatenate([a, b, c]), views=3)
+    neighbour = _inst("cube_f1m2", "cube", np.concatenate([b, c]), views=2)
+    out = split_disjoint([merged, neighbour], PARAMS)
+    assert len(out) == 2
+    kept, joined = sorted(out, key=lambda p: float(p.center[1]))
+    assert np.allclose(kept.aabb_max[1], 0.04) and np.allclose(joined.aabb_min[1], 0.07)
+    assert len(joined.points) == len(neighbour.points) + len(b) + len(c)
+
+
 def test_a_wall_top_piece_joins_a_box_whose_rim_is_not_measured():
     # a box seen on one side only: its far wall (full height) and its floor; the rim band is that wall's
     # top alone, too partial to stand for the footprint (rim_box None)
