@@ -5,13 +5,16 @@ reasonable, obedient-reasonable), the mutex groups they used, the CPU seconds of
 landmark graph and of the search, and the search's outcome and expansions. CPU times are this
 process's own (``time.process_time``); ``--timeout`` bounds the search's *wall* time.
 
-Usage: python -m gsr.benchmarks.landmark_profile DOMAIN PROBLEM [--timeout 60] [--disjunctive]
+Usage: python -m gsr.benchmarks.landmark_profile DOMAIN PROBLEM [--timeout 60] [--[no-]disjunctive]
        [--no-reasonable] [--graph] [--trace] [--fd] [--progression past-future|accept]
-       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2] [--lifo] [--dovetail N] [--type-based]
+       [--lm-preferred on|off] [--boost-root on|off] [--tie-order 1,3,0,2] [--[no-]lifo] [--dovetail N]
+       [--type-based]
 
 The search switches are ``gsr.plan.search.LamaOptions``: GSR's defaults (planner ``lama``), or with
 ``--fd`` Fast Downward lama-first's rules (past/future progression, h_FF's preferred operators only,
 no boost at the initial state, ties in list order); each switch given overrides the one of that base.
+``--[no-]disjunctive`` and ``--[no-]lifo`` are ``LamaOptions.disjunctive`` / ``.lifo`` (the landmark
+graph and the main search's h_add order).
 """
 
 from __future__ import annotations
@@ -94,7 +97,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("domain", type=Path)
     parser.add_argument("problem", type=Path)
     parser.add_argument("--timeout", type=float, default=60.0, help="wall seconds of search")
-    parser.add_argument("--disjunctive", action="store_true", help="RHW's disjunctive landmarks too")
+    parser.add_argument(
+        "--disjunctive",
+        action=argparse.BooleanOptionalAction,
+        help="RHW's disjunctive landmarks too (default: the base rules')",
+    )
     parser.add_argument("--no-reasonable", action="store_true", help="greedy-necessary orders only")
     parser.add_argument("--fd", action="store_true", help="Fast Downward lama-first's search rules")
     parser.add_argument("--progression", choices=("past-future", "accept"), help="landmark status rule")
@@ -103,8 +110,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tie-order", help="queue order on equal priorities, e.g. 1,3,0,2")
     parser.add_argument(
         "--lifo",
-        action="store_true",
-        help="experimental: h_add's buckets last in first out (Fast Downward's order)",
+        action=argparse.BooleanOptionalAction,
+        help="the main search's h_add buckets last in first out (Fast Downward's order; default: the base rules')",
     )
     parser.add_argument(
         "--dovetail",
@@ -141,17 +148,21 @@ def main(argv: list[str] | None = None) -> int:
         options = replace(options, dovetail=max(0, args.dovetail))
     if args.type_based:
         options = replace(options, type_based=True)
+    if args.lifo is not None:
+        options = replace(options, lifo=args.lifo)
+    if args.disjunctive is not None:
+        options = replace(options, disjunctive=args.disjunctive)
     trace: list | None = [] if args.trace else None
     try:
         out = profile(
             args.domain,
             args.problem,
             args.timeout,
-            args.disjunctive,
+            options.disjunctive,
             not args.no_reasonable,
             options,
             trace,
-            args.lifo,
+            options.lifo,
         )
     except (GSRError, OSError) as err:
         print(f"landmark_profile: {err}", file=sys.stderr)

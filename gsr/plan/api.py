@@ -15,7 +15,7 @@ from gsr.pddl.writer import write_domain, write_problem
 from gsr.plan.grounding import GroundingTimeout, ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
-from gsr.plan.search import SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
+from gsr.plan.search import LAMA_FIRST, SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
 from gsr.plan.task import Task
 from gsr.step import Goal, Plan
 
@@ -56,7 +56,7 @@ def _search(task: Task, relax: Relaxation, planner: str, deadline: float) -> tup
         return lazy_gbfs(task, relax, deadline), "lazy GBFS, h_FF, preferred operators"
     if planner == "lama":
         return lazy_lama(
-            task, relax, Landmarks(task), deadline
+            task, relax, Landmarks(task, disjunctive=LAMA_FIRST.disjunctive), deadline
         ), "lazy GBFS, h_FF + landmark count, preferred operators"
     if planner == "gbfs-ff":
         return eager_search(task, lambda s: relax.ff(s)[0], deadline, 0.0), "eager GBFS, h_FF"

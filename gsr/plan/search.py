@@ -11,7 +11,7 @@ import time
 from array import array
 from collections import deque
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from heapq import heappop, heappush, heapreplace
 
 from gsr.plan.heuristics import INF, Relaxation
@@ -301,6 +301,11 @@ class LamaOptions:
       order (``Relaxation.lifo``) takes turns with the main one (after ``m`` turns of the main
       search about ``sqrt(dovetail * m)``), so ties between equally cheap supporters no longer
       decide a problem alone (FD: one search).
+    - ``lifo``: the main search's h_add settles equally cheap facts last in first out
+      (``Relaxation.lifo``, Fast Downward's bucket order); the dovetailed search takes the other
+      order. Where the relaxation cannot switch (numba) both keep its order.
+    - ``disjunctive``: the landmark graph holds RHW's disjunctive landmarks (the caller builds
+      ``Landmarks(task, disjunctive=...)`` from it: ``gsr.plan.api``, ``landmark_profile``).
     - ``type_based``: a fifth queue in the alternation, ``TypeBuckets`` keyed (h_FF, g) of the
       expanded state (type-based exploration, Xie et al. 2014), never boosted; off (measured on
       transport-sat08 p20: no plan either, docs/performance.md sixth pass).
@@ -309,7 +314,11 @@ class LamaOptions:
     p20 nor tidybot-sat11 p01 and lose transport p19 (and, with FD's tie order, need 14,756
     expansions instead of 2,834 on transport p29), so the defaults stay GSR's. Sixth pass: the
     other bucket order alone solves tidybot p01 (867 expansions) but loses p13 and transport p19;
-    dovetailed with GSR's order (``dovetail`` 2) it keeps both.
+    dovetailed with GSR's order (``dovetail`` 2) it keeps both. Eighth pass: transport p20 needs
+    FD's rules *and* RHW's disjunctive landmarks to be solved within 60 s CPU (LIFO, either alone:
+    no plan after 114,752 expansions / 111,560 expansions, 71.5 s search CPU); with both,
+    ``lifo`` and GSR's tie order, dovetailed, ``lama`` solves p20 (43.9 s CPU) and transport whole
+    in 0.71x the CPU, but loses tidybot p19 and satellite p36-HC, so the defaults stay.
     """
 
     progression: str = "accept"
@@ -318,6 +327,8 @@ class LamaOptions:
     tie_order: tuple[int, int, int, int] = (1, 3, 0, 2)
     dovetail: int = 2
     type_based: bool = False
+    lifo: bool = False
+    disjunctive: bool = False
 
 
 LAMA_FIRST = LamaOptions()  # what planner "lama" runs
@@ -349,6 +360,16 @@ def lazy_lama(
     completely). They share the task, the relaxation and the landmark graph, not their state
     spaces; the counters are the sum of both. Where the relaxation cannot switch (numba's kernels
     know one order) the main search runs alone."""
+    if options.lifo != relax.lifo:
+        before = relax.lifo
+        try:
+            relax.lifo = options.lifo
+        except ValueError:  # numba's kernels know one order: keep it
+            options = replace(options, lifo=before)
+        try:
+            return lazy_lama(task, relax, landmarks, deadline, options, trace)
+        finally:
+            relax.lifo = before
     main_res = SearchResult("unsolvable")
     main = _lama_steps(task, relax, landmarks, deadline, options, trace, main_res)
     if options.dovetail <= 0:
