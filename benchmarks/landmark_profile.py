@@ -107,6 +107,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--progression", choices=("past-future", "accept"), help="landmark status rule")
     parser.add_argument("--lm-preferred", choices=("on", "off"), help="landmark preferred operators")
     parser.add_argument("--boost-root", choices=("on", "off"), help="the initial state's values boost")
+    parser.add_argument(
+        "--lm-preferred-disjunctive",
+        choices=("on", "off"),
+        help="the disjunctive landmarks' achievers are landmark-preferred too",
+    )
     parser.add_argument("--tie-order", help="queue order on equal priorities, e.g. 1,3,0,2")
     parser.add_argument(
         "--lifo",
@@ -144,6 +149,8 @@ def main(argv: list[str] | None = None) -> int:
         options = replace(options, lm_preferred=args.lm_preferred == "on")
     if args.boost_root is not None:
         options = replace(options, boost_root=args.boost_root == "on")
+    if args.lm_preferred_disjunctive is not None:
+        options = replace(options, lm_preferred_disjunctive=args.lm_preferred_disjunctive == "on")
     if args.dovetail is not None:
         options = replace(options, dovetail=max(0, args.dovetail))
     if args.type_based:

@@ -379,9 +379,17 @@ class Landmarks:
             found = self._ready[accepted] = (ready, pos, neg, disjunctive)
         return found
 
-    def value(self, accepted: int, state: int, applicable: list[int] | None = None) -> tuple[int, list[int]]:
+    def value(
+        self,
+        accepted: int,
+        state: int,
+        applicable: list[int] | None = None,
+        adds: dict[int, int] | None = None,
+    ) -> tuple[int, list[int]]:
         """Landmark count of a state with its accepted landmarks, and the preferred operators
-        (``applicable``: the state's applicable operators, when the caller has them)."""
+        (``applicable``: the state's applicable operators, when the caller has them; ``adds``: the
+        operators' landmark masks that make them preferred, ``lm_add_mask`` by default, e.g.
+        ``single_fact_adds()``)."""
         if not self.lm_facts:
             return 0, []
         h = (self.all_mask & ~accepted).bit_count()
@@ -398,5 +406,12 @@ class Landmarks:
             return h, []
         if applicable is None:
             applicable = self.task.applicable(state)
-        adds = self.lm_add_mask
+        if adds is None:
+            adds = self.lm_add_mask
         return h, [i for i in applicable if adds.get(i, 0) & ready]
+
+    def single_fact_adds(self) -> dict[int, int]:
+        """``lm_add_mask`` restricted to the single-fact landmarks: the disjunctive ones' achievers
+        are then not landmark-preferred (``LamaOptions.lm_preferred_disjunctive``)."""
+        single = sum(1 << k for k, facts in enumerate(self.lm_facts) if len(facts) == 1)
+        return {i: m & single for i, m in self.lm_add_mask.items() if m & single}

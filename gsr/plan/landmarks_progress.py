@@ -104,8 +104,12 @@ class Progression:
             return INF
         return fut.bit_count()
 
-    def preferred(self, status: tuple[int, int], applicable: list[int]) -> list[int]:
-        """Applicable operators adding a future landmark (Fast Downward's ``pref=true``)."""
+    def preferred(
+        self, status: tuple[int, int], applicable: list[int], adds: dict[int, int] | None = None
+    ) -> list[int]:
+        """Applicable operators adding a future landmark (Fast Downward's ``pref=true``); ``adds``
+        as in ``Landmarks.value``."""
         fut = status[1]
-        adds = self.lm.lm_add_mask
+        if adds is None:
+            adds = self.lm.lm_add_mask
         return [i for i in applicable if adds.get(i, 0) & fut]

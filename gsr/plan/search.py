@@ -306,6 +306,8 @@ class LamaOptions:
       order. Where the relaxation cannot switch (numba) both keep its order.
     - ``disjunctive``: the landmark graph holds RHW's disjunctive landmarks (the caller builds
       ``Landmarks(task, disjunctive=...)`` from it: ``gsr.plan.api``, ``landmark_profile``).
+    - ``lm_preferred_disjunctive``: with ``lm_preferred``, the achievers of disjunctive landmarks
+      are preferred too (off: only the single-fact landmarks' achievers are).
     - ``type_based``: a fifth queue in the alternation, ``TypeBuckets`` keyed (h_FF, g) of the
       expanded state (type-based exploration, Xie et al. 2014), never boosted; off (measured on
       transport-sat08 p20: no plan either, docs/performance.md sixth pass).
@@ -329,6 +331,7 @@ class LamaOptions:
     type_based: bool = False
     lifo: bool = False
     disjunctive: bool = False
+    lm_preferred_disjunctive: bool = True
 
 
 LAMA_FIRST = LamaOptions()  # what planner "lama" runs
@@ -476,6 +479,7 @@ def _lama_steps(
     best = [INF, INF]
     apply, is_goal, ff = task.apply, task.is_goal, relax.ff
     lm_pref = options.lm_preferred
+    pref_adds = None if options.lm_preferred_disjunctive else landmarks.single_fact_adds()
     boost = options.boost_root
     pending: int | None = root
     while True:
@@ -512,9 +516,9 @@ def _lama_steps(
             h_lm = lm_value(status[sid])
             if h_lm == INF:
                 continue
-            pref_lm = prog.preferred(status[sid], succ_ops) if lm_pref else ()
+            pref_lm = prog.preferred(status[sid], succ_ops, pref_adds) if lm_pref else ()
         else:
-            h_lm, pref_lm = landmarks.value(status[sid], state, succ_ops)
+            h_lm, pref_lm = landmarks.value(status[sid], state, succ_ops, pref_adds)
             if not lm_pref:
                 pref_lm = ()
         progressed = False

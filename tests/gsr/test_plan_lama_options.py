@@ -89,3 +89,30 @@ def test_planner_builds_the_landmark_graph_of_the_default(monkeypatch, disjuncti
     result = plan(domain, load_problem(FIXTURES / "gripper" / "prob06.pddl", domain), "lama", 60)
     assert result.solved
     assert built == [disjunctive]
+
+
+def test_disjunctive_landmarks_can_leave_the_preferred_operators() -> None:
+    """``lm_preferred_disjunctive=False``: only operators adding a ready single-fact landmark are
+    landmark-preferred; gripper prob06 has disjunctive landmarks ("a ball in one of the grippers")."""
+    domain, prob, task = _task("gripper", "prob06.pddl")
+    lm = Landmarks(task, disjunctive=True)
+    single = [k for k, facts in enumerate(lm.lm_facts) if len(facts) == 1]
+    assert len(single) < len(lm.lm_facts)  # some landmarks are disjunctive
+    single_mask = sum(1 << k for k in single)
+    only_single = lm.single_fact_adds()
+    assert only_single and all(m and not m & ~single_mask for m in only_single.values())
+    assert all(lm.lm_add_mask[i] & single_mask == m for i, m in only_single.items())
+    accepted = lm.accept(0, task.init)
+    ops = task.applicable(task.init)
+    _h, every = lm.value(accepted, task.init, ops)
+    _h, fewer = lm.value(accepted, task.init, ops, only_single)
+    assert set(fewer) <= set(every)
+    assert any(not lm.lm_add_mask[i] & single_mask for i in every)  # an achiever of a disjunction only
+    assert set(fewer) < set(every)
+    for options in (
+        LamaOptions(lm_preferred_disjunctive=False),
+        LamaOptions(progression="past-future", lm_preferred_disjunctive=False),
+    ):
+        res = lazy_lama(task, Relaxation(task, unit=True), lm, time.perf_counter() + 60, options)
+        assert res.status == "solved"
+        assert validate_plan(domain, prob, task.to_plan(res.ops)).valid
