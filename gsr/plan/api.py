@@ -15,7 +15,15 @@ from gsr.pddl.writer import write_domain, write_problem
 from gsr.plan.grounding import GroundingTimeout, ground_task
 from gsr.plan.heuristics import INF, Relaxation
 from gsr.plan.landmarks import Landmarks
-from gsr.plan.search import LAMA_FIRST, SearchResult, breadth_first, eager_search, lazy_gbfs, lazy_lama
+from gsr.plan.search import (
+    GOALS_ONLY_LAMA,
+    LAMA_FIRST,
+    SearchResult,
+    breadth_first,
+    eager_search,
+    lazy_gbfs,
+    lazy_lama,
+)
 from gsr.plan.task import Task
 from gsr.step import Goal, Plan
 
@@ -51,13 +59,24 @@ class PlanResult:
         return self.status == "solved"
 
 
+def lama(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
+    """Planner ``lama``: ``lazy_lama`` with ``LAMA_FIRST`` on GSR's landmark graph; where that graph
+    is goals only (``Landmarks.goals_only``) and RHW's disjunctive landmarks add at least one, with
+    ``GOALS_ONLY_LAMA`` on the disjunctive graph instead (issue 18, eighth pass: transport-sat08)."""
+    landmarks = Landmarks(task, disjunctive=LAMA_FIRST.disjunctive)
+    options = LAMA_FIRST
+    if not LAMA_FIRST.disjunctive and landmarks.goals_only():
+        richer = Landmarks(task, disjunctive=True)
+        if len(richer.lm_facts) > len(landmarks.lm_facts):
+            landmarks, options = richer, GOALS_ONLY_LAMA
+    return lazy_lama(task, relax, landmarks, deadline, options)
+
+
 def _search(task: Task, relax: Relaxation, planner: str, deadline: float) -> tuple[SearchResult, str]:
     if planner == "lazy-ff":
         return lazy_gbfs(task, relax, deadline), "lazy GBFS, h_FF, preferred operators"
     if planner == "lama":
-        return lazy_lama(
-            task, relax, Landmarks(task, disjunctive=LAMA_FIRST.disjunctive), deadline
-        ), "lazy GBFS, h_FF + landmark count, preferred operators"
+        return lama(task, relax, deadline), "lazy GBFS, h_FF + landmark count, preferred operators"
     if planner == "gbfs-ff":
         return eager_search(task, lambda s: relax.ff(s)[0], deadline, 0.0), "eager GBFS, h_FF"
     if planner == "astar-lmcut":

@@ -410,6 +410,12 @@ class Landmarks:
             adds = self.lm_add_mask
         return h, [i for i in applicable if adds.get(i, 0) & ready]
 
+    def goals_only(self) -> bool:
+        """True when every landmark is a goal fact and none is ordered before another: the landmark
+        count is then the number of goals not reached (issue 18, eighth pass: ``lama`` then tries
+        the disjunctive landmarks)."""
+        return bool(self.lm_facts) and self.goal_mask == self.all_mask and not any(self.gn_parents)
+
     def single_fact_adds(self) -> dict[int, int]:
         """``lm_add_mask`` restricted to the single-fact landmarks: the disjunctive ones' achievers
         are then not landmark-preferred (``LamaOptions.lm_preferred_disjunctive``)."""

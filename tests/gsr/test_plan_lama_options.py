@@ -116,3 +116,31 @@ def test_disjunctive_landmarks_can_leave_the_preferred_operators() -> None:
         res = lazy_lama(task, Relaxation(task, unit=True), lm, time.perf_counter() + 60, options)
         assert res.status == "solved"
         assert validate_plan(domain, prob, task.to_plan(res.ops)).valid
+
+
+def test_lama_takes_the_disjunctive_graph_where_the_landmarks_are_goals_only(
+    monkeypatch, shared_data
+) -> None:
+    """transport-sat08 p01: GSR's graph is the goal facts alone, the disjunctive landmarks add some, so
+    planner lama searches with GOALS_ONLY_LAMA on the disjunctive graph; gripper's graph has
+    non-goal landmarks, so lama keeps LAMA_FIRST and the single-fact graph."""
+    calls: list[tuple[LamaOptions, int]] = []
+    search = plan_api.lazy_lama
+
+    def recording(task, relax, landmarks, deadline, options=LAMA_FIRST, trace=None):
+        calls.append((options, sum(len(f) > 1 for f in landmarks.lm_facts)))
+        return search(task, relax, landmarks, deadline, options, trace)
+
+    monkeypatch.setattr(plan_api, "lazy_lama", recording)
+    folder = shared_data / "pddl" / "transport-sat08-strips"
+    domain = load_domain(folder / "domain.pddl")
+    problem = load_problem(folder / "p01.pddl", domain)
+    assert Landmarks(ground_task(domain, problem)).goals_only()
+    result = plan(domain, problem, "lama", 60)
+    assert result.solved and validate_plan(domain, problem, result.plan).valid
+    assert calls[-1][0] == plan_api.GOALS_ONLY_LAMA and calls[-1][1] > 0
+    _domain, _prob, task = _task("gripper", "prob06.pddl")
+    assert not Landmarks(task).goals_only()
+    domain = load_domain(FIXTURES / "gripper" / "domain.pddl")
+    assert plan(domain, load_problem(FIXTURES / "gripper" / "prob06.pddl", domain), "lama", 60).solved
+    assert calls[-1] == (LAMA_FIRST, 0)
