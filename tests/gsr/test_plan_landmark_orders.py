@@ -72,6 +72,19 @@ def test_mutex_groups_are_blocks_invariants() -> None:
     assert not groups.mutex(a("(ontable a)"), a("(handempty)"))
 
 
+def test_mutex_budget_counts_work_not_seconds() -> None:
+    """The budget is work: the same task and budget give the same groups on any machine or load."""
+    _d, _p, task = _task(TOWER)
+    whole = MutexGroups(task)
+    assert whole.complete and whole.work > 0
+    cut = [MutexGroups(task, max_work=whole.work // 4) for _ in range(2)]
+    assert not cut[0].complete
+    assert cut[0].work >= whole.work // 4
+    assert cut[0].groups == cut[1].groups and cut[0].work == cut[1].work
+    assert set(cut[0].groups) <= set(whole.groups) and len(cut[0].groups) < len(whole.groups)
+    assert MutexGroups(task, max_work=0).groups == []
+
+
 def test_reasonable_order_on_bc_before_on_ab() -> None:
     _d, _p, task = _task(TOWER)
     lm = Landmarks(task)
