@@ -63,6 +63,9 @@ class CpuLimit(BaseException):
 
 
 def _on_sigxcpu(signum, frame):  # a signal handler
+    # Once: past the soft limit the kernel sends SIGXCPU again every CPU-second, and a second one
+    # during the first's unwinding (freeing a large task can take longer) would escape its handler.
+    signal.signal(signal.SIGXCPU, signal.SIG_IGN)
     raise CpuLimit
 
 

@@ -41,6 +41,7 @@ import os
 import random
 import resource
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -180,6 +181,9 @@ class CpuLimit(BaseException):
 
 
 def _on_sigxcpu(signum, frame):  # a signal handler
+    # Once: past the soft limit the kernel sends SIGXCPU again every CPU-second, and a second one
+    # during the first's unwinding (freeing a large task can take longer) would escape its handler.
+    signal.signal(signal.SIGXCPU, signal.SIG_IGN)
     raise CpuLimit
 
 
@@ -187,8 +191,6 @@ def limit_cpu(seconds: float) -> None:
     """Stop this process's work after ``seconds`` of CPU time (counted from its start): SIGXCPU
     raises CpuLimit. The hard limit stays unlimited so that lift_cpu_limit can lift the soft one
     (the parent's wall limit kills a child that never returns to Python)."""
-    import signal
-
     signal.signal(signal.SIGXCPU, _on_sigxcpu)
     soft = max(1, int(seconds + 0.999))
     resource.setrlimit(resource.RLIMIT_CPU, (soft, resource.RLIM_INFINITY))
