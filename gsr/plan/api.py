@@ -66,7 +66,8 @@ def lama(task: Task, relax: Relaxation, deadline: float) -> SearchResult:
     landmarks = Landmarks(task, disjunctive=LAMA_FIRST.disjunctive)
     options = LAMA_FIRST
     if not LAMA_FIRST.disjunctive and landmarks.goals_only():
-        richer = Landmarks(task, disjunctive=True)
+        mutexes = landmarks.orders.mutexes if landmarks.orders is not None else None
+        richer = Landmarks(task, disjunctive=True, mutexes=mutexes)
         if len(richer.lm_facts) > len(landmarks.lm_facts):
             landmarks, options = richer, GOALS_ONLY_LAMA
     return lazy_lama(task, relax, landmarks, deadline, options)

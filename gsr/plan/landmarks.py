@@ -53,11 +53,17 @@ class Landmarks:
     """
 
     def __init__(
-        self, task: Task, limit: int = 2000, disjunctive: bool = False, reasonable: bool = REASONABLE
+        self,
+        task: Task,
+        limit: int = 2000,
+        disjunctive: bool = False,
+        reasonable: bool = REASONABLE,
+        mutexes: MutexGroups | None = None,
     ) -> None:
         """``disjunctive``: also RHW's disjunctive landmarks (off by default: measured mixed, see
         the module docstring); ``reasonable``: natural, reasonable and obedient-reasonable orders
-        (``gsr.plan.landmarks_orders``)."""
+        (``gsr.plan.landmarks_orders``); ``mutexes``: the task's mutex groups when the caller has
+        them (another graph's ``orders.mutexes``), else found here when the orders need them."""
         build_start = perf_counter()
         self.task = task
         n = self.n_atoms = len(task.atoms)
@@ -168,7 +174,7 @@ class Landmarks:
                 self.goal_mask,
                 self._init_ext,
                 reach,
-                MutexGroups(task),
+                MutexGroups(task) if mutexes is None else mutexes,
             )
             self.parents = self.orders.accept_parents
         self.build_time = perf_counter() - build_start

@@ -85,6 +85,18 @@ def test_mutex_budget_counts_work_not_seconds() -> None:
     assert MutexGroups(task, max_work=0).groups == []
 
 
+def test_landmarks_reuse_given_mutex_groups() -> None:
+    """A second graph of one task built on the first's mutex groups has the same landmarks and orders."""
+    _d, _p, task = _task(TOWER)
+    first = Landmarks(task)
+    assert first.orders is not None
+    given = Landmarks(task, disjunctive=True, mutexes=first.orders.mutexes)
+    fresh = Landmarks(task, disjunctive=True)
+    assert given.orders is not None and given.orders.mutexes is first.orders.mutexes
+    assert given.lm_facts == fresh.lm_facts
+    assert given.parents == fresh.parents and given.gn_parents == fresh.gn_parents
+
+
 def test_reasonable_order_on_bc_before_on_ab() -> None:
     _d, _p, task = _task(TOWER)
     lm = Landmarks(task)
